@@ -1,0 +1,42 @@
+# Two commands do all the set-up on a fresh machine: `make run` and `make test`.
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed
+# Rozum's official SDK pins urllib3==1.24.2, which clashes with the test tools; it lives in its own venv
+# and the SDK tests run scripts there, as a user's script would run.
+SDK_VENV := .venv-sdk
+SDK_STAMP := $(SDK_VENV)/.installed
+
+.PHONY: run test lint format bench models clean
+
+$(STAMP): pyproject.toml
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	@$(BIN)/python -m pip install -q --disable-pip-version-check -e '.[test]'
+	@touch $(STAMP)
+
+$(SDK_STAMP):
+	@test -x $(SDK_VENV)/bin/python || $(PYTHON) -m venv $(SDK_VENV)
+	@$(SDK_VENV)/bin/python -m pip install -q --disable-pip-version-check "pulse-api==1.5.0" "pdhttp==1.5.0"
+	@touch $(SDK_STAMP)
+
+run: $(STAMP)
+	@$(BIN)/pendant $(ARGS)
+
+test: $(STAMP) $(SDK_STAMP)
+	@$(BIN)/pytest -q $(PYTEST_ARGS)
+
+lint: $(STAMP)
+	@$(BIN)/ruff check . && $(BIN)/ruff format --check .
+
+format: $(STAMP)
+	@$(BIN)/ruff format . && $(BIN)/ruff check --fix .
+
+bench: $(STAMP)
+	@for b in benchmarks/*.py; do echo "== $$b"; $(BIN)/python $$b || exit 1; done
+
+models: $(STAMP)
+	@$(BIN)/python scripts/build_models.py
+
+clean:
+	rm -rf $(VENV) $(SDK_VENV) build *.egg-info

@@ -1,0 +1,16 @@
+"""One frozen record of the pendant's settings, built by the CLI."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Settings:
+    host: str = "127.0.0.1"
+    ui_port: int = 8080
+    api_port: int = 8081
+    model: str = "pulse75"
+    robot_url: str | None = None  # None: the embedded simulator
+    no_ui: bool = False
+    token: str | None = None

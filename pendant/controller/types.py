@@ -1,0 +1,130 @@
+"""The PULSE API's data types. Units as the controller's: metres and radians for positions, degrees for poses."""
+
+from __future__ import annotations
+
+import math
+from enum import StrEnum
+from typing import Annotated
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
+
+
+class _Strict(BaseModel):
+    # Missing fields are errors, extra ones are ignored, numbers must be numbers (no "1.0" strings).
+    model_config = ConfigDict(strict=True, frozen=True)
+
+
+class Point(_Strict):
+    """Metres."""
+
+    x: FiniteFloat
+    y: FiniteFloat
+    z: FiniteFloat
+
+
+class Rotation(_Strict):
+    """Radians, fixed axes: R = Rz(yaw) Ry(pitch) Rx(roll)."""
+
+    roll: FiniteFloat
+    pitch: FiniteFloat
+    yaw: FiniteFloat
+
+
+class Position(_Strict):
+    """A TCP (or zero point) position: where and how it is turned."""
+
+    point: Point
+    rotation: Rotation
+
+
+class Pose(_Strict):
+    """The six servo flange angles in degrees, base first."""
+
+    angles: Annotated[list[FiniteFloat], Field(min_length=6, max_length=6)]
+
+
+class Tool(_Strict):
+    """The work tool: its name, the TCP offset from the flange, and its radius in metres."""
+
+    name: str
+    point: Point
+    rotation: Rotation
+    radius: FiniteFloat
+
+    @field_validator("radius")
+    @classmethod
+    def _radius_not_negative(cls, radius: float) -> float:
+        if radius < 0 or not math.isfinite(radius):
+            raise ValueError("radius must be a finite number >= 0")
+        return radius
+
+    @property
+    def position(self) -> Position:
+        return Position(point=self.point, rotation=self.rotation)
+
+
+class MotorStatus(BaseModel):
+    """One servo's telemetry, field names as the controller sends them."""
+
+    model_config = ConfigDict(frozen=True)
+
+    angle: float
+    rotorVelocity: float
+    rmsCurrent: float
+    voltage: float
+    phaseCurrent: float
+    statorTemperature: float
+    servoTemperature: float
+    velocityError: float
+    velocitySetpoint: float
+    velocityOutput: float
+    velocityFeedback: float
+    positionError: float
+    positionSetpoint: float
+    positionOutput: float
+    positionFeedback: float
+
+
+class MotionStatus(StrEnum):
+    IDLE = "IDLE"
+    ZERO_GRAVITY = "ZERO_GRAVITY"
+    RUNNING = "RUNNING"
+    MOTION_FAILED = "MOTION_FAILED"
+    EMERGENCY = "EMERGENCY"
+    ERROR = "ERROR"
+
+
+class SignalLevel(StrEnum):
+    HIGH = "HIGH"
+    LOW = "LOW"
+
+
+class RecoverResult(StrEnum):
+    SUCCESS = "SUCCESS"
+    FAILED = "FAILED"
+
+
+class MotionType(StrEnum):
+    JOINT = "JOINT"
+    LINEAR = "LINEAR"
+
+
+SPEED_MIN, SPEED_MAX = 1.0, 100.0
+TCP_MAX_VELOCITY_MIN, TCP_MAX_VELOCITY_MAX = 0.001, 2.0
+DEFAULT_GRIPPER_TIMEOUT_MS = 500
+OUTPUT_PORTS = (1, 2)
+INPUT_PORTS = (1, 2, 3, 4)
+
+
+class MotionParams(BaseModel):
+    """How to move: `speed` in percent of the joint limits, or the later SDK's `velocity` and `acceleration`
+    (both percent). `tcp_max_velocity` caps the TCP speed in m/s. Ranges are checked by the API layer."""
+
+    model_config = ConfigDict(frozen=True)
+
+    speed: float
+    motion_type: MotionType = MotionType.JOINT
+    tcp_max_velocity: float = TCP_MAX_VELOCITY_MAX
+    acceleration: float | None = None

@@ -1,0 +1,38 @@
+"""Where the model files live: next to the package in a checkout, or under <prefix>/share in a wheel."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+_CHECKOUT_ROOT = Path(__file__).resolve().parent.parent
+_INSTALLED_ROOT = Path(sys.prefix) / "share" / "pulse-pendant"
+
+
+def data_root() -> Path:
+    """The folder holding `urdf/` and `assets/` (checkout first, so an editable install sees edits)."""
+    for root in (_CHECKOUT_ROOT, _INSTALLED_ROOT):
+        if (root / "urdf").is_dir():
+            return root
+    raise FileNotFoundError(f"PULSE model files not found under {_CHECKOUT_ROOT} or {_INSTALLED_ROOT}")
+
+
+def urdf_dir() -> Path:
+    return data_root() / "urdf"
+
+
+def assets_dir() -> Path:
+    return data_root() / "assets"
+
+
+MODEL_NAMES = ("pulse75", "pulse90")
+
+
+def urdf_path(model: str) -> Path:
+    """The URDF of a named model ("pulse75", "pulse90") or a path given as is."""
+    if model in MODEL_NAMES:
+        return urdf_dir() / f"{model}.urdf"
+    path = Path(model)
+    if not path.is_file():
+        raise FileNotFoundError(f"unknown arm model {model!r}: expected one of {MODEL_NAMES} or a URDF path")
+    return path
