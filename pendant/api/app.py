@@ -1,0 +1,115 @@
+"""create_app(controller): the PULSE REST API in front of any Controller (the simulator or a real arm)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from fastapi import FastAPI
+from fastapi.openapi.utils import get_openapi
+
+from pendant import __version__
+from pendant.api import docs
+from pendant.api.errors import install_error_handlers
+from pendant.api.routers.base import base_router
+from pendant.api.routers.gripper import gripper_router
+from pendant.api.routers.pose import pose_router
+from pendant.api.routers.position import position_router
+from pendant.api.routers.robot import robot_router
+from pendant.api.routers.signal import signal_router
+from pendant.api.routers.status import status_router
+from pendant.api.routers.tool import tool_router
+from pendant.controller.protocol import Controller
+from pendant.controller.types import Pose, Position, Tool
+
+DESCRIPTION = """\
+The REST API of the Rozum Robotics PULSE controller, as in its API reference guide, served by the pendant
+(from its simulator, or passed through to a real arm).
+
+Units: metres and radians for positions (`x, y, z`, `roll, pitch, yaw`, fixed axes: R = Rz(yaw) Ry(pitch)
+Rx(roll)); degrees for poses (six servo flange angles, base first).
+
+Wire format: JSON documents are `application/json`. String results (motion status, signal levels, recover
+result, robot ID) and every error message are `text/plain` bodies holding a JSON string literal, quotes
+included: `"IDLE"`, `"Robot does not respond"`. Commands with nothing to return answer 200 with an empty body.
+
+Errors: 400 "Incorrect format of input Message" (the body does not parse: bad JSON, NaN or Infinity, a
+missing field, a wrong number of angles, an empty waypoint list); 412 for what cannot be done ("Unreachable
+Position", "Unreachable Pose", "Collision detected") and for a query or path parameter that is missing or out
+of range (the message names it and its range); 500 "Robot does not respond"; 503 "Robot unavailable in
+emergency state".
+
+Motion commands take `speed` (1 to 100 %, mandatory), `type` (JOINT or LINEAR, default JOINT) and
+`tcp_max_velocity` (0.001 to 2 m/s, default 2). Rozum's later SDK's `motionType`, `velocity` and
+`acceleration` are accepted too.
+"""
+
+
+def _sim_controller_type() -> type | None:
+    try:
+        from pendant.sim import SimController
+    except ImportError:  # the simulator is optional for a pendant in front of a real arm
+        return None
+    return SimController
+
+
+def create_app(controller: Controller) -> FastAPI:
+    """The API for one controller; the /sim routes are mounted only when it is the simulator."""
+    app = FastAPI(
+        title="PULSE REST API",
+        version=__version__,
+        description=DESCRIPTION,
+        openapi_tags=docs.TAGS,
+    )
+    for router in (
+        position_router(controller),
+        pose_router(controller),
+        status_router(controller),
+        tool_router(controller),
+        base_router(controller),
+        robot_router(controller),
+        gripper_router(controller),
+        signal_router(controller),
+    ):
+        app.include_router(router)
+
+    sim_type = _sim_controller_type()
+    if sim_type is not None and isinstance(controller, sim_type):
+        from pendant.api.routers.sim import sim_router
+
+        app.include_router(sim_router(controller))
+
+    install_error_handlers(app)
+    app.openapi = lambda: _openapi(app)  # type: ignore[method-assign]
+    app.state.controller = controller
+    return app
+
+
+def _openapi(app: FastAPI) -> dict[str, Any]:
+    """FastAPI's schema, minus its 422 (never sent: see pendant.api.errors), plus the body schemas."""
+    if app.openapi_schema is not None:
+        return app.openapi_schema
+    schema = get_openapi(
+        title=app.title,
+        version=app.version,
+        description=app.description,
+        routes=app.routes,
+        tags=app.openapi_tags,
+    )
+    for path_item in schema.get("paths", {}).values():
+        for operation in path_item.values():
+            operation.get("responses", {}).pop("422", None)
+    components = schema.setdefault("components", {}).setdefault("schemas", {})
+    for unused in ("HTTPValidationError", "ValidationError"):
+        components.pop(unused, None)
+    for model in (Position, Pose, Tool):
+        _add_model_schema(components, model)
+    components["Tool"]["properties"]["radius"]["minimum"] = 0
+    app.openapi_schema = schema
+    return schema
+
+
+def _add_model_schema(components: dict[str, Any], model: type[Any]) -> None:
+    model_schema = model.model_json_schema(ref_template="#/components/schemas/{model}")
+    for name, definition in model_schema.pop("$defs", {}).items():
+        components.setdefault(name, definition)
+    components.setdefault(model.__name__, model_schema)

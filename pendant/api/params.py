@@ -1,0 +1,175 @@
+"""Request parameters and bodies: parsed here, so the routers get typed values or the right error.
+
+Bodies are read and validated by the API itself (pydantic-core's JSON parser against the contract's strict
+models) rather than by FastAPI, for three reasons: every failure must become 400 "Incorrect format of input
+Message" (never 422); NaN and Infinity literals must be refused (the models only accept finite numbers, and
+integers are accepted where a double is expected, as JSON clients send `0`); and the Content-Type is not
+required to be `application/json` (`curl -d` sends form encoding; the controller reads JSON regardless).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, TypeVar
+
+from fastapi import Path, Query, Request
+from pydantic import Field, TypeAdapter, ValidationError
+
+from pendant.api.errors import INT32_MAX, MSG_SPEED_MISSING, ParameterError
+from pendant.controller.errors import BadRequest
+from pendant.controller.types import (
+    DEFAULT_GRIPPER_TIMEOUT_MS,
+    INPUT_PORTS,
+    OUTPUT_PORTS,
+    SPEED_MAX,
+    SPEED_MIN,
+    TCP_MAX_VELOCITY_MAX,
+    TCP_MAX_VELOCITY_MIN,
+    MotionParams,
+    MotionType,
+    Pose,
+    Position,
+    Tool,
+)
+
+T = TypeVar("T")
+
+POSITION = TypeAdapter(Position)
+POSE = TypeAdapter(Pose)
+TOOL = TypeAdapter(Tool)
+POSITIONS = TypeAdapter(Annotated[list[Position], Field(min_length=1)])
+POSES = TypeAdapter(Annotated[list[Pose], Field(min_length=1)])
+
+
+async def read_body(request: Request, adapter: TypeAdapter[T]) -> T:
+    """The request body as `adapter`'s type, or BadRequest (400) whatever is wrong with it."""
+    body = await request.body()
+    try:
+        return adapter.validate_json(body)
+    except (ValidationError, ValueError) as exc:
+        raise BadRequest() from exc
+
+
+# --- query parameters of the motion commands -------------------------------------------------------------
+
+_PERCENT = {"ge": SPEED_MIN, "le": SPEED_MAX, "allow_inf_nan": False}
+
+# Optional parameters are typed without `| None` so the schema says "number", not "number or null" (a query
+# string has no null); FastAPI uses the None default as is when the parameter is absent.
+SpeedQuery = Annotated[
+    float,
+    Query(
+        **_PERCENT,
+        description=(
+            f"Speed in percent of the maximum speed, {SPEED_MIN:g} to {SPEED_MAX:g}. Mandatory (unless "
+            "`velocity` is given, as Rozum's later SDK sends)."
+        ),
+        examples=[50],
+    ),
+]
+TypeQuery = Annotated[
+    MotionType,
+    Query(
+        alias="type",
+        description=(
+            "Motion type: JOINT (a curve in joint space, the fastest) or LINEAR (a straight TCP line). "
+            "Default JOINT."
+        ),
+    ),
+]
+MotionTypeQuery = Annotated[
+    MotionType,
+    Query(alias="motionType", description="Alias of `type`, as Rozum's later SDK sends it."),
+]
+TcpMaxVelocityQuery = Annotated[
+    float,
+    Query(
+        ge=TCP_MAX_VELOCITY_MIN,
+        le=TCP_MAX_VELOCITY_MAX,
+        allow_inf_nan=False,
+        description=(
+            f"Limit of the TCP velocity in m/s, {TCP_MAX_VELOCITY_MIN:g} to {TCP_MAX_VELOCITY_MAX:g}. "
+            f"Default {TCP_MAX_VELOCITY_MAX:g}."
+        ),
+    ),
+]
+VelocityQuery = Annotated[
+    float,
+    Query(
+        **_PERCENT,
+        description=(
+            f"Rozum's later SDK: velocity in percent ({SPEED_MIN:g} to {SPEED_MAX:g}), used in place of "
+            "`speed` (with `acceleration`)."
+        ),
+    ),
+]
+AccelerationQuery = Annotated[
+    float,
+    Query(
+        **_PERCENT,
+        description=f"Rozum's later SDK: acceleration in percent ({SPEED_MIN:g} to {SPEED_MAX:g}).",
+    ),
+]
+
+
+async def motion_params(
+    speed: SpeedQuery = None,  # type: ignore[assignment]
+    motion_type: TypeQuery = None,  # type: ignore[assignment]
+    motion_type_sdk: MotionTypeQuery = None,  # type: ignore[assignment]
+    tcp_max_velocity: TcpMaxVelocityQuery = TCP_MAX_VELOCITY_MAX,
+    velocity: VelocityQuery = None,  # type: ignore[assignment]
+    acceleration: AccelerationQuery = None,  # type: ignore[assignment]
+) -> MotionParams:
+    """The motion parameters of PUT /position, /pose, /positions/run, /poses/run.
+
+    `speed` wins over `velocity` when both are given; `type` wins over `motionType`.
+    """
+    chosen_speed = speed if speed is not None else velocity
+    if chosen_speed is None:
+        raise ParameterError(MSG_SPEED_MISSING)
+    return MotionParams(
+        speed=chosen_speed,
+        motion_type=motion_type or motion_type_sdk or MotionType.JOINT,
+        tcp_max_velocity=tcp_max_velocity,
+        acceleration=acceleration,
+    )
+
+
+TimeoutQuery = Annotated[
+    int,
+    Query(
+        ge=0,
+        le=INT32_MAX,
+        description=(
+            f"How long (ms) the arm waits for the gripper, default {DEFAULT_GRIPPER_TIMEOUT_MS}. "
+            "Values above 0 are recommended."
+        ),
+    ),
+]
+
+OutputPort = Annotated[
+    int,
+    Path(
+        ge=OUTPUT_PORTS[0],
+        le=OUTPUT_PORTS[-1],
+        description="Digital output (relay) on the control box: 1 or 2.",
+    ),
+]
+InputPort = Annotated[
+    int,
+    Path(
+        ge=INPUT_PORTS[0],
+        le=INPUT_PORTS[-1],
+        description="Digital input on the control box: 1 to 4.",
+    ),
+]
+
+
+def json_body(schema: dict[str, Any], example: Any, description: str) -> dict[str, Any]:
+    """`openapi_extra` documenting a JSON request body that the handler parses itself."""
+    return {
+        "requestBody": {
+            "required": True,
+            "description": description,
+            "content": {"application/json": {"schema": schema, "example": example}},
+        }
+    }

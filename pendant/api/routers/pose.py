@@ -1,0 +1,60 @@
+"""GET/PUT /pose and PUT /poses/run: the six servo angles in degrees."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Depends, Request
+
+from pendant.api import docs
+from pendant.api.params import POSE, POSES, json_body, motion_params, read_body
+from pendant.api.wire import JSONBytesResponse, TextResponse, empty_result, model_result
+from pendant.controller.protocol import Controller
+from pendant.controller.types import MotionParams, Pose
+
+Params = Annotated[MotionParams, Depends(motion_params)]
+
+
+def pose_router(controller: Controller) -> APIRouter:
+    router = APIRouter(tags=["Pose"])
+
+    @router.get(
+        "/pose",
+        summary="Getting the actual arm pose",
+        description="The output flange angles of the six servos, in degrees, base first.",
+        response_class=JSONBytesResponse,
+        responses={**docs.json_ok(Pose, "Actual arm pose", docs.EXAMPLE_POSE), **docs.arm_errors()},
+    )
+    async def get_pose() -> JSONBytesResponse:
+        return model_result(controller.get_pose())
+
+    @router.put(
+        "/pose",
+        summary="Setting a new arm pose",
+        description="Moves the arm to a pose: six servo angles in degrees, base first (exactly six numbers).",
+        response_class=TextResponse,
+        responses={**docs.empty_ok(), **docs.bad_format(), **docs.pose_errors(), **docs.arm_errors()},
+        openapi_extra=json_body(docs.ref("Pose"), docs.EXAMPLE_POSE, "Target pose"),
+    )
+    async def set_pose(request: Request, params: Params) -> TextResponse:
+        target = await read_body(request, POSE)
+        controller.set_pose(target, params)
+        return empty_result()
+
+    @router.put(
+        "/poses/run",
+        summary="Asking the arm to move to a pose",
+        description=(
+            "Moves the arm smoothly through one or more poses (six angles in degrees each) without stopping "
+            "at the waypoints."
+        ),
+        response_class=TextResponse,
+        responses={**docs.empty_ok(), **docs.bad_format(), **docs.pose_errors(), **docs.arm_errors()},
+        openapi_extra=json_body(docs.waypoints("Pose"), [docs.EXAMPLE_POSE], "Waypoints"),
+    )
+    async def run_poses(request: Request, params: Params) -> TextResponse:
+        waypoints = await read_body(request, POSES)
+        controller.run_poses(waypoints, params)
+        return empty_result()
+
+    return router

@@ -1,0 +1,79 @@
+"""GET/PUT /position and PUT /positions/run: the TCP position in metres and radians."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Depends, Request
+
+from pendant.api import docs
+from pendant.api.params import POSITION, POSITIONS, json_body, motion_params, read_body
+from pendant.api.wire import JSONBytesResponse, TextResponse, empty_result, model_result
+from pendant.controller.protocol import Controller
+from pendant.controller.types import MotionParams, Position
+
+Params = Annotated[MotionParams, Depends(motion_params)]
+
+
+def position_router(controller: Controller) -> APIRouter:
+    router = APIRouter(tags=["Position"])
+
+    @router.get(
+        "/position",
+        summary="Getting the actual arm position",
+        description=(
+            "The TCP position: x, y, z (metres) from the zero point, and roll, pitch, yaw (radians, fixed "
+            "axes x, y, z) relative to the zero point."
+        ),
+        response_class=JSONBytesResponse,
+        responses={
+            **docs.json_ok(Position, "Actual arm position", docs.EXAMPLE_POSITION),
+            **docs.arm_errors(),
+        },
+    )
+    async def get_position() -> JSONBytesResponse:
+        return model_result(controller.get_position())
+
+    @router.put(
+        "/position",
+        summary="Setting a new arm position",
+        description=(
+            "Moves the TCP to a position: x, y, z in metres from the zero point, roll, pitch, yaw in "
+            "radians. "
+            "All six fields are required. Answers with the arm's position when the command was accepted."
+        ),
+        response_class=JSONBytesResponse,
+        responses={
+            **docs.json_ok(Position, "Actual arm position", docs.EXAMPLE_POSITION),
+            **docs.bad_format(),
+            **docs.position_errors(),
+            **docs.arm_errors(),
+        },
+        openapi_extra=json_body(docs.ref("Position"), docs.EXAMPLE_POSITION, "Target position"),
+    )
+    async def set_position(request: Request, params: Params) -> JSONBytesResponse:
+        target = await read_body(request, POSITION)
+        return model_result(controller.set_position(target, params))
+
+    @router.put(
+        "/positions/run",
+        summary="Asking the arm to move to a position",
+        description=(
+            "Moves the TCP smoothly through one or more positions (metres, radians) without stopping at "
+            "the waypoints. All six fields of every waypoint are required."
+        ),
+        response_class=TextResponse,
+        responses={
+            **docs.empty_ok(),
+            **docs.bad_format(),
+            **docs.position_errors(),
+            **docs.arm_errors(),
+        },
+        openapi_extra=json_body(docs.waypoints("Position"), [docs.EXAMPLE_POSITION], "Waypoints"),
+    )
+    async def run_positions(request: Request, params: Params) -> TextResponse:
+        waypoints = await read_body(request, POSITIONS)
+        controller.run_positions(waypoints, params)
+        return empty_result()
+
+    return router

@@ -1,0 +1,108 @@
+"""Simulator-only controls under /sim: play the outside world (inputs, a hand on the arm, faults)."""
+
+from __future__ import annotations
+
+from enum import StrEnum
+from typing import TYPE_CHECKING, Annotated
+
+from fastapi import APIRouter, Path, Request
+
+from pendant.api import docs
+from pendant.api.errors import MSG_FAULT, MSG_INPUT_PORT
+from pendant.api.params import POSE, InputPort, json_body, read_body
+from pendant.api.wire import TextResponse, empty_result
+from pendant.controller.types import SignalLevel
+
+if TYPE_CHECKING:
+    from pendant.sim import SimController
+
+
+class FaultName(StrEnum):
+    """The faults the simulator can play, as they appear in the path."""
+
+    error = "error"
+    emergency = "emergency"
+    no_response = "no_response"
+
+
+FaultPath = Annotated[
+    FaultName,
+    Path(
+        description=(
+            "error: the arm stops, frozen, status ERROR (PUT /recover brings it back). emergency: status "
+            "EMERGENCY, every PULSE call answers 503 until /sim/reset. no_response: every PULSE call answers "
+            "500 until /sim/reset."
+        )
+    ),
+]
+
+
+def sim_router(sim: SimController) -> APIRouter:
+    router = APIRouter(prefix="/sim", tags=[docs.TAG_SIM])
+
+    def set_input(port: int, level: SignalLevel) -> TextResponse:
+        sim.set_input(port, level)
+        return empty_result()
+
+    input_responses = {**docs.empty_ok(), **docs.precondition(MSG_INPUT_PORT)}
+
+    @router.put(
+        "/signal/input/{port}/high",
+        summary="Simulator: set a digital input HIGH",
+        response_class=TextResponse,
+        responses=input_responses,
+    )
+    async def set_input_high(port: InputPort) -> TextResponse:
+        return set_input(port, SignalLevel.HIGH)
+
+    @router.put(
+        "/signal/input/{port}/low",
+        summary="Simulator: set a digital input LOW",
+        response_class=TextResponse,
+        responses=input_responses,
+    )
+    async def set_input_low(port: InputPort) -> TextResponse:
+        return set_input(port, SignalLevel.LOW)
+
+    @router.put(
+        "/pose",
+        summary="Simulator: move the relaxed arm by hand",
+        description=(
+            "Puts the arm at a pose (six angles in degrees) at once, as a hand would; only while the arm is "
+            "relaxed (ZERO_GRAVITY, after PUT /relax), else 412."
+        ),
+        response_class=TextResponse,
+        responses={**docs.empty_ok(), **docs.bad_format(), **docs.precondition(), **docs.arm_errors()},
+        openapi_extra=json_body(docs.ref("Pose"), docs.EXAMPLE_POSE, "Where the hand puts the arm"),
+    )
+    async def move_by_hand(request: Request) -> TextResponse:
+        pose = await read_body(request, POSE)
+        sim.move_by_hand(pose)
+        return empty_result()
+
+    @router.put(
+        "/fault/{fault}",
+        summary="Simulator: inject a fault",
+        response_class=TextResponse,
+        responses={**docs.empty_ok(), **docs.precondition(MSG_FAULT)},
+    )
+    async def inject_fault(fault: FaultPath) -> TextResponse:
+        from pendant.sim import Fault
+
+        sim.inject_fault(Fault[fault.name.upper()])
+        return empty_result()
+
+    @router.put(
+        "/reset",
+        summary="Simulator: reset",
+        description=(
+            "Back to the start: home pose, IDLE, no fault, default tool and base, outputs and inputs LOW."
+        ),
+        response_class=TextResponse,
+        responses=docs.empty_ok(),
+    )
+    async def reset() -> TextResponse:
+        sim.reset()
+        return empty_result()
+
+    return router

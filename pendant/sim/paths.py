@@ -1,0 +1,274 @@
+"""Geometric paths s -> configuration, blended through waypoints.
+
+A path is a chain of pieces with constant second derivative in s: straight segments between waypoints and,
+at each interior waypoint, a parabolic blend that leaves the incoming segment and joins the outgoing one
+with a continuous tangent (the linear-segment-with-parabolic-blend construction). The blend passes the
+waypoint within a tolerance instead of stopping at it. The same construction serves joint space (y = q)
+and Cartesian space (y = position and a rotation vector relative to the waypoint's orientation).
+"""
+
+from __future__ import annotations
+
+import bisect
+from dataclasses import dataclass
+
+import numpy as np
+
+from pendant.sim.transforms import matrix_to_rotvec, rotvec_to_matrix
+
+# How far a blended path may pass from an interior waypoint (documented in README).
+JOINT_BLEND_TOL_RAD = np.radians(0.5)
+CARTESIAN_BLEND_TOL_M = 1e-3
+CARTESIAN_BLEND_TOL_RAD = np.radians(0.5)
+# In a Cartesian path one radian of TCP turn counts like this many metres of travel when measuring s.
+ROTATION_LENGTH_M_PER_RAD = 0.2
+
+
+@dataclass(frozen=True)
+class Pieces:
+    """y(s) = base + y0 + v0 u + acc u^2 / 2 with u = s - start, piecewise; base is a waypoint index."""
+
+    starts: list[float]
+    base: list[int]
+    y0: np.ndarray  # (n, dim)
+    v0: np.ndarray
+    acc: np.ndarray
+    length: float
+    blend: list[bool]
+
+    def index(self, s: float) -> int:
+        return max(0, min(len(self.starts) - 1, bisect.bisect_right(self.starts, s) - 1))
+
+    def local(self, s: float) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
+        k = self.index(s)
+        u = s - self.starts[k]
+        return k, self.y0[k] + self.v0[k] * u + 0.5 * self.acc[k] * (u * u), self.v0[k] + self.acc[k] * u, self.acc[k]
+
+    def boundaries(self) -> list[float]:
+        return [*self.starts, self.length]
+
+
+def blended_pieces(deltas: np.ndarray, lengths: np.ndarray, blend_half: np.ndarray) -> Pieces:
+    """Pieces through waypoints 0..n with segment j going by `deltas[j]` over path length `lengths[j]`.
+
+    `blend_half[j]` (j = 1..n-1) is the half length of the blend at interior waypoint j (0: a sharp corner,
+    only allowed where the tangent does not change).
+    """
+    n_seg, dim = deltas.shape
+    tangents = deltas / lengths[:, None]
+    corners = np.concatenate([[0.0], np.cumsum(lengths)])
+    d = np.zeros(n_seg + 1)
+    d[1:n_seg] = blend_half[1:n_seg]
+    starts: list[float] = []
+    base: list[int] = []
+    y0: list[np.ndarray] = []
+    v0: list[np.ndarray] = []
+    acc: list[np.ndarray] = []
+    blend: list[bool] = []
+    zero = np.zeros(dim)
+    for j in range(n_seg):
+        if j > 0 and d[j] > 0.0:
+            t1, t2 = tangents[j - 1], tangents[j]
+            starts.append(float(corners[j] - d[j]))
+            base.append(j)
+            y0.append(-t1 * d[j])
+            v0.append(t1)
+            acc.append((t2 - t1) / (2.0 * d[j]))
+            blend.append(True)
+        start = corners[j] + d[j]
+        end = corners[j + 1] - d[j + 1]
+        if end > start or (j == n_seg - 1) or not starts:
+            starts.append(float(start))
+            base.append(j)
+            y0.append(tangents[j] * d[j])
+            v0.append(tangents[j])
+            acc.append(zero)
+            blend.append(False)
+    return Pieces(
+        starts=starts,
+        base=base,
+        y0=np.array(y0),
+        v0=np.array(v0),
+        acc=np.array(acc),
+        length=float(corners[-1]),
+        blend=blend,
+    )
+
+
+def _blend_half_lengths(tangents: np.ndarray, lengths: np.ndarray, d_limit: list[float]) -> np.ndarray:
+    """Blend half lengths: the tolerance's limit, but never more than half of either adjacent segment."""
+    n_seg = len(lengths)
+    d = np.zeros(n_seg)
+    for j in range(1, n_seg):
+        if np.allclose(tangents[j - 1], tangents[j], atol=1e-12):
+            continue
+        d[j] = min(d_limit[j], 0.5 * lengths[j - 1], 0.5 * lengths[j])
+    return d
+
+
+def _dedupe(points: list[np.ndarray], distance) -> list[int]:  # type: ignore[no-untyped-def]
+    keep = [0]
+    for i in range(1, len(points)):
+        if distance(points[keep[-1]], points[i]) > 1e-12:
+            keep.append(i)
+    if len(keep) > 1 and keep[-1] != len(points) - 1:
+        keep[-1] = len(points) - 1
+    return keep
+
+
+class JointPath:
+    """A joint-space path through waypoints q_0..q_n (radians), blended within JOINT_BLEND_TOL_RAD.
+
+    s is measured in seconds at full joint speed: a segment's length is max_i |dq_i| / vmax_i, so
+    ds/dt = 1 moves the leading joint at its speed limit.
+    """
+
+    def __init__(self, waypoints: np.ndarray, vmax: np.ndarray, tol_rad: float = JOINT_BLEND_TOL_RAD) -> None:
+        waypoints = np.atleast_2d(np.asarray(waypoints, dtype=float))
+        keep = _dedupe(list(waypoints), lambda a, b: float(np.max(np.abs(a - b))))
+        self.waypoints = waypoints[keep]
+        self.q_start = self.waypoints[0].copy()
+        self.q_end = self.waypoints[-1].copy()
+        if len(self.waypoints) < 2:
+            self.pieces: Pieces | None = None
+            self.length = 0.0
+            return
+        deltas = np.diff(self.waypoints, axis=0)
+        lengths = np.max(np.abs(deltas) / vmax, axis=1)
+        tangents = deltas / lengths[:, None]
+        # Mid-blend deviation from the corner is |t2 - t1| d / 4 per joint.
+        d_limit = [0.0] + [
+            float(4.0 * tol_rad / max(np.max(np.abs(tangents[j] - tangents[j - 1])), 1e-12))
+            for j in range(1, len(lengths))
+        ]
+        self.pieces = blended_pieces(deltas, lengths, _blend_half_lengths(tangents, lengths, d_limit))
+        self.length = self.pieces.length
+
+    def q(self, s: float) -> np.ndarray:
+        if self.pieces is None:
+            return self.q_start.copy()
+        k, y, _, _ = self.pieces.local(s)
+        return self.waypoints[self.pieces.base[k]] + y
+
+    def derivatives(self, s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(q, dq/ds, d2q/ds2) at s."""
+        if self.pieces is None:
+            zero = np.zeros_like(self.q_start)
+            return self.q_start.copy(), zero, zero
+        k, y, dy, ddy = self.pieces.local(s)
+        return self.waypoints[self.pieces.base[k]] + y, dy, ddy
+
+    def grid(self, max_step: float) -> np.ndarray:
+        """Grid points on [0, L]: every piece boundary, and no cell longer than max_step."""
+        if self.pieces is None:
+            return np.array([0.0])
+        return refine_grid(self.pieces.boundaries(), max_step)
+
+
+class CartesianPath:
+    """A TCP path through poses T_0..T_n (4x4): straight lines with slerped orientation, blended at
+    interior poses within CARTESIAN_BLEND_TOL_M / CARTESIAN_BLEND_TOL_RAD.
+
+    s is in metres: a segment's length is max(|dp|, ROTATION_LENGTH_M_PER_RAD * turn angle).
+    """
+
+    def __init__(self, poses: list[np.ndarray]) -> None:
+        def distance(a: np.ndarray, b: np.ndarray) -> float:
+            return max(
+                float(np.linalg.norm(a[:3, 3] - b[:3, 3])),
+                float(np.linalg.norm(matrix_to_rotvec(b[:3, :3] @ a[:3, :3].T))),
+            )
+
+        keep = _dedupe(poses, distance)
+        self.poses = [np.asarray(poses[i], dtype=float) for i in keep]
+        self.positions = np.array([T[:3, 3] for T in self.poses])
+        self.rotations = [T[:3, :3] for T in self.poses]
+        if len(self.poses) < 2:
+            self.pieces: Pieces | None = None
+            self.length = 0.0
+            return
+        deltas = np.array(
+            [
+                np.concatenate(
+                    [self.positions[j + 1] - self.positions[j],
+                     matrix_to_rotvec(self.rotations[j + 1] @ self.rotations[j].T)]
+                )
+                for j in range(len(self.poses) - 1)
+            ]
+        )
+        lengths = np.maximum(
+            np.linalg.norm(deltas[:, :3], axis=1),
+            ROTATION_LENGTH_M_PER_RAD * np.linalg.norm(deltas[:, 3:], axis=1),
+        )
+        tangents = deltas / lengths[:, None]
+        d_limit = [0.0]
+        for j in range(1, len(lengths)):
+            dt = tangents[j] - tangents[j - 1]
+            d_pos = 4.0 * CARTESIAN_BLEND_TOL_M / max(float(np.linalg.norm(dt[:3])), 1e-12)
+            d_rot = 4.0 * CARTESIAN_BLEND_TOL_RAD / max(float(np.linalg.norm(dt[3:])), 1e-12)
+            d_limit.append(min(d_pos, d_rot))
+        self.pieces = blended_pieces(deltas, lengths, _blend_half_lengths(tangents, lengths, d_limit))
+        self.length = self.pieces.length
+
+    def pose(self, s: float) -> np.ndarray:
+        """T_base_tcp at s."""
+        T = np.eye(4)
+        if self.pieces is None:
+            return self.poses[0].copy()
+        k, y, _, _ = self.pieces.local(s)
+        j = self.pieces.base[k]
+        T[:3, 3] = self.positions[j] + y[:3]
+        T[:3, :3] = rotvec_to_matrix(y[3:]) @ self.rotations[j]
+        return T
+
+    def grid(self, max_step: float) -> np.ndarray:
+        if self.pieces is None:
+            return np.array([0.0])
+        return refine_grid(self.pieces.boundaries(), max_step)
+
+
+def refine_grid(boundaries: list[float], max_step: float) -> np.ndarray:
+    """The boundaries plus evenly spaced points so that no cell is longer than max_step."""
+    points: list[np.ndarray] = []
+    for a, b in zip(boundaries[:-1], boundaries[1:], strict=True):
+        if b <= a:
+            continue
+        n = max(1, int(np.ceil((b - a) / max_step)))
+        points.append(np.linspace(a, b, n + 1)[:-1])
+    points.append(np.array([boundaries[-1]]))
+    return np.concatenate(points)
+
+
+class SampledJointPath:
+    """A joint path known at samples (s_k, q_k), linear in between: what IK along a Cartesian path gives."""
+
+    def __init__(self, s: np.ndarray, q: np.ndarray) -> None:
+        self.s = np.asarray(s, dtype=float)
+        self.q_samples = np.asarray(q, dtype=float)
+        self._s_list = self.s.tolist()
+        self.q_start = self.q_samples[0].copy()
+        self.q_end = self.q_samples[-1].copy()
+        self.length = float(self.s[-1])
+        ds = np.diff(self.s)
+        self.slopes = np.diff(self.q_samples, axis=0) / ds[:, None] if len(ds) else np.zeros((0, 6))
+
+    def _cell(self, s: float) -> int:
+        return max(0, min(len(self._s_list) - 2, bisect.bisect_right(self._s_list, s) - 1))
+
+    def q(self, s: float) -> np.ndarray:
+        if len(self._s_list) < 2:
+            return self.q_start.copy()
+        k = self._cell(s)
+        return self.q_samples[k] + self.slopes[k] * (s - self._s_list[k])
+
+    def derivatives(self, s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        if len(self._s_list) < 2:
+            zero = np.zeros_like(self.q_start)
+            return self.q_start.copy(), zero, zero
+        k = self._cell(s)
+        q = self.q_samples[k] + self.slopes[k] * (s - self._s_list[k])
+        # The curvature of the underlying smooth path, from neighbouring slopes (the linear pieces have none).
+        k0, k1 = max(0, k - 1), min(len(self.slopes) - 1, k + 1)
+        span = 0.5 * (self._s_list[k1 + 1] + self._s_list[k1]) - 0.5 * (self._s_list[k0 + 1] + self._s_list[k0])
+        ddq = (self.slopes[k1] - self.slopes[k0]) / span if span > 0 else np.zeros_like(q)
+        return q, self.slopes[k], ddq

@@ -1,0 +1,68 @@
+"""One consistent reading of the controller, taken off the UI thread and shown by every panel."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from pendant.controller import Controller, ControllerError, MotionStatus, Position, SignalLevel
+from pendant.controller.types import INPUT_PORTS, OUTPUT_PORTS
+
+
+@runtime_checkable
+class ReportsGripper(Protocol):
+    """A controller that knows its gripper's opening (the simulator; the PULSE API has no such read)."""
+
+    def gripper_opening(self) -> float: ...
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    taken_at: float
+    q: np.ndarray | None = None  # radians
+    position: Position | None = None
+    motion_status: MotionStatus | None = None
+    tool_name: str = ""
+    robot_id: str = ""
+    outputs: dict[int, SignalLevel] = field(default_factory=dict)
+    inputs: dict[int, SignalLevel] = field(default_factory=dict)
+    gripper_opening: float = 0.0
+    error: str | None = None  # the controller's message when the last reading failed
+    latency_s: float | None = None
+
+
+def read_snapshot(controller: Controller, *, with_io: bool, robot_id: str, tool_name: str) -> Snapshot:
+    """Read pose, position and status (and IO when `with_io`); a controller error becomes `error`."""
+    started = time.monotonic()
+    try:
+        pose = controller.get_pose()
+        position = controller.get_position()
+        status = controller.get_motion_status()
+        outputs = {p: controller.get_output(p) for p in OUTPUT_PORTS} if with_io else {}
+        inputs = {p: controller.get_input(p) for p in INPUT_PORTS} if with_io else {}
+    except ControllerError as error:
+        return Snapshot(taken_at=started, error=error.message, robot_id=robot_id, tool_name=tool_name)
+    opening = controller.gripper_opening() if isinstance(controller, ReportsGripper) else 0.0
+    return Snapshot(
+        taken_at=started,
+        q=np.radians(np.asarray(pose.angles, dtype=float)),
+        position=position,
+        motion_status=status,
+        tool_name=tool_name,
+        robot_id=robot_id,
+        outputs=outputs,
+        inputs=inputs,
+        gripper_opening=opening,
+        latency_s=time.monotonic() - started,
+    )
+
+
+def format_position(position: Position) -> str:
+    p, r = position.point, position.rotation
+    xyz = " ".join(f"{v * 1000:8.1f}" for v in (p.x, p.y, p.z))
+    rpy = " ".join(f"{math.degrees(v):7.1f}" for v in (r.roll, r.pitch, r.yaw))
+    return f"XYZ mm {xyz} | RPY deg {rpy}"

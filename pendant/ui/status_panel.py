@@ -1,0 +1,83 @@
+"""The status readout: mode, connection, motion state (coloured), joints, TCP, tool, gripper and IO."""
+
+from __future__ import annotations
+
+import html
+import math
+
+import viser
+
+from pendant.controller import MotionStatus, SignalLevel
+from pendant.ui.snapshot import Snapshot
+
+STATE_COLOURS: dict[MotionStatus | None, str] = {
+    MotionStatus.IDLE: "#2b8a3e",
+    MotionStatus.RUNNING: "#1971c2",
+    MotionStatus.ZERO_GRAVITY: "#9c36b5",
+    MotionStatus.MOTION_FAILED: "#e8590c",
+    MotionStatus.ERROR: "#e03131",
+    MotionStatus.EMERGENCY: "#c92a2a",
+    None: "#868e96",
+}
+_ALARM_STATES = {MotionStatus.ERROR, MotionStatus.EMERGENCY, MotionStatus.MOTION_FAILED}
+
+
+def _led(level: SignalLevel | None, label: str) -> str:
+    on = level is SignalLevel.HIGH
+    colour = "#40c057" if on else "#dee2e6"
+    return (
+        f'<span style="display:inline-block;margin-right:8px"><span style="display:inline-block;width:10px;'
+        f'height:10px;border-radius:5px;background:{colour};margin-right:3px"></span>{label}</span>'
+    )
+
+
+def render_status(snapshot: Snapshot, mode_line: str) -> str:
+    """The status block as HTML; ERROR and EMERGENCY fill a red banner that cannot be missed."""
+    state = snapshot.motion_status
+    label = state.value if state is not None else "OFFLINE"
+    colour = STATE_COLOURS.get(state, STATE_COLOURS[None])
+    big = "font-size:1.4em;padding:10px" if state in _ALARM_STATES or state is None else "padding:6px"
+    parts = [
+        f'<div style="font-size:0.85em;color:#495057">{html.escape(mode_line)}</div>',
+        f'<div id="motion-state" style="background:{colour};color:white;font-weight:bold;'
+        f'text-align:center;border-radius:6px;margin:6px 0;{big}">{label}</div>',
+    ]
+    if snapshot.error:
+        parts.append(f'<div style="color:#e03131">{html.escape(snapshot.error)}</div>')
+    if snapshot.q is not None:
+        cells = "".join(
+            f'<td style="text-align:right;padding:0 4px">J{i + 1}<br><b>{math.degrees(v):.1f}°</b></td>'
+            for i, v in enumerate(snapshot.q)
+        )
+        parts.append(f'<table style="width:100%;font-size:0.85em"><tr>{cells}</tr></table>')
+    if snapshot.position is not None:
+        p, r = snapshot.position.point, snapshot.position.rotation
+        parts.append(
+            '<div style="font-size:0.85em;font-family:monospace">'
+            f"X {p.x * 1000:.1f} Y {p.y * 1000:.1f} Z {p.z * 1000:.1f} mm<br>"
+            f"R {math.degrees(r.roll):.1f} P {math.degrees(r.pitch):.1f} "
+            f"Y {math.degrees(r.yaw):.1f} °</div>"
+        )
+    gripper = "open" if snapshot.gripper_opening > 0.5 else "closed"
+    parts.append(
+        f'<div style="font-size:0.85em">Tool <b>{html.escape(snapshot.tool_name)}</b> · '
+        f"gripper <b>{gripper}</b> · id {html.escape(snapshot.robot_id)}</div>"
+    )
+    if snapshot.outputs or snapshot.inputs:
+        leds = "".join(_led(level, f"DO{p}") for p, level in snapshot.outputs.items())
+        leds += "".join(_led(level, f"DI{p}") for p, level in snapshot.inputs.items())
+        parts.append(f'<div style="font-size:0.85em">{leds}</div>')
+    return "".join(parts)
+
+
+class StatusPanel:
+    def __init__(self, server: viser.ViserServer, mode_line: str) -> None:
+        self._mode_line = mode_line
+        self._html = server.gui.add_html(render_status(Snapshot(taken_at=0.0), mode_line))
+        self._last = ""
+
+    def show(self, snapshot: Snapshot) -> None:
+        content = render_status(snapshot, self._mode_line)
+        if content != self._last:
+            self._html.content = content
+            self._last = content
