@@ -8,7 +8,8 @@ Run from the checkout root:
 For each model: draw random joint configurations uniformly within the joint limits (fixed seed), take the
 TCP pose by FK, solve `ArmModel.ik(T, q_near = midpoint of the limits)`, and count a success when the
 answer reproduces the pose within 1e-5 m and 1e-5 rad. Prints the success rate, the median and p99 time
-per IK call, the time per FK call, ik_all, and in_collision (when the URDF is present).
+per IK call, the time per FK call, ik_all, and in_collision (when the URDF is present). A second set of
+configurations at or next to the wrist and elbow singularities checks that those are solved as well.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from pendant.kinematics import ArmModel  # noqa: E402
+from pendant.kinematics import ArmModel
 
 SEED = 20240601
 SUCCESS_POS_M = 1e-5
@@ -34,6 +35,26 @@ def rotation_error(R_a: np.ndarray, R_b: np.ndarray) -> float:
     R = R_a.T @ R_b
     skew = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
     return float(np.arctan2(0.5 * np.linalg.norm(skew), 0.5 * (np.trace(R) - 1.0)))
+
+
+def reaches(arm: ArmModel, q: np.ndarray | None, T: np.ndarray) -> bool:
+    if q is None:
+        return False
+    T_reached = arm.fk(q)
+    return bool(
+        np.linalg.norm(T_reached[:3, 3] - T[:3, 3]) < SUCCESS_POS_M
+        and rotation_error(T_reached[:3, :3], T[:3, :3]) < SUCCESS_ROT_RAD
+    )
+
+
+def near_singular_configurations(arm: ArmModel, rng: np.random.Generator, count: int) -> np.ndarray:
+    """Random configurations with the wrist (q5) or the elbow (q3) put at or next to 0 or pi."""
+    configurations = rng.uniform(arm.lower, arm.upper, size=(count, 6))
+    joint = rng.choice([2, 4], size=count)
+    base = rng.choice([0.0, np.pi, -np.pi], size=count)
+    offset = rng.choice([0.0, 1e-12, -1e-9, 1e-7, -1e-6], size=count)
+    configurations[np.arange(count), joint] = base + offset
+    return configurations
 
 
 def time_per_call_us(function, arguments: list) -> np.ndarray:  # type: ignore[no-untyped-def]
@@ -57,6 +78,7 @@ def bench_model(model: str, samples: int) -> None:
         arm.ik(arm.fk(q), q_near)
 
     fk_us = time_per_call_us(arm.fk, list(configurations))
+    near_singular = near_singular_configurations(arm, rng, samples)
     targets = [arm.fk(q) for q in configurations]
     answers: list[np.ndarray | None] = []
 
@@ -66,21 +88,21 @@ def bench_model(model: str, samples: int) -> None:
     ik_us = time_per_call_us(solve, targets)
     ik_all_us = time_per_call_us(arm.ik_all, targets[: min(samples, 2000)])
 
-    successes = 0
-    for T, q in zip(targets, answers, strict=True):
-        if q is None:
-            continue
-        T_reached = arm.fk(q)
-        if (
-            np.linalg.norm(T_reached[:3, 3] - T[:3, 3]) < SUCCESS_POS_M
-            and rotation_error(T_reached[:3, :3], T[:3, :3]) < SUCCESS_ROT_RAD
-        ):
-            successes += 1
+    successes = sum(reaches(arm, q, T) for T, q in zip(targets, answers, strict=True))
+
+    singular_successes = sum(reaches(arm, arm.ik(arm.fk(q), q_near), arm.fk(q)) for q in near_singular)
 
     print(f"{model}: {samples} random configurations, q_near = midpoint of the limits, seed {SEED}")
     print(f"  IK success       {100.0 * successes / samples:.2f} %  ({successes}/{samples})")
+    print(
+        f"  IK success, near-singular set  {100.0 * singular_successes / samples:.2f} %  "
+        f"({singular_successes}/{samples}: q5 or q3 in {{0, pi}} +- 1e-12..1e-6)"
+    )
     print(f"  IK time          median {np.median(ik_us):6.1f} us   p99 {np.percentile(ik_us, 99):6.1f} us")
-    print(f"  ik_all time      median {np.median(ik_all_us):6.1f} us   p99 {np.percentile(ik_all_us, 99):6.1f} us")
+    print(
+        f"  ik_all time      median {np.median(ik_all_us):6.1f} us   "
+        f"p99 {np.percentile(ik_all_us, 99):6.1f} us"
+    )
     print(f"  FK time          median {np.median(fk_us):6.1f} us   p99 {np.percentile(fk_us, 99):6.1f} us")
     if arm.urdf_path is not None and Path(arm.urdf_path).is_file():
         collision_configs = list(configurations[: min(samples, 2000)])
@@ -95,7 +117,9 @@ def bench_model(model: str, samples: int) -> None:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--samples", type=int, default=10_000)
     parser.add_argument("--model", choices=["pulse75", "pulse90", "all"], default="all")
     arguments = parser.parse_args()

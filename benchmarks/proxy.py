@@ -90,7 +90,14 @@ def main() -> int:
     direct_url = f"http://127.0.0.1:{sim_port}/pose"
     proxied_url = f"http://127.0.0.1:{proxy_port}/pose"
     sim = ["-m", "pendant", "--no-ui", "--api-port", str(sim_port)]
-    proxy = ["-m", "pendant.remote.proxy", "--robot", f"http://127.0.0.1:{sim_port}", "--port", str(proxy_port)]
+    proxy = [
+        "-m",
+        "pendant.remote.proxy",
+        "--robot",
+        f"http://127.0.0.1:{sim_port}",
+        "--port",
+        str(proxy_port),
+    ]
     with serving(sim, direct_url), serving(proxy, proxied_url):
         with httpx.Client() as direct, httpx.Client() as proxied:
             time_gets(direct, direct_url, WARMUP_REQUESTS)
@@ -110,7 +117,9 @@ def main() -> int:
         )
     overhead_ms = percentile_ms(proxied_samples, 0.5) - percentile_ms(direct_samples, 0.5)
     verdict = "OK" if overhead_ms <= TARGET_OVERHEAD_MS else "OVER TARGET"
-    print(f"proxy overhead (p50 proxied - p50 direct): {overhead_ms:.3f} ms (target <= {TARGET_OVERHEAD_MS} ms: {verdict})")
+    print(
+        f"proxy overhead (p50 proxied - p50 direct): {overhead_ms:.3f} ms (target <= {TARGET_OVERHEAD_MS} ms: {verdict})"
+    )
     return 0
 
 

@@ -62,9 +62,12 @@ WRIST2_TOP = 0.068  # where the J5 housing of link4 ends along J5
 FLANGE_RING_DEPTH = 0.022  # the J6 ring starts this far behind the tool flange face
 
 # The gripper: a dark body on the flange and two fingers sliding along the tcp's y axis.
-GRIPPER_ADAPTER_TOP = 0.012
+GRIPPER_ADAPTER_TOP = 0.008
+R_GRIPPER_HOUSING = 0.042
+GRIPPER_HOUSING_TOP = 0.03  # the round housing, then the rail block the fingers slide in
 GRIPPER_BODY_TOP = 0.052
-GRIPPER_BODY_HALF = (0.03, 0.06)  # half extents in tcp x and y
+GRIPPER_BODY_HALF = (0.025, 0.06)  # half extents of the rail block in tcp x and y
+FINGER_PAD = (0.002, 0.022)  # thickness and length of the rubber pad on a finger's inner face
 FINGER_GAP_CLOSED = 0.004  # half gap between the fingers when closed
 FINGER_SIZE = (0.024, 0.012, 0.047)  # x (width), y (thickness), z (length below the body)
 FINGER_OVERLAP = 0.004  # fingers start this far inside the body
@@ -75,8 +78,8 @@ GRIPPER_FORCE_N = 40.0
 BIG_MARGIN = 0.005
 WRIST_MARGIN = 0.002
 
-SEGMENTS_BIG = 40
-SEGMENTS_WRIST = 32
+SEGMENTS_BIG = 64
+SEGMENTS_WRIST = 48
 
 # Link masses (kg), about 20 kg for the PULSE 75 and 23 kg for the PULSE 90 (longer arm, stronger drives).
 LINK_MASSES_KG: dict[str, dict[str, float]] = {
@@ -120,11 +123,11 @@ class Paint:
 PAINTS: dict[str, Paint] = {
     "white": Paint((238, 240, 242), roughness=0.42),  # link tubes and base
     "housing": Paint((216, 220, 224), roughness=0.45),  # joint housings, a shade greyer
-    "cap": Paint((58, 61, 66), roughness=0.55),  # end caps of the housings
+    "cap": Paint((46, 48, 53), roughness=0.55),  # end caps of the housings
     "ring": Paint((26, 27, 30), roughness=0.6),  # the dark rings at the joints
     "metal": Paint((160, 163, 168), metallic=0.7, roughness=0.35),  # tool flange
-    "gripper": Paint((48, 50, 55), roughness=0.55),
-    "finger": Paint((78, 81, 87), roughness=0.5),
+    "gripper": Paint((40, 42, 46), roughness=0.55),
+    "finger": Paint((70, 73, 79), roughness=0.45),
 }
 PAINT_ORDER = tuple(PAINTS)  # meshes inside a GLB follow this order, for reproducible files
 
@@ -193,8 +196,14 @@ class Solid:
         return R @ I_local @ R.T
 
     def inflated(self, margin: float) -> Solid:
-        return Solid(self.kind, tuple(s + (margin if self.kind == "cylinder" and i == 0 else 2 * margin)
-                                      for i, s in enumerate(self.size)), self.T_link_solid)
+        return Solid(
+            self.kind,
+            tuple(
+                s + (margin if self.kind == "cylinder" and i == 0 else 2 * margin)
+                for i, s in enumerate(self.size)
+            ),
+            self.T_link_solid,
+        )
 
 
 @dataclass
@@ -202,8 +211,7 @@ class LinkBody:
     """The shapes of one link, in its URDF frame: coloured visual meshes, collision solids, mass solids."""
 
     name: str
-    margin: float
-    segments: int
+    wrist: bool  # wrist-sized: finer collision margin, fewer segments
     visuals: dict[str, list[trimesh.Trimesh]] = field(default_factory=dict)
     collisions: list[Solid] = field(default_factory=list)
     mass_solids: list[Solid] = field(default_factory=list)
@@ -223,15 +231,26 @@ class LinkBody:
         collide: bool = True,
         weigh: bool = True,
         collide_span: tuple[float, float] | None = None,
+        wrist: bool | None = None,
     ) -> None:
         """A cylinder along the z of `T_link_axis` from z0 to z1, with chamfered rims.
 
-        `collide_span` widens the collision cylinder along the axis (to cover caps and rings beside it)."""
+        `collide_span` widens the collision cylinder along the axis (to cover caps and rings beside it);
+        `wrist` overrides the link's size class for this one shape."""
+        wrist = self.wrist if wrist is None else wrist
+        segments, margin = (SEGMENTS_WRIST, WRIST_MARGIN) if wrist else (SEGMENTS_BIG, BIG_MARGIN)
         c = min(chamfer, radius / 2, (z1 - z0) / 2)
-        profile = [(0.0, z0), (radius - c, z0), (radius, z0 + c), (radius, z1 - c), (radius - c, z1), (0.0, z1)]
+        profile = [
+            (0.0, z0),
+            (radius - c, z0),
+            (radius, z0 + c),
+            (radius, z1 - c),
+            (radius - c, z1),
+            (0.0, z1),
+        ]
         if c == 0.0:
             profile = [profile[0], profile[1], profile[4], profile[5]]
-        mesh = trimesh.creation.revolve(np.array(profile), sections=self.segments)
+        mesh = trimesh.creation.revolve(np.array(profile), sections=segments)
         mesh.apply_transform(T_link_axis)
         self._paint(paint, mesh)
         solid = Solid("cylinder", (radius, z1 - z0), T_link_axis @ _translate_z((z0 + z1) / 2))
@@ -240,7 +259,7 @@ class LinkBody:
         if collide:
             lo, hi = collide_span if collide_span is not None else (z0, z1)
             span = Solid("cylinder", (radius, hi - lo), T_link_axis @ _translate_z((lo + hi) / 2))
-            self.collisions.append(span.inflated(self.margin))
+            self.collisions.append(span.inflated(margin))
 
     def housing(
         self,
@@ -252,29 +271,43 @@ class LinkBody:
         cap_low: bool = False,
         cap_high: bool = False,
         paint: str = "housing",
+        wrist: bool | None = None,
     ) -> None:
         """A joint housing along the z of `T_link_axis` with dark end caps on its free faces."""
         lo = z0 - CAP_THICKNESS if cap_low else z0
         hi = z1 + CAP_THICKNESS if cap_high else z1
-        self.cylinder(T_link_axis, radius, z0, z1, paint, chamfer=0.006, collide_span=(lo, hi))
+        self.cylinder(T_link_axis, radius, z0, z1, paint, chamfer=0.006, collide_span=(lo, hi), wrist=wrist)
         cap_radius = radius * 0.82
         if cap_low:
-            self.cylinder(T_link_axis, cap_radius, lo, z0 + 0.001, "cap", chamfer=0.004, collide=False)
+            self.cylinder(
+                T_link_axis, cap_radius, lo, z0 + 0.001, "cap", chamfer=0.004, collide=False, wrist=wrist
+            )
         if cap_high:
-            self.cylinder(T_link_axis, cap_radius, z1 - 0.001, hi, "cap", chamfer=0.004, collide=False)
+            self.cylinder(
+                T_link_axis, cap_radius, z1 - 0.001, hi, "cap", chamfer=0.004, collide=False, wrist=wrist
+            )
 
     def ring(self, T_link_axis: np.ndarray, radius: float, z0: float, z1: float) -> None:
         """The dark ring in the gap of a rotating joint (visual only: the housings' margins cover it)."""
         self.cylinder(T_link_axis, radius, z0, z1, "ring", collide=False, weigh=False)
 
-    def box(self, lo: tuple[float, float, float], hi: tuple[float, float, float], paint: str) -> None:
-        extents = tuple(h - l for l, h in zip(lo, hi, strict=True))
+    def box(
+        self,
+        lo: tuple[float, float, float],
+        hi: tuple[float, float, float],
+        paint: str,
+        *,
+        collide: bool = True,
+    ) -> None:
+        """An axis-aligned box from corner `lo` to corner `hi`."""
+        extents = tuple(high - low for low, high in zip(lo, hi, strict=True))
         T = np.eye(4)
-        T[:3, 3] = [(l + h) / 2 for l, h in zip(lo, hi, strict=True)]
+        T[:3, 3] = [(low + high) / 2 for low, high in zip(lo, hi, strict=True)]
         self._paint(paint, trimesh.creation.box(extents=extents, transform=T))
         solid = Solid("box", extents, T)
-        self.mass_solids.append(solid)
-        self.collisions.append(solid.inflated(self.margin))
+        if collide:
+            self.mass_solids.append(solid)
+            self.collisions.append(solid.inflated(WRIST_MARGIN if self.wrist else BIG_MARGIN))
 
 
 # --- The arm's shapes, link by link -----------------------------------------------------------------------
@@ -284,13 +317,13 @@ def build_bodies(dh: DHTable) -> list[LinkBody]:
     a2, a3 = dh.a[1], dh.a[2]
     wrist_housing_start = d4 - R_WRIST_HOUSING  # along J4, where the J5 housing begins
 
-    base = LinkBody("base_link", BIG_MARGIN, SEGMENTS_BIG)
+    base = LinkBody("base_link", wrist=False)
     up = axis_frame("z")
     base.cylinder(up, R_BASE_FLANGE, 0.0, BASE_FLANGE_TOP, "cap", chamfer=0.003)
     base.cylinder(up, R_BASE, BASE_FLANGE_TOP, BASE_TOP, "white", chamfer=0.006)
 
     # link1: the vertical J1 housing and the horizontal J2 housing on top (J2 axis along DH z1 = -y here).
-    link1 = LinkBody("link1", BIG_MARGIN, SEGMENTS_BIG)
+    link1 = LinkBody("link1", wrist=False)
     link1.ring(up, R_BIG_HOUSING * 0.95, BASE_TOP - 0.002, LINK1_BOTTOM)
     link1.cylinder(up, R_BIG_HOUSING, LINK1_BOTTOM, d1, "housing", chamfer=0.006)
     j2 = axis_frame("-y", (0.0, 0.0, d1))
@@ -298,7 +331,7 @@ def build_bodies(dh: DHTable) -> list[LinkBody]:
     link1.housing(j2, R_BIG_HOUSING, -R_BIG_HOUSING - 0.008, shoulder_split, cap_low=True)
 
     # link2: the upper arm, from the J2 axis (x = 0) to the J3 axis (x = a2), beside the shoulder.
-    link2 = LinkBody("link2", BIG_MARGIN, SEGMENTS_BIG)
+    link2 = LinkBody("link2", wrist=False)
     j2 = axis_frame("z")
     arm_top = UPPER_ARM_OFFSET + R_UPPER_ARM_TUBE + 0.007
     link2.ring(j2, R_BIG_HOUSING * 0.95, shoulder_split, shoulder_split + RING_WIDTH)
@@ -309,24 +342,24 @@ def build_bodies(dh: DHTable) -> list[LinkBody]:
     link2.housing(j3, R_BIG_HOUSING, elbow_split + RING_WIDTH, arm_top, cap_high=True)
 
     # link3: the forearm, from the J3 axis (x = 0) to the J4 axis (x = a3), nearer the base axis.
-    link3 = LinkBody("link3", BIG_MARGIN, SEGMENTS_BIG)
+    link3 = LinkBody("link3", wrist=False)
     j3 = axis_frame("z")
     link3.ring(j3, R_BIG_HOUSING * 0.95, elbow_split, elbow_split + RING_WIDTH)
     link3.housing(j3, R_BIG_HOUSING, FOREARM_OFFSET - R_FOREARM_TUBE - 0.008, elbow_split, cap_low=True)
     link3.cylinder(axis_frame("x", (0.0, 0.0, FOREARM_OFFSET)), R_FOREARM_TUBE, a3, 0.0, "white")
-    link3.segments = SEGMENTS_WRIST
-    link3.margin = WRIST_MARGIN
     j4 = axis_frame("z", (a3, 0.0, 0.0))
-    link3.housing(j4, R_WRIST_HOUSING, FOREARM_OFFSET - R_FOREARM_TUBE - 0.008, WRIST1_TOP, cap_low=True)
+    link3.housing(
+        j4, R_WRIST_HOUSING, FOREARM_OFFSET - R_FOREARM_TUBE - 0.008, WRIST1_TOP, cap_low=True, wrist=True
+    )
 
     # link4: the J5 housing, its axis (DH z4 = -y here) crossing the J4 axis at z = d4.
-    link4 = LinkBody("link4", WRIST_MARGIN, SEGMENTS_WRIST)
+    link4 = LinkBody("link4", wrist=True)
     link4.ring(axis_frame("z"), R_WRIST_HOUSING * 0.9, WRIST1_TOP, wrist_housing_start + 0.004)
     j5 = axis_frame("-y", (0.0, 0.0, d4))
     link4.housing(j5, R_WRIST_HOUSING, -R_WRIST_HOUSING - 0.005, WRIST2_TOP, cap_low=True)
 
     # link5: along the J5 axis (z here) out to the J6 housing, whose axis (DH z5 = +y here) is at z = d5.
-    link5 = LinkBody("link5", WRIST_MARGIN, SEGMENTS_WRIST)
+    link5 = LinkBody("link5", wrist=True)
     j5 = axis_frame("z")
     link5.ring(j5, R_WRIST_HOUSING * 0.9, WRIST2_TOP, WRIST2_TOP + RING_WIDTH)
     link5.cylinder(j5, R_WRIST_HOUSING, WRIST2_TOP + RING_WIDTH, d5, "housing", chamfer=0.004)
@@ -334,24 +367,36 @@ def build_bodies(dh: DHTable) -> list[LinkBody]:
     link5.housing(j6, R_WRIST_HOUSING, -R_WRIST_HOUSING - 0.005, d6 - FLANGE_RING_DEPTH, cap_low=True)
 
     # link6: the J6 ring and the tool flange, whose face is at z = d6.
-    link6 = LinkBody("link6", WRIST_MARGIN, SEGMENTS_WRIST)
+    link6 = LinkBody("link6", wrist=True)
     j6 = axis_frame("z")
     flange_back = d6 - FLANGE_RING_DEPTH
     link6.cylinder(j6, R_WRIST_HOUSING * 0.9, flange_back, d6 - 0.012, "ring")
     link6.cylinder(j6, R_TOOL_FLANGE, d6 - 0.012, d6, "metal", chamfer=0.002)
 
     # The gripper, in the tcp frame (z out of the flange): an adapter disc and a body, fingers along y.
-    gripper = LinkBody("gripper_body", WRIST_MARGIN, SEGMENTS_WRIST)
-    gripper.cylinder(axis_frame("z"), R_TOOL_FLANGE, 0.0, GRIPPER_ADAPTER_TOP, "gripper", chamfer=0.002)
+    gripper = LinkBody("gripper_body", wrist=True)
+    gripper.cylinder(axis_frame("z"), R_TOOL_FLANGE, 0.0, GRIPPER_ADAPTER_TOP, "cap", chamfer=0.002)
+    gripper.cylinder(
+        axis_frame("z"), R_GRIPPER_HOUSING, GRIPPER_ADAPTER_TOP, GRIPPER_HOUSING_TOP, "gripper", chamfer=0.004
+    )
     hx, hy = GRIPPER_BODY_HALF
-    gripper.box((-hx, -hy, GRIPPER_ADAPTER_TOP), (hx, hy, GRIPPER_BODY_TOP), "gripper")
+    gripper.box((-hx, -hy, GRIPPER_HOUSING_TOP), (hx, hy, GRIPPER_BODY_TOP), "gripper")
 
     fingers = []
     for name, sign in (("finger_left", 1.0), ("finger_right", -1.0)):
-        finger = LinkBody(name, WRIST_MARGIN, SEGMENTS_WRIST)
+        finger = LinkBody(name, wrist=True)
         fx, fy, fz = FINGER_SIZE
         inner, outer = sign * FINGER_GAP_CLOSED, sign * (FINGER_GAP_CLOSED + fy)
         finger.box((-fx / 2, min(inner, outer), -FINGER_OVERLAP), (fx / 2, max(inner, outer), fz), "finger")
+        # The pad sits inside the collision margin of the finger, so it is visual only.
+        pad_thickness, pad_length = FINGER_PAD
+        pad_inner = inner - sign * pad_thickness
+        finger.box(
+            (-fx / 2 + 0.002, min(inner, pad_inner), fz - pad_length),
+            (fx / 2 - 0.002, max(inner, pad_inner), fz - 0.002),
+            "ring",
+            collide=False,
+        )
         fingers.append(finger)
 
     return [base, link1, link2, link3, link4, link5, link6, gripper, *fingers]
@@ -374,7 +419,9 @@ def inertial_of(body: LinkBody, mass: float) -> Inertial:
     inertia = np.zeros((3, 3))
     for solid, m, centre in zip(body.mass_solids, masses, centres, strict=True):
         offset = centre - com
-        inertia += solid.inertia_about_centre(m) + m * (offset @ offset * np.eye(3) - np.outer(offset, offset))
+        inertia += solid.inertia_about_centre(m) + m * (
+            offset @ offset * np.eye(3) - np.outer(offset, offset)
+        )
     return Inertial(mass, com, inertia)
 
 
@@ -427,14 +474,14 @@ def mesh_scene(body: LinkBody) -> trimesh.Scene:
 
 
 def _link_xml(model: str, body: LinkBody, inertial: Inertial) -> str:
-    I = inertial.inertia
+    inertia = inertial.inertia
     lines = [f'  <link name="{body.name}">']
     lines += [
         "    <inertial>",
         f'      <origin xyz="{_vec(inertial.com)}" rpy="0 0 0"/>',
         f'      <mass value="{_num(inertial.mass)}"/>',
-        f'      <inertia ixx="{_num(I[0, 0])}" ixy="{_num(I[0, 1])}" ixz="{_num(I[0, 2])}" '
-        f'iyy="{_num(I[1, 1])}" iyz="{_num(I[1, 2])}" izz="{_num(I[2, 2])}"/>',
+        f'      <inertia ixx="{_num(inertia[0, 0])}" ixy="{_num(inertia[0, 1])}" ixz="{_num(inertia[0, 2])}" '
+        f'iyy="{_num(inertia[1, 1])}" iyz="{_num(inertia[1, 2])}" izz="{_num(inertia[2, 2])}"/>',
         "    </inertial>",
         f'    <visual name="{body.name}_visual">',
         '      <origin xyz="0 0 0" rpy="0 0 0"/>',
@@ -517,22 +564,41 @@ def urdf_text(model: str, dh: DHTable, bodies: list[LinkBody]) -> str:
             float(JOINT_MAX_SPEED_RAD_S[i]),
         )
         parts.append(
-            _joint_xml(f"joint{i + 1}", "revolute", parent, f"link{i + 1}", xyz, rpy, axis=(0, 0, 1), limit=limit)
+            _joint_xml(
+                f"joint{i + 1}", "revolute", parent, f"link{i + 1}", xyz, rpy, axis=(0, 0, 1), limit=limit
+            )
         )
-    parts.append(_joint_xml("tcp_joint", "fixed", "link6", "tcp", (0.0, 0.0, dh.d[5]), (0.0, 0.0, dh.tcp_yaw)))
-    parts.append(_joint_xml("gripper_joint", "fixed", "tcp", "gripper_body", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+    parts.append(
+        _joint_xml("tcp_joint", "fixed", "link6", "tcp", (0.0, 0.0, dh.d[5]), (0.0, 0.0, dh.tcp_yaw))
+    )
+    parts.append(
+        _joint_xml("gripper_joint", "fixed", "tcp", "gripper_body", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+    )
     finger_origin = (0.0, 0.0, GRIPPER_BODY_TOP)
     finger_limit = (0.0, GRIPPER_STROKE_M, GRIPPER_FORCE_N, GRIPPER_SPEED_M_S)
     parts.append(
         _joint_xml(
-            "finger_left_joint", "prismatic", "gripper_body", "finger_left", finger_origin, (0.0, 0.0, 0.0),
-            axis=(0, 1, 0), limit=finger_limit,
+            "finger_left_joint",
+            "prismatic",
+            "gripper_body",
+            "finger_left",
+            finger_origin,
+            (0.0, 0.0, 0.0),
+            axis=(0, 1, 0),
+            limit=finger_limit,
         )
     )
     parts.append(
         _joint_xml(
-            "finger_right_joint", "prismatic", "gripper_body", "finger_right", finger_origin, (0.0, 0.0, 0.0),
-            axis=(0, -1, 0), limit=finger_limit, mimic="finger_left_joint",
+            "finger_right_joint",
+            "prismatic",
+            "gripper_body",
+            "finger_right",
+            finger_origin,
+            (0.0, 0.0, 0.0),
+            axis=(0, -1, 0),
+            limit=finger_limit,
+            mimic="finger_left_joint",
         )
     )
     parts.append("</robot>")

@@ -94,7 +94,7 @@ def test_fk_returns_a_proper_transform(arm: ArmModel) -> None:
 )
 def test_wrong_shapes_and_nan_are_rejected_clearly(call: str, argument: object) -> None:
     arm = ArmModel.load("pulse75")
-    with pytest.raises(ValueError, match="shape|finite"):
+    with pytest.raises(ValueError, match=r"shape|finite"):
         getattr(arm, call)(argument)
 
 
@@ -189,7 +189,14 @@ def test_near_wrist_singularity_round_trips(arm: ArmModel, q5: float) -> None:
         assert_reaches(arm, answer, T)
         # Only q4 + q6 (or q4 - q6) is defined there; the rest must come back exactly.
         np.testing.assert_allclose(answer[[0, 1, 2, 4]], q[[0, 1, 2, 4]], atol=JOINT_TOL_RAD)
-        for solution in arm.ik_all(T):
+        # From far away too: q6 = q_near's may put joint 4 out of reach, and IK must move along the
+        # self-motion (q2, q3, q4, q6 about parallel axes) instead of giving up.
+        from_far = arm.ik(T, np.zeros(6))
+        assert from_far is not None
+        assert_reaches(arm, from_far, T)
+        solutions = arm.ik_all(T)
+        assert len(solutions) >= 1
+        for solution in solutions:
             assert_reaches(arm, solution, T)
 
 

@@ -50,7 +50,7 @@ MSG_MOTION_TYPE = "motionType must be JOINT or LINEAR"
 MSG_TIMEOUT = f"timeout must be a whole number of milliseconds from 0 to {INT32_MAX}"
 MSG_OUTPUT_PORT = f"port must be a digital output: {' or '.join(map(str, OUTPUT_PORTS))}"
 MSG_INPUT_PORT = f"port must be a digital input: {INPUT_PORTS[0]} to {INPUT_PORTS[-1]}"
-MSG_FAULT = "fault must be error, emergency or no_response"
+MSG_FAULT = "fault must be error, emergency, no_response or motion_failed"
 
 _PARAMETER_MESSAGES = {
     "speed": MSG_SPEED,

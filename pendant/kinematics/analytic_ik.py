@@ -7,8 +7,9 @@ Eight branches: shoulder (two q1), wrist (sign of sin q5), elbow (sign of sin q3
 - In frame 1 the orientation is R_1_tcp = Rz(q234) Ry(-q5) Rz(q6 + tcp_yaw), a ZYZ Euler form. Its last row
   (s5 cos g, -s5 sin g, c5) gives g = q6 + tcp_yaw for each sign of s5; then M = R_1_tcp Rz(-g) = Rz(q234)
   Ry(-q5) yields q234 and q5 by atan2 of entries that stay well-conditioned even when s5 -> 0. In the
-  wrist singularity (s5 = 0) only q234 +- q6 is fixed: q6 is taken from the caller's `q6_free` and q4
-  absorbs the rest, so nothing is divided by s5 and no NaN appears.
+  wrist singularity (s5 = 0) only q234 +- q6 is fixed and q2, q3, q4, q6 turn about parallel axes (a
+  self-motion): q6 is taken from the caller's `q6_free` unless that leaves joint 4 out of the 2R arm's reach,
+  in which case the nearest reachable point of the self-motion is used. Nothing is divided by s5, so no NaN.
 - The joint-4 origin in frame 1 is the wrist centre minus d5 z4, and a planar 2R solve gives q2, q3.
 
 Every branch that passes the reach tests is returned; the caller checks limits and verifies with FK.
@@ -54,6 +55,9 @@ def ik_branches(table: DHTable, T_base_tcp: np.ndarray, q6_free: float = 0.0) ->
 
     a_sq = a2 * a2 + a3 * a3
     two_a2a3 = 2.0 * a2 * a3
+    # Squared distances from J2 to joint 4's origin that the 2R arm spans (folded .. stretched).
+    e_min_sq = a_sq - abs(two_a2a3)
+    e_max_sq = a_sq + abs(two_a2a3)
     solutions: list[tuple[float, ...]] = []
     for q1 in q1_options:
         c1 = math.cos(q1)
@@ -69,22 +73,21 @@ def ik_branches(table: DHTable, T_base_tcp: np.ndarray, q6_free: float = 0.0) ->
         # Wrist centre in frame 1 (its z1 component is d4 by construction of q1).
         px1 = c1 * wx + s1 * wy
         py1 = wz
-        sin5_abs = math.hypot(m20, m21)
-        if sin5_abs < WRIST_SINGULAR_TOL:
-            g_base = q6_free + yaw
-            g_options = (g_base, g_base + math.pi)
-        else:
-            g_base = math.atan2(-m21, m20)
-            g_options = (g_base, g_base + math.pi)
-        for g in g_options:
-            cg = math.cos(g)
-            sg = math.sin(g)
-            # M = R_1_tcp Rz(-g) = Rz(q234) Ry(-q5).
-            n01 = m00 * sg + m01 * cg
-            n11 = m10 * sg + m11 * cg
-            n20 = m20 * cg - m21 * sg
-            q234 = math.atan2(-n01, n11)
-            q5 = math.atan2(n20, m22)
+        singular = math.hypot(m20, m21) < WRIST_SINGULAR_TOL
+        g_base = q6_free + yaw if singular else math.atan2(-m21, m20)
+        for g in (g_base, g_base + math.pi):
+            q234, q5 = _q234_q5(m00, m01, m10, m11, m20, m21, m22, g)
+            if singular:
+                # q2, q3, q4 and q6 then turn about parallel axes: a self-motion that moves joint 4's
+                # origin on a circle of radius d5 about the wrist centre. Keep q6 unless that puts joint 4
+                # out of the 2R arm's reach; then move along the self-motion to the nearest reachable point.
+                reachable = _nearest_reachable_q234(q234, px1, py1, d5, e_min_sq, e_max_sq)
+                if reachable is None:
+                    continue
+                if reachable != q234:
+                    # c5 = +1: q234 + g is fixed; c5 = -1: q234 - g is fixed.
+                    g += (q234 - reachable) if m22 > 0.0 else (reachable - q234)
+                    q234, q5 = _q234_q5(m00, m01, m10, m11, m20, m21, m22, g)
             c234 = math.cos(q234)
             s234 = math.sin(q234)
             # Joint-4 origin in frame 1: the wrist centre minus d5 along z4 = (s234, -c234, 0).
@@ -102,6 +105,46 @@ def ik_branches(table: DHTable, T_base_tcp: np.ndarray, q6_free: float = 0.0) ->
                 q4 = q234 - q2 - q3
                 solutions.append((q1, q2, q3, q4, q5, g - yaw))
     return solutions
+
+
+def _q234_q5(
+    m00: float, m01: float, m10: float, m11: float, m20: float, m21: float, m22: float, g: float
+) -> tuple[float, float]:
+    """q234 and q5 from R_1_tcp (entries m..) once g = q6 + tcp_yaw is chosen: M = R_1_tcp Rz(-g) =
+    Rz(q234) Ry(-q5), read off by atan2 of entries that stay well-conditioned for every q5."""
+    cg = math.cos(g)
+    sg = math.sin(g)
+    n01 = m00 * sg + m01 * cg
+    n11 = m10 * sg + m11 * cg
+    n20 = m20 * cg - m21 * sg
+    return math.atan2(-n01, n11), math.atan2(n20, m22)
+
+
+def _nearest_reachable_q234(
+    q234: float, wx: float, wy: float, d5: float, e_min_sq: float, e_max_sq: float
+) -> float | None:
+    """q234 itself if joint 4's origin w - d5 (s234, -c234) is within the 2R arm's reach, else the nearest
+    q234 (by angle) for which it is, or None when no q234 works."""
+    w_sq = wx * wx + wy * wy
+    w = math.sqrt(w_sq)
+    # |e|^2 = |w|^2 + d5^2 - 2 d5 |w| sin(q234 - psi), psi = atan2(wy, wx).
+    if w < 1e-12:
+        return q234 if e_min_sq <= d5 * d5 <= e_max_sq else None
+    psi = math.atan2(wy, wx)
+    lo = (w_sq + d5 * d5 - e_max_sq) / (2.0 * d5 * w)
+    hi = (w_sq + d5 * d5 - e_min_sq) / (2.0 * d5 * w)
+    if lo > 1.0 or hi < -1.0:
+        return None
+    theta = q234 - psi
+    if lo <= math.sin(theta) <= hi:
+        return q234
+    # The reachable set is one or two arcs of theta; the nearest point is one of their ends.
+    ends = []
+    for bound in (max(lo, -1.0), min(hi, 1.0)):
+        edge = math.asin(bound)
+        ends += [edge, math.pi - edge]
+    nearest = min(ends, key=lambda end: abs(math.remainder(end - theta, 2.0 * math.pi)))
+    return psi + nearest
 
 
 def pose_error(T_a: np.ndarray, flat_b: tuple[float, ...]) -> tuple[float, float]:

@@ -53,7 +53,7 @@ class ArmModel:
 
     @classmethod
     def load(cls, model: str | Path) -> ArmModel:
-        """A named model ("pulse75", "pulse90") or a URDF path whose file stem or robot name is one of them."""
+        """A named model ("pulse75", "pulse90"), or a URDF path whose file stem or robot name is one."""
         path = resolve_urdf_path(str(model))
         key = str(model) if str(model) in DH_TABLES else _model_key_of_urdf(path)
         return cls(DH_TABLES[key], path)
@@ -122,7 +122,9 @@ class ArmModel:
     @functools.cached_property
     def _pin(self) -> PinArm:
         if self.urdf_path is None:
-            raise RuntimeError(f"arm model {self.name!r} has no URDF: Jacobian, dynamics and collision need one")
+            raise RuntimeError(
+                f"arm model {self.name!r} has no URDF: Jacobian, dynamics and collision need one"
+            )
         return PinArm(self.urdf_path)
 
     def jacobian(self, q: np.ndarray) -> np.ndarray:

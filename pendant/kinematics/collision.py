@@ -60,7 +60,9 @@ class ArmCollision:
         )
 
     def colliding_pairs(self, q: np.ndarray) -> list[tuple[str, str]]:
-        pin.computeCollisions(self.model, self.data, self.geometry_model, self.geometry_data, self._to_pin(q), False)
+        pin.computeCollisions(
+            self.model, self.data, self.geometry_model, self.geometry_data, self._to_pin(q), False
+        )
         objects = self.geometry_model.geometryObjects
         pairs = []
         for index, pair in enumerate(self.geometry_model.collisionPairs):

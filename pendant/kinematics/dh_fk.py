@@ -97,7 +97,12 @@ def dh_link_frames(table: DHTable, q: Sequence[float]) -> np.ndarray:
         ca, sa = math.cos(table.alpha[i]), math.sin(table.alpha[i])
         a, d = table.a[i], table.d[i]
         step = np.array(
-            [[ct, -st * ca, st * sa, a * ct], [st, ct * ca, -ct * sa, a * st], [0.0, sa, ca, d], [0, 0, 0, 1.0]]
+            [
+                [ct, -st * ca, st * sa, a * ct],
+                [st, ct * ca, -ct * sa, a * st],
+                [0.0, sa, ca, d],
+                [0, 0, 0, 1.0],
+            ]
         )
         frames[i + 1] = frames[i] @ step
     cy, sy = math.cos(table.tcp_yaw), math.sin(table.tcp_yaw)

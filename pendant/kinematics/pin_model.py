@@ -1,4 +1,4 @@
-"""The arm's URDF in pinocchio: a 6-joint model (gripper fingers locked) for Jacobians, dynamics, collision."""
+"""The arm's URDF in pinocchio: a 6-joint model (gripper fingers locked) for Jacobian, dynamics, collision."""
 
 from __future__ import annotations
 
@@ -41,7 +41,9 @@ class PinArm:
         if self.tcp_frame_id >= model.nframes:
             raise ValueError(f"{urdf_path}: no frame named {TCP_FRAME!r}")
         self._link_frames = [
-            (frame.name, index) for index, frame in enumerate(model.frames) if frame.type == pin.FrameType.BODY
+            (frame.name, index)
+            for index, frame in enumerate(model.frames)
+            if frame.type == pin.FrameType.BODY
         ]
         self.collision = ArmCollision(model, geometry, self._to_pin)
 
@@ -73,4 +75,6 @@ class PinArm:
         return self._from_pin(pin.computeGeneralizedGravity(self.model, self.data, self._to_pin(q)))
 
     def rnea(self, q: np.ndarray, dq: np.ndarray, ddq: np.ndarray) -> np.ndarray:
-        return self._from_pin(pin.rnea(self.model, self.data, self._to_pin(q), self._to_pin(dq), self._to_pin(ddq)))
+        return self._from_pin(
+            pin.rnea(self.model, self.data, self._to_pin(q), self._to_pin(dq), self._to_pin(ddq))
+        )

@@ -1,13 +1,13 @@
 """The pendant's API port in robot mode: a transparent proxy to the real PULSE controller.
 
-Every request except GET /pendant/health goes to the controller with its method, path, query string, body and
-headers (minus hop-by-hop ones); the controller's status, content type and body come back byte for byte.
-If the controller cannot be reached, or does not answer within the read timeout, the proxy answers
-502 Bad Gateway with a plain-text message saying why. Nothing is queued or retried later: a command that
-could not be delivered is lost, and the caller is told so. GETs (idempotent) are retried once on a failed
-connection.
+Every request outside /pendant/ (the pendant's own namespace, e.g. GET /pendant/health) goes to the controller
+with its method, path, query string, body and headers (minus hop-by-hop ones); the controller's status, headers
+(content type included) and body come back byte for byte. If the controller cannot be reached, or does not
+answer within the read timeout, the proxy answers 502 Bad Gateway with a `text/plain` message saying why.
+Nothing is queued or re-sent later: a command that could not be delivered is lost, and the caller is told.
+A GET (idempotent) is retried once on a fresh connection when a kept-alive one turns out to be dead.
 
-Run alone (the CLI's `pendant --robot URL` builds the same app):
+Run alone (`pendant --robot URL` builds the same app):
     python -m pendant.remote.proxy --robot http://192.168.1.50:8081 --port 8081
 """
 
@@ -17,23 +17,24 @@ import argparse
 import contextlib
 import time
 from collections.abc import AsyncIterator, Callable
+from urllib.parse import urlsplit
 
-import httpx
 from fastapi import FastAPI
 from starlette.requests import Request
 from starlette.responses import PlainTextResponse, Response
-from starlette.routing import Route
+from starlette.types import ASGIApp, Receive, Scope, Send
 
 from pendant.config import Settings
 from pendant.remote.client import DEFAULT_CONNECT_TIMEOUT_S, RemoteController
 from pendant.remote.health import health_router
+from pendant.remote.upstream import UpstreamConnectError, UpstreamError, UpstreamPool, UpstreamTimeout
 
 DEFAULT_PROXY_READ_TIMEOUT_S = 10.0
-PROXY_METHODS = ["GET", "PUT", "POST", "DELETE", "PATCH", "HEAD", "OPTIONS"]
+PENDANT_PREFIX = "/pendant/"  # served by the pendant itself, never forwarded
 BAD_GATEWAY = 502
 
-# Headers that belong to one connection, not to the message (RFC 9110 7.6.1), plus the ones the proxy
-# recomputes (host, content-length) or the server in front adds itself (date, server).
+# Headers that belong to one connection, not to the message (RFC 9110 7.6.1), plus the ones the proxy sets
+# itself (host, content-length) or the server in front adds (date, server).
 _HOP_BY_HOP = frozenset(
     {
         b"connection",
@@ -47,13 +48,76 @@ _HOP_BY_HOP = frozenset(
         b"upgrade",
     }
 )
-_NOT_FORWARDED_UP = _HOP_BY_HOP | {b"host", b"content-length", b"accept-encoding"}
+_NOT_FORWARDED_UP = _HOP_BY_HOP | {b"host", b"content-length"}
 _NOT_FORWARDED_DOWN = _HOP_BY_HOP | {b"content-length", b"date", b"server"}
+_NO_BODY_STATUSES = frozenset({204, 304})
 
 RequestHook = Callable[[Request], Response | None]
-"""Called before each forwarded request (not for /pendant/health), on the event loop: keep it fast.
-Return a Response to answer instead of the controller (access control: a token check), None to forward.
-An event log can record `request.method`, `request.url.path` and `request.client` here."""
+"""Called before each forwarded request, on the event loop (keep it fast). Return a Response to answer
+instead of the controller (access control: a token check), or None to forward. An event log can record
+`request.method`, `request.url.path` and `request.client` here."""
+
+
+class _Forwarder:
+    """ASGI middleware: forwards every HTTP request outside /pendant/ to the controller, raw."""
+
+    def __init__(
+        self, app: ASGIApp, robot_url: str, pool: UpstreamPool, on_request: RequestHook | None
+    ) -> None:
+        self.app = app
+        self.robot_url = robot_url
+        self.pool = pool
+        self.on_request = on_request
+        self.prefix = urlsplit(robot_url).path.rstrip("/").encode()
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http" or scope["path"].startswith(PENDANT_PREFIX):
+            await self.app(scope, receive, send)
+            return
+        if self.on_request is not None:
+            refusal = self.on_request(Request(scope, receive))
+            if refusal is not None:
+                await refusal(scope, receive, send)
+                return
+        body = b""
+        while True:
+            message = await receive()
+            body += message.get("body", b"")
+            if not message.get("more_body", False):
+                break
+        method: str = scope["method"]
+        target = self.prefix + (scope.get("raw_path") or scope["path"].encode())
+        if scope["query_string"]:
+            target += b"?" + scope["query_string"]
+        headers = [(name, value) for name, value in scope["headers"] if name not in _NOT_FORWARDED_UP]
+        answer = await self._exchange(method, target, headers, body, scope["path"])
+        if isinstance(answer, Response):
+            await answer(scope, receive, send)
+            return
+        response_headers = [(k, v) for k, v in answer.headers if k.lower() not in _NOT_FORWARDED_DOWN]
+        if method == "HEAD":
+            response_headers += [(k, v) for k, v in answer.headers if k.lower() == b"content-length"]
+        elif answer.status >= 200 and answer.status not in _NO_BODY_STATUSES:
+            response_headers.append((b"content-length", str(len(answer.body)).encode()))
+        await send({"type": "http.response.start", "status": answer.status, "headers": response_headers})
+        await send({"type": "http.response.body", "body": answer.body})
+
+    async def _exchange(
+        self, method: str, target: bytes, headers: list[tuple[bytes, bytes]], body: bytes, path: str
+    ) -> object:
+        """The controller's answer, or the 502 Response saying why there is none."""
+        attempts = 2 if method == "GET" else 1
+        for attempt in range(attempts):
+            try:
+                return await self.pool.request(method, target, headers, body)
+            except UpstreamTimeout as exc:
+                return _bad_gateway(f"Controller at {self.robot_url} did not answer {method} {path}: {exc}")
+            except UpstreamConnectError as exc:
+                return _bad_gateway(f"Controller at {self.robot_url} is unreachable: {exc}")
+            except UpstreamError as exc:
+                if attempt + 1 == attempts:
+                    return _bad_gateway(f"Controller at {self.robot_url} failed on {method} {path}: {exc}")
+        raise AssertionError("unreachable")  # the loop always returns
 
 
 def create_proxy_app(
@@ -63,62 +127,26 @@ def create_proxy_app(
     on_request: RequestHook | None = None,
     connect_timeout: float = DEFAULT_CONNECT_TIMEOUT_S,
     read_timeout: float = DEFAULT_PROXY_READ_TIMEOUT_S,
-    transport: httpx.AsyncBaseTransport | None = None,
     started_at: float | None = None,
 ) -> FastAPI:
-    """An ASGI app serving the PULSE API by forwarding to the controller at `robot_url`, plus
-    GET /pendant/health. `transport` replaces the network (tests)."""
+    """An ASGI app serving the PULSE API by forwarding to the controller at `robot_url` (plain HTTP), plus
+    GET /pendant/health. More pendant routes can be added to it under /pendant/."""
     robot_url = robot_url.rstrip("/")
+    parts = urlsplit(robot_url)
+    if parts.scheme != "http" or not parts.hostname:
+        raise ValueError(f"robot URL must look like http://HOST:8081, not {robot_url!r}")
     settings = settings if settings is not None else Settings(robot_url=robot_url)
     started_at = started_at if started_at is not None else time.monotonic()
-    upstream = httpx.AsyncClient(
-        transport=transport,
-        timeout=httpx.Timeout(read_timeout, connect=connect_timeout, pool=connect_timeout),
-        limits=httpx.Limits(max_connections=32, max_keepalive_connections=16, keepalive_expiry=2.0),
-    )
+    pool = UpstreamPool(parts.hostname, parts.port or 80, connect_timeout, read_timeout)
     # The health probe is a blocking client: the health route runs in the thread pool.
     health_probe = RemoteController(robot_url, connect_timeout=connect_timeout, get_retries=0)
-
-    async def forward(request: Request) -> Response:
-        if on_request is not None:
-            refusal = on_request(request)
-            if refusal is not None:
-                return refusal
-        scope = request.scope
-        method: str = scope["method"]
-        target = robot_url + scope.get("raw_path", scope["path"].encode()).decode("latin-1")
-        if scope["query_string"]:
-            target += "?" + scope["query_string"].decode("latin-1")
-        headers = [(k, v) for k, v in scope["headers"] if k not in _NOT_FORWARDED_UP]
-        # The body is passed through untouched, so it must not arrive compressed.
-        headers.append((b"accept-encoding", b"identity"))
-        body = await request.body()
-        attempts = 2 if method == "GET" else 1
-        for attempt in range(attempts):
-            try:
-                answer = await upstream.request(method, target, content=body, headers=headers)
-                break
-            except httpx.TimeoutException:
-                return _bad_gateway(
-                    f"Controller at {robot_url} did not answer {method} {scope['path']} "
-                    f"within {read_timeout:g} s"
-                )
-            except httpx.HTTPError as exc:
-                if attempt + 1 < attempts and not isinstance(exc, httpx.TimeoutException):
-                    continue
-                return _bad_gateway(f"Controller at {robot_url} is unreachable: {exc or type(exc).__name__}")
-        response = Response(content=answer.content, status_code=answer.status_code)
-        response.raw_headers.extend(
-            (k, v) for k, v in answer.headers.raw if k.lower() not in _NOT_FORWARDED_DOWN
-        )
-        return response
 
     @contextlib.asynccontextmanager
     async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
         try:
             yield
         finally:
-            await upstream.aclose()
+            await pool.aclose()
             health_probe.close()
 
     app = FastAPI(
@@ -129,8 +157,7 @@ def create_proxy_app(
         lifespan=lifespan,
     )
     app.include_router(health_router(settings, health_probe, started_at))
-    # A raw Starlette route (no FastAPI parameter parsing) keeps the per-request overhead small.
-    app.router.routes.append(Route("/{path:path}", forward, methods=PROXY_METHODS))
+    app.add_middleware(_Forwarder, robot_url=robot_url, pool=pool, on_request=on_request)
     app.state.robot_url = robot_url
     app.state.health_probe = health_probe
     return app

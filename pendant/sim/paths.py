@@ -10,6 +10,7 @@ and Cartesian space (y = position and a rotation vector relative to the waypoint
 from __future__ import annotations
 
 import bisect
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,7 +43,12 @@ class Pieces:
     def local(self, s: float) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
         k = self.index(s)
         u = s - self.starts[k]
-        return k, self.y0[k] + self.v0[k] * u + 0.5 * self.acc[k] * (u * u), self.v0[k] + self.acc[k] * u, self.acc[k]
+        return (
+            k,
+            self.y0[k] + self.v0[k] * u + 0.5 * self.acc[k] * (u * u),
+            self.v0[k] + self.acc[k] * u,
+            self.acc[k],
+        )
 
     def boundaries(self) -> list[float]:
         return [*self.starts, self.length]
@@ -190,8 +196,10 @@ class CartesianPath:
         deltas = np.array(
             [
                 np.concatenate(
-                    [self.positions[j + 1] - self.positions[j],
-                     matrix_to_rotvec(self.rotations[j + 1] @ self.rotations[j].T)]
+                    [
+                        self.positions[j + 1] - self.positions[j],
+                        matrix_to_rotvec(self.rotations[j + 1] @ self.rotations[j].T),
+                    ]
                 )
                 for j in range(len(self.poses) - 1)
             ]
@@ -230,7 +238,7 @@ class CartesianPath:
 def refine_grid(boundaries: list[float], max_step: float) -> np.ndarray:
     """The boundaries plus evenly spaced points so that no cell is longer than max_step."""
     points: list[np.ndarray] = []
-    for a, b in zip(boundaries[:-1], boundaries[1:], strict=True):
+    for a, b in itertools.pairwise(boundaries):
         if b <= a:
             continue
         n = max(1, int(np.ceil((b - a) / max_step)))
@@ -269,6 +277,8 @@ class SampledJointPath:
         q = self.q_samples[k] + self.slopes[k] * (s - self._s_list[k])
         # The curvature of the underlying smooth path, from neighbouring slopes (the linear pieces have none).
         k0, k1 = max(0, k - 1), min(len(self.slopes) - 1, k + 1)
-        span = 0.5 * (self._s_list[k1 + 1] + self._s_list[k1]) - 0.5 * (self._s_list[k0 + 1] + self._s_list[k0])
+        span = 0.5 * (self._s_list[k1 + 1] + self._s_list[k1]) - 0.5 * (
+            self._s_list[k0 + 1] + self._s_list[k0]
+        )
         ddq = (self.slopes[k1] - self.slopes[k0]) / span if span > 0 else np.zeros_like(q)
         return q, self.slopes[k], ddq

@@ -23,6 +23,7 @@ class FaultName(StrEnum):
     error = "error"
     emergency = "emergency"
     no_response = "no_response"
+    motion_failed = "motion_failed"
 
 
 FaultPath = Annotated[
@@ -31,7 +32,7 @@ FaultPath = Annotated[
         description=(
             "error: the arm stops, frozen, status ERROR (PUT /recover brings it back). emergency: status "
             "EMERGENCY, every PULSE call answers 503 until /sim/reset. no_response: every PULSE call answers "
-            "500 until /sim/reset."
+            "500 until /sim/reset. motion_failed: the running motion fails, status MOTION_FAILED."
         )
     ),
 ]

@@ -1,0 +1,125 @@
+"""Where a jog goes: the furthest safe target along the jogged axis, found on the pendant's own model.
+
+A continuous jog is one motion command towards a target a few seconds ahead; the deadman freezes it on
+release. The target stops short of joint limits, collisions and (for Cartesian jogs) the edge of the
+workspace, so the controller accepts it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import StrEnum
+
+import numpy as np
+
+from pendant.kinematics import ArmModel
+from pendant.sim.transforms import inverse, rotvec_to_matrix
+
+# Manual reduced speed (ISO 10218-1): the TCP never exceeds 250 mm/s while jogging.
+JOG_TCP_MAX_VELOCITY_M_S = 0.25
+JOG_MAX_ROTATION_RAD_S = np.radians(45.0)
+# A continuous jog plans this far ahead; when the arm gets there while still held, the next piece follows.
+JOG_HORIZON_S = 3.0
+JOINT_SAMPLE_RAD = np.radians(1.0)
+LINEAR_SAMPLE_M = 0.005
+ROTATION_SAMPLE_RAD = np.radians(1.0)
+# Between two samples of a Cartesian jog no joint may turn more than this (else the IK branch jumped).
+MAX_JOINT_JUMP_RAD = np.radians(10.0)
+SAFETY_BACKOFF_SAMPLES = 2
+
+
+class JogFrame(StrEnum):
+    JOINT = "Joint"
+    BASE = "Base"
+    TOOL = "Tool"
+
+
+CARTESIAN_AXES = ("X", "Y", "Z", "Roll", "Pitch", "Yaw")
+
+
+@dataclass(frozen=True)
+class JogRequest:
+    """Jog `axis` (joint 0-5, or X Y Z Roll Pitch Yaw as 0-5) in `direction` (+1 or -1).
+
+    `step` is None for a continuous jog, or an increment in metres (X Y Z) or radians (joints, rotations).
+    """
+
+    frame: JogFrame
+    axis: int
+    direction: int
+    speed_percent: float
+    step: float | None = None
+
+    @property
+    def is_rotation(self) -> bool:
+        return self.frame is JogFrame.JOINT or self.axis >= 3
+
+    def label(self) -> str:
+        name = f"J{self.axis + 1}" if self.frame is JogFrame.JOINT else CARTESIAN_AXES[self.axis]
+        return f"{name}{'+' if self.direction > 0 else '-'}"
+
+
+def joint_jog_target(arm: ArmModel, q: np.ndarray, request: JogRequest, joint_speed: float) -> np.ndarray:
+    """The furthest pose along one joint (within the step or the horizon) that is in limits and collision
+    free all the way; `q` itself when no progress is possible."""
+    travel = request.step if request.step is not None else joint_speed * JOG_HORIZON_S
+    n = max(1, int(np.ceil(travel / JOINT_SAMPLE_RAD)))
+    safe_k = n
+    for k in range(1, n + 1):
+        sample = q.copy()
+        sample[request.axis] += request.direction * travel * k / n
+        if not arm.within_limits(sample) or arm.in_collision(sample):
+            safe_k = max(0, k - 1 - SAFETY_BACKOFF_SAMPLES)
+            break
+    target = q.copy()
+    target[request.axis] += request.direction * travel * safe_k / n
+    return target
+
+
+def cartesian_jog_path(
+    arm: ArmModel,
+    q: np.ndarray,
+    T_base_zero: np.ndarray,
+    T_flange_tool: np.ndarray,
+    request: JogRequest,
+) -> np.ndarray:
+    """T_zero_tool of the furthest target along a straight Cartesian jog that IK follows continuously,
+    inside the limits and without collision; the current T_zero_tool when no progress is possible."""
+    T_zero_tool = inverse(T_base_zero) @ arm.fk(q) @ T_flange_tool
+    speed_fraction = request.speed_percent / 100.0
+    if request.is_rotation:
+        rate, sample = JOG_MAX_ROTATION_RAD_S * speed_fraction, ROTATION_SAMPLE_RAD
+    else:
+        rate, sample = JOG_TCP_MAX_VELOCITY_M_S * speed_fraction, LINEAR_SAMPLE_M
+    travel = request.step if request.step is not None else rate * JOG_HORIZON_S
+    n = max(1, int(np.ceil(travel / sample)))
+    T_flange_tool_inv = inverse(T_flange_tool)
+    best = T_zero_tool
+    q_prev = q
+    safe = []
+    for k in range(1, n + 1):
+        T = _displaced(T_zero_tool, request, request.direction * travel * k / n)
+        q_k = arm.ik(T_base_zero @ T @ T_flange_tool_inv, q_prev)
+        if q_k is None or np.max(np.abs(q_k - q_prev)) > MAX_JOINT_JUMP_RAD or arm.in_collision(q_k):
+            break
+        safe.append(T)
+        q_prev = q_k
+    else:
+        return safe[-1] if safe else best
+    keep = len(safe) - SAFETY_BACKOFF_SAMPLES
+    return safe[keep - 1] if keep > 0 else best
+
+
+def _displaced(T_zero_tool: np.ndarray, request: JogRequest, amount: float) -> np.ndarray:
+    """T_zero_tool moved by `amount` along or about the request's axis, in the base or the tool frame."""
+    out = T_zero_tool.copy()
+    unit = np.zeros(3)
+    unit[request.axis % 3] = 1.0
+    in_tool = request.frame is JogFrame.TOOL
+    if request.axis < 3:
+        direction = T_zero_tool[:3, :3] @ unit if in_tool else unit
+        out[:3, 3] = T_zero_tool[:3, 3] + amount * direction
+    else:
+        R = rotvec_to_matrix(unit * amount)
+        out[:3, :3] = T_zero_tool[:3, :3] @ R if in_tool else R @ T_zero_tool[:3, :3]
+    return out

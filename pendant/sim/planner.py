@@ -1,0 +1,253 @@
+"""Turn a motion command into a checked, time-parameterised joint trajectory (or refuse it).
+
+Everything here is a pure function of its inputs: the arm model, the configuration the arm will be in when
+the command starts, the tool, and the motion parameters. Nothing moves until a plan comes back.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections import deque
+from dataclasses import dataclass
+
+import numpy as np
+
+from pendant.controller.errors import Collision, PreconditionFailed, Unreachable
+from pendant.controller.types import (
+    SPEED_MAX,
+    SPEED_MIN,
+    TCP_MAX_VELOCITY_MAX,
+    TCP_MAX_VELOCITY_MIN,
+    MotionParams,
+)
+from pendant.kinematics import ArmModel
+from pendant.kinematics.limits import JOINT_MAX_ACCEL_RAD_S2, JOINT_MAX_SPEED_RAD_S
+from pendant.sim import profile
+from pendant.sim.paths import CartesianPath, JointPath, SampledJointPath
+from pendant.sim.profile import TimeScaling
+from pendant.sim.transforms import inverse
+
+# Collision checks along a path: at least every 2 degrees of the leading joint and every 5 mm of TCP travel.
+CHECK_JOINT_STEP_RAD = math.radians(2.0)
+CHECK_TCP_STEP_M = 0.005
+# A LINEAR path is sampled every 1.5 mm of s (<= 1.5 mm of TCP travel, <= 0.43 degrees of TCP turn) and
+# refined where a joint moves more than 1 degree between samples; if a joint still jumps by more than that
+# over 1 micrometre of path, IK has changed branch (or crossed a singularity) and the path is refused.
+LINEAR_SAMPLE_STEP_M = 0.0015
+LINEAR_JOINT_STEP_RAD = math.radians(1.0)
+LINEAR_MIN_STEP_M = 1e-6
+# A LINEAR move to a pose must arrive in that very configuration, not another IK branch of the same TCP pose.
+POSE_MATCH_TOL_RAD = 1e-4
+# The TCP speed cap is planned with this much margin, for the speed change inside a sampling cell.
+TCP_CAP_MARGIN = 0.98
+# Where a path curves (blends, LINEAR paths in joint space), half the acceleration budget goes to the turn
+# and half to speeding up or slowing down, so their sum stays within the joint limits.
+CURVED_BUDGET = 0.5
+FLOOR_Z_M = 0.0
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A checked trajectory: the joint path, its time scaling and where it ends."""
+
+    path: JointPath | SampledJointPath
+    scaling: TimeScaling
+    q_end: np.ndarray
+
+    @property
+    def duration(self) -> float:
+        return self.scaling.duration
+
+
+def check_params(params: MotionParams) -> None:
+    """PreconditionFailed with a clear message when a parameter is out of its range."""
+    if not (math.isfinite(params.speed) and SPEED_MIN <= params.speed <= SPEED_MAX):
+        raise PreconditionFailed(
+            f"speed must be between {SPEED_MIN:g} and {SPEED_MAX:g} % (got {params.speed})"
+        )
+    tcp = params.tcp_max_velocity
+    if not (math.isfinite(tcp) and TCP_MAX_VELOCITY_MIN <= tcp <= TCP_MAX_VELOCITY_MAX):
+        raise PreconditionFailed(
+            f"tcp_max_velocity must be between {TCP_MAX_VELOCITY_MIN:g} and {TCP_MAX_VELOCITY_MAX:g} m/s "
+            f"(got {tcp})"
+        )
+    acc = params.acceleration
+    if acc is not None and not (math.isfinite(acc) and SPEED_MIN <= acc <= SPEED_MAX):
+        raise PreconditionFailed(
+            f"acceleration must be between {SPEED_MIN:g} and {SPEED_MAX:g} % (got {acc})"
+        )
+
+
+class Planner:
+    """Plans JOINT and LINEAR motions for one arm, checking reach, joint limits and collisions."""
+
+    def __init__(self, arm: ArmModel) -> None:
+        self.arm = arm
+        self.vmax = np.array(JOINT_MAX_SPEED_RAD_S, dtype=float)
+        self.amax = np.array(JOINT_MAX_ACCEL_RAD_S2, dtype=float)
+
+    # --- JOINT ---------------------------------------------------------------------------------------------
+
+    def joint(
+        self,
+        q_start: np.ndarray,
+        targets: list[np.ndarray],
+        params: MotionParams,
+        T_flange_tool: np.ndarray,
+        tool_radius: float,
+        unreachable_message: str,
+    ) -> Plan:
+        """Synchronised joint-space motion from q_start through `targets` (blended at the interior ones)."""
+        for q in targets:
+            if not self.arm.within_limits(q):
+                raise Unreachable(unreachable_message)
+        path = JointPath(np.vstack([q_start, *targets]), self.vmax)
+        q_end = np.array(targets[-1], dtype=float)
+        if path.length == 0.0:
+            return Plan(path, profile.still(), q_end)
+        s_grid = path.grid(CHECK_JOINT_STEP_RAD / float(np.max(self.vmax)))
+        qs = np.array([path.q(s) for s in s_grid])
+        qs[-1] = q_end
+        tcp = self._tcp_points(qs, T_flange_tool)
+        # Refine cells where the TCP travels more than the check step.
+        chords = np.linalg.norm(np.diff(tcp, axis=0), axis=1)
+        if np.any(chords > CHECK_TCP_STEP_M):
+            pieces = [s_grid[:1]]
+            for k, chord in enumerate(chords):
+                n = max(1, math.ceil(chord / CHECK_TCP_STEP_M))
+                pieces.append(np.linspace(s_grid[k], s_grid[k + 1], n + 1)[1:])
+            s_grid = np.concatenate(pieces)
+            qs = np.array([path.q(s) for s in s_grid])
+            qs[-1] = q_end
+            tcp = self._tcp_points(qs, T_flange_tool)
+        self._check_collisions(qs, tcp, tool_radius)
+        mids = 0.5 * (s_grid[:-1] + s_grid[1:])
+        ddq_ds2 = np.empty((len(mids), 6))
+        for k, s in enumerate(mids):
+            _, _, ddq_ds2[k] = path.derivatives(float(s))
+        # |dq/ds| is linear inside a cell, so its largest value is at one of the cell's ends.
+        ends = np.array([path.derivatives(float(s))[1] for s in s_grid])
+        dq_ds = np.maximum(np.abs(ends[:-1]), np.abs(ends[1:]))
+        scaling = self._time_scaling(s_grid, dq_ds, ddq_ds2, tcp, params)
+        return Plan(path, scaling, q_end)
+
+    # --- LINEAR --------------------------------------------------------------------------------------------
+
+    def linear(
+        self,
+        q_start: np.ndarray,
+        tcp_targets: list[np.ndarray],
+        params: MotionParams,
+        T_flange_tool: np.ndarray,
+        tool_radius: float,
+        unreachable_message: str,
+        q_final: np.ndarray | None = None,
+    ) -> Plan:
+        """A straight TCP line (orientation slerped) from the current TCP through `tcp_targets` (T_base_tcp,
+        original base frame), blended at the interior ones. With `q_final` the motion must end in that very
+        configuration (a LINEAR move to a pose)."""
+        T_tool_flange = inverse(T_flange_tool)
+        T_start = self.arm.fk(q_start) @ T_flange_tool
+        path = CartesianPath([T_start, *tcp_targets])
+        if path.length == 0.0:
+            q_end = q_start.copy() if q_final is None else np.array(q_final, dtype=float)
+            if q_final is not None and np.max(np.abs(q_end - q_start)) > POSE_MATCH_TOL_RAD:
+                raise Unreachable(unreachable_message)
+            return Plan(SampledJointPath(np.array([0.0]), q_end[None, :]), profile.still(), q_end)
+        s_list, q_list, tcp_list = self._follow(path, q_start, T_tool_flange, unreachable_message)
+        q_samples = np.array(q_list)
+        if q_final is not None:
+            if np.max(np.abs(q_samples[-1] - q_final)) > POSE_MATCH_TOL_RAD:
+                raise Unreachable(unreachable_message)
+            q_samples[-1] = q_final
+        tcp = np.array(tcp_list)
+        self._check_collisions(q_samples, tcp, tool_radius)
+        s_grid = np.array(s_list)
+        sampled = SampledJointPath(s_grid, q_samples)
+        slopes = np.abs(sampled.slopes)
+        ddq = np.array([sampled.derivatives(float(0.5 * (a + b)))[2] for a, b in itertools.pairwise(s_grid)])
+        scaling = self._time_scaling(s_grid, slopes, ddq, tcp, params)
+        return Plan(sampled, scaling, q_samples[-1].copy())
+
+    def _follow(
+        self, path: CartesianPath, q_start: np.ndarray, T_tool_flange: np.ndarray, message: str
+    ) -> tuple[list[float], list[np.ndarray], list[np.ndarray]]:
+        """IK along the path, each sample on the branch nearest the previous one; refuse jumps."""
+        s_list = [0.0]
+        q_list = [np.array(q_start, dtype=float)]
+        tcp_list = [path.pose(0.0)[:3, 3]]
+        pending = deque(path.grid(LINEAR_SAMPLE_STEP_M)[1:].tolist())
+        while pending:
+            s = pending[0]
+            T_tcp = path.pose(s)
+            q = self.arm.ik(T_tcp @ T_tool_flange, q_list[-1])
+            if q is None:
+                raise Unreachable(message)
+            step = float(np.max(np.abs(q - q_list[-1])))
+            if step > LINEAR_JOINT_STEP_RAD:
+                if s - s_list[-1] <= LINEAR_MIN_STEP_M:
+                    raise Unreachable(message)  # a branch change or a singularity on the line
+                pending.appendleft(0.5 * (s_list[-1] + s))
+                continue
+            pending.popleft()
+            s_list.append(s)
+            q_list.append(q)
+            tcp_list.append(T_tcp[:3, 3])
+        return s_list, q_list, tcp_list
+
+    # --- shared --------------------------------------------------------------------------------------------
+
+    def _tcp_points(self, qs: np.ndarray, T_flange_tool: np.ndarray) -> np.ndarray:
+        offset = T_flange_tool[:3, 3]
+        out = np.empty((len(qs), 3))
+        for k, q in enumerate(qs):
+            T = self.arm.fk(q)
+            out[k] = T[:3, 3] + T[:3, :3] @ offset
+        return out
+
+    def _check_collisions(self, qs: np.ndarray, tcp: np.ndarray, tool_radius: float) -> None:
+        """Collision at the samples that are 2 degrees / 5 mm apart (and always at the last one)."""
+        if np.any(tcp[:, 2] - tool_radius < FLOOR_Z_M):
+            raise Collision()
+        last_q, last_p = qs[0], tcp[0]
+        n = len(qs)
+        for k in range(1, n):
+            far = (
+                np.max(np.abs(qs[k] - last_q)) >= CHECK_JOINT_STEP_RAD
+                or np.linalg.norm(tcp[k] - last_p) >= CHECK_TCP_STEP_M
+            )
+            if far or k == n - 1 or k == 1:
+                if self.arm.in_collision(qs[k]):
+                    raise Collision()
+                last_q, last_p = qs[k], tcp[k]
+
+    def _time_scaling(
+        self,
+        s_grid: np.ndarray,
+        dq_ds: np.ndarray,
+        ddq_ds2: np.ndarray,
+        tcp: np.ndarray,
+        params: MotionParams,
+    ) -> TimeScaling:
+        """Per-cell caps on ds/dt and d2s/dt2 from joint speed and acceleration limits and the TCP cap."""
+        speed = params.speed / 100.0
+        accel = (params.acceleration if params.acceleration is not None else params.speed) / 100.0
+        ds = np.diff(s_grid)
+        tiny = 1e-12
+        dq_ds = np.maximum(np.abs(dq_ds), tiny)
+        ddq_ds2 = np.abs(ddq_ds2)
+        v_cap = np.min(speed * self.vmax / dq_ds, axis=1)
+        curved = np.max(ddq_ds2 / self.amax, axis=1) > 1e-9
+        budget = np.where(curved, CURVED_BUDGET, 1.0)
+        turn_cap = np.min(np.sqrt(budget[:, None] * accel * self.amax / np.maximum(ddq_ds2, tiny)), axis=1)
+        v_cap = np.where(curved, np.minimum(v_cap, turn_cap), v_cap)
+        # TCP speed per unit s: chords, widened to the neighbouring cells for the change inside a cell.
+        rate = np.linalg.norm(np.diff(tcp, axis=0), axis=1) / ds
+        widened = rate.copy()
+        widened[1:] = np.maximum(widened[1:], rate[:-1])
+        widened[:-1] = np.maximum(widened[:-1], rate[1:])
+        tcp_cap = TCP_CAP_MARGIN * params.tcp_max_velocity / np.maximum(widened, tiny)
+        v_cap = np.minimum(v_cap, tcp_cap)
+        a_cap = np.min(budget[:, None] * accel * self.amax / dq_ds, axis=1)
+        return profile.plan(s_grid, v_cap, a_cap)

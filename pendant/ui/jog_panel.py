@@ -1,0 +1,84 @@
+"""The jog panel: joint or Cartesian (Base/Tool) jog buttons, step size and speed."""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import viser
+
+from pendant.controller import ControllerError
+from pendant.jog import JogFrame, JogRequest, Jogger
+from pendant.jog.targets import CARTESIAN_AXES
+
+log = logging.getLogger(__name__)
+
+CONTINUOUS = "Continuous"
+STEP_CHOICES = (CONTINUOUS, "0.1", "1", "10")  # mm for X Y Z, degrees for joints and rotations
+DEFAULT_SPEED_PERCENT = 10.0
+HOLD_CONFIRM_HZ = 20.0  # four confirmations inside one deadman period
+
+
+def button_label(frame: JogFrame, axis: int, direction: int) -> str:
+    name = f"J{axis + 1}" if frame is JogFrame.JOINT else CARTESIAN_AXES[axis]
+    return f"{name}{'+' if direction > 0 else '-'}"
+
+
+class JogPanel:
+    """Buttons whose labels follow the frame: "J1-" ... "J6+" for joints, "X-" ... "Yaw+" for Base/Tool."""
+
+    def __init__(self, server: viser.ViserServer, jogger: Jogger) -> None:
+        self._jogger = jogger
+        self.frame = server.gui.add_dropdown("Frame", [f.value for f in JogFrame], initial_value="Joint")
+        self.step = server.gui.add_dropdown("Step (mm / °)", STEP_CHOICES, initial_value=CONTINUOUS)
+        self.speed = server.gui.add_slider(
+            "Speed %", min=1.0, max=100.0, step=1.0, initial_value=DEFAULT_SPEED_PERCENT
+        )
+        self.buttons: dict[tuple[int, int], viser.GuiButtonHandle] = {}
+        for axis in range(6):
+            for direction in (-1, +1):
+                button = server.gui.add_button(button_label(JogFrame.JOINT, axis, direction))
+                self.buttons[(axis, direction)] = button
+                self._bind(button, axis, direction)
+        self.frame.on_update(lambda _: self._relabel())
+
+    def request(self, axis: int, direction: int) -> JogRequest:
+        frame = JogFrame(self.frame.value)
+        step: float | None = None
+        if self.step.value != CONTINUOUS:
+            amount = float(self.step.value)
+            step = amount / 1000.0 if frame is not JogFrame.JOINT and axis < 3 else math.radians(amount)
+        return JogRequest(frame, axis, direction, float(self.speed.value), step)
+
+    def _relabel(self) -> None:
+        frame = JogFrame(self.frame.value)
+        for (axis, direction), button in self.buttons.items():
+            button.label = button_label(frame, axis, direction)
+
+    def _bind(self, button: viser.GuiButtonHandle, axis: int, direction: int) -> None:
+        @button.on_hold(callback_hz=HOLD_CONFIRM_HZ)
+        def _(event: viser.GuiEvent) -> None:
+            request = self.request(axis, direction)
+            if request.step is not None:
+                return
+            try:
+                self._jogger.hold(request)
+            except ControllerError as error:
+                _notify(event.client, f"{request.label()} refused", error.message)
+
+        @button.on_click
+        def _(event: viser.GuiEvent) -> None:
+            request = self.request(axis, direction)
+            try:
+                if request.step is None:
+                    self._jogger.release("released")  # the click arrives on release: stop at once
+                elif not self._jogger.step(request):
+                    _notify(event.client, f"{request.label()}", "Cannot move further that way")
+            except ControllerError as error:
+                _notify(event.client, f"{request.label()} refused", error.message)
+
+
+def _notify(client: viser.ClientHandle | None, title: str, body: str) -> None:
+    log.warning("%s: %s", title, body)
+    if client is not None:
+        client.add_notification(title=title, body=body, color="red", auto_close_seconds=6.0)

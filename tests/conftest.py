@@ -1,0 +1,24 @@
+"""Shared fixtures: a simulated controller on a fake clock (tests advance time instead of sleeping)."""
+
+from __future__ import annotations
+
+import pytest
+
+from pendant.sim import FakeClock, SimController
+
+
+@pytest.fixture
+def clock() -> FakeClock:
+    return FakeClock()
+
+
+@pytest.fixture
+def sim(clock: FakeClock) -> SimController:
+    """A PULSE 75 simulator at power-on (home pose, IDLE) on the `clock` fixture."""
+    return SimController("pulse75", clock)
+
+
+@pytest.fixture
+def sim90(clock: FakeClock) -> SimController:
+    """A PULSE 90 simulator at power-on on the `clock` fixture."""
+    return SimController("pulse90", clock)
