@@ -49,6 +49,7 @@ R_BASE_FLANGE = 0.095
 R_TOOL_FLANGE = 0.0315  # ISO 9409-1-50: 63 mm flange
 CAP_THICKNESS = 0.01  # the dark end cap on the free face of a housing
 RING_WIDTH = 0.006  # the dark ring in the gap of a rotating joint
+RING_RADIUS_RATIO = 0.94  # rings are a little slimmer than their housing
 BASE_FLANGE_TOP = 0.012
 BASE_TOP = 0.088
 LINK1_BOTTOM = BASE_TOP + 0.008
@@ -67,7 +68,7 @@ R_GRIPPER_HOUSING = 0.042
 GRIPPER_HOUSING_TOP = 0.03  # the round housing, then the rail block the fingers slide in
 GRIPPER_BODY_TOP = 0.052
 GRIPPER_BODY_HALF = (0.025, 0.06)  # half extents of the rail block in tcp x and y
-FINGER_PAD = (0.002, 0.022)  # thickness and length of the rubber pad on a finger's inner face
+FINGER_PAD = (0.0015, 0.022)  # thickness and length of the rubber pad on a finger's inner face
 FINGER_GAP_CLOSED = 0.004  # half gap between the fingers when closed
 FINGER_SIZE = (0.024, 0.012, 0.047)  # x (width), y (thickness), z (length below the body)
 FINGER_OVERLAP = 0.004  # fingers start this far inside the body
@@ -270,12 +271,19 @@ class LinkBody:
         *,
         cap_low: bool = False,
         cap_high: bool = False,
+        ring_low: bool = False,
+        ring_high: bool = False,
         paint: str = "housing",
         wrist: bool | None = None,
     ) -> None:
-        """A joint housing along the z of `T_link_axis` with dark end caps on its free faces."""
-        lo = z0 - CAP_THICKNESS if cap_low else z0
-        hi = z1 + CAP_THICKNESS if cap_high else z1
+        """A joint housing along the z of `T_link_axis` with dark end caps on its free faces and dark rings
+        on the faces that turn against the neighbouring link."""
+        lo = z0 - (CAP_THICKNESS if cap_low else RING_WIDTH if ring_low else 0.0)
+        hi = z1 + (CAP_THICKNESS if cap_high else RING_WIDTH if ring_high else 0.0)
+        if ring_low:
+            self.ring(T_link_axis, radius * RING_RADIUS_RATIO, lo, z0 + 0.001, wrist=wrist)
+        if ring_high:
+            self.ring(T_link_axis, radius * RING_RADIUS_RATIO, z1 - 0.001, hi, wrist=wrist)
         self.cylinder(T_link_axis, radius, z0, z1, paint, chamfer=0.006, collide_span=(lo, hi), wrist=wrist)
         cap_radius = radius * 0.82
         if cap_low:
@@ -287,9 +295,19 @@ class LinkBody:
                 T_link_axis, cap_radius, z1 - 0.001, hi, "cap", chamfer=0.004, collide=False, wrist=wrist
             )
 
-    def ring(self, T_link_axis: np.ndarray, radius: float, z0: float, z1: float) -> None:
-        """The dark ring in the gap of a rotating joint (visual only: the housings' margins cover it)."""
-        self.cylinder(T_link_axis, radius, z0, z1, "ring", collide=False, weigh=False)
+    def ring(
+        self,
+        T_link_axis: np.ndarray,
+        radius: float,
+        z0: float,
+        z1: float,
+        *,
+        collide: bool = False,
+        wrist: bool | None = None,
+    ) -> None:
+        """The dark ring in the gap of a rotating joint (by default visual only: a neighbouring housing's
+        collision span covers it)."""
+        self.cylinder(T_link_axis, radius, z0, z1, "ring", collide=collide, weigh=False, wrist=wrist)
 
     def box(
         self,
@@ -325,7 +343,9 @@ def build_bodies(dh: DHTable) -> list[LinkBody]:
     # link1: the vertical J1 housing and the horizontal J2 housing on top (J2 axis along DH z1 = -y here).
     link1 = LinkBody("link1", wrist=False)
     link1.ring(up, R_BIG_HOUSING * 0.95, BASE_TOP - 0.002, LINK1_BOTTOM)
-    link1.cylinder(up, R_BIG_HOUSING, LINK1_BOTTOM, d1, "housing", chamfer=0.006)
+    link1.cylinder(
+        up, R_BIG_HOUSING, LINK1_BOTTOM, d1, "housing", chamfer=0.006, collide_span=(BASE_TOP - 0.002, d1)
+    )
     j2 = axis_frame("-y", (0.0, 0.0, d1))
     shoulder_split = UPPER_ARM_OFFSET - R_UPPER_ARM_TUBE - 0.007 - RING_WIDTH
     link1.housing(j2, R_BIG_HOUSING, -R_BIG_HOUSING - 0.008, shoulder_split, cap_low=True)
@@ -334,8 +354,7 @@ def build_bodies(dh: DHTable) -> list[LinkBody]:
     link2 = LinkBody("link2", wrist=False)
     j2 = axis_frame("z")
     arm_top = UPPER_ARM_OFFSET + R_UPPER_ARM_TUBE + 0.007
-    link2.ring(j2, R_BIG_HOUSING * 0.95, shoulder_split, shoulder_split + RING_WIDTH)
-    link2.housing(j2, R_BIG_HOUSING, shoulder_split + RING_WIDTH, arm_top, cap_high=True)
+    link2.housing(j2, R_BIG_HOUSING, shoulder_split + RING_WIDTH, arm_top, cap_high=True, ring_low=True)
     link2.cylinder(axis_frame("x", (0.0, 0.0, UPPER_ARM_OFFSET)), R_UPPER_ARM_TUBE, a2, 0.0, "white")
     j3 = axis_frame("z", (a2, 0.0, 0.0))
     elbow_split = FOREARM_OFFSET + R_FOREARM_TUBE + 0.004
@@ -344,8 +363,9 @@ def build_bodies(dh: DHTable) -> list[LinkBody]:
     # link3: the forearm, from the J3 axis (x = 0) to the J4 axis (x = a3), nearer the base axis.
     link3 = LinkBody("link3", wrist=False)
     j3 = axis_frame("z")
-    link3.ring(j3, R_BIG_HOUSING * 0.95, elbow_split, elbow_split + RING_WIDTH)
-    link3.housing(j3, R_BIG_HOUSING, FOREARM_OFFSET - R_FOREARM_TUBE - 0.008, elbow_split, cap_low=True)
+    link3.housing(
+        j3, R_BIG_HOUSING, FOREARM_OFFSET - R_FOREARM_TUBE - 0.008, elbow_split, cap_low=True, ring_high=True
+    )
     link3.cylinder(axis_frame("x", (0.0, 0.0, FOREARM_OFFSET)), R_FOREARM_TUBE, a3, 0.0, "white")
     j4 = axis_frame("z", (a3, 0.0, 0.0))
     link3.housing(
@@ -354,7 +374,7 @@ def build_bodies(dh: DHTable) -> list[LinkBody]:
 
     # link4: the J5 housing, its axis (DH z4 = -y here) crossing the J4 axis at z = d4.
     link4 = LinkBody("link4", wrist=True)
-    link4.ring(axis_frame("z"), R_WRIST_HOUSING * 0.9, WRIST1_TOP, wrist_housing_start + 0.004)
+    link4.ring(axis_frame("z"), R_WRIST_HOUSING * 0.9, WRIST1_TOP, wrist_housing_start + 0.004, collide=True)
     j5 = axis_frame("-y", (0.0, 0.0, d4))
     link4.housing(j5, R_WRIST_HOUSING, -R_WRIST_HOUSING - 0.005, WRIST2_TOP, cap_low=True)
 
@@ -362,7 +382,15 @@ def build_bodies(dh: DHTable) -> list[LinkBody]:
     link5 = LinkBody("link5", wrist=True)
     j5 = axis_frame("z")
     link5.ring(j5, R_WRIST_HOUSING * 0.9, WRIST2_TOP, WRIST2_TOP + RING_WIDTH)
-    link5.cylinder(j5, R_WRIST_HOUSING, WRIST2_TOP + RING_WIDTH, d5, "housing", chamfer=0.004)
+    link5.cylinder(
+        j5,
+        R_WRIST_HOUSING,
+        WRIST2_TOP + RING_WIDTH,
+        d5,
+        "housing",
+        chamfer=0.004,
+        collide_span=(WRIST2_TOP, d5),
+    )
     j6 = axis_frame("y", (0.0, 0.0, d5))
     link5.housing(j6, R_WRIST_HOUSING, -R_WRIST_HOUSING - 0.005, d6 - FLANGE_RING_DEPTH, cap_low=True)
 

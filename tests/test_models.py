@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+import trimesh
 import yourdfpy
 
 from pendant.kinematics.dh import DH_TABLES
@@ -26,6 +27,7 @@ from pendant.paths import MODEL_NAMES, assets_dir, data_root, urdf_path
 POS_TOL_M = 1e-6
 ROT_TOL = 1e-9
 LIMIT_TOL = 1e-9
+COVER_TOL_M = 1e-6
 ARM_JOINTS = tuple(f"joint{i}" for i in range(1, 7))
 HOME_DEG = (0.0, -90.0, 0.0, -90.0, -90.0, 0.0)
 ZERO_DEG = (0.0,) * 6
@@ -175,6 +177,35 @@ def test_every_mesh_file_the_urdf_names_exists_next_to_it(model: str) -> None:
     for filename in filenames:
         assert filename.startswith("../assets/")
         assert (urdf_path(model).parent / filename).resolve().is_file()
+
+
+def _inside_collision_shapes(link: yourdfpy.Link, points: np.ndarray) -> np.ndarray:
+    """Which points lie inside (within COVER_TOL_M of) one of the link's collision primitives."""
+    inside = np.zeros(len(points), dtype=bool)
+    for collision in link.collisions:
+        T = collision.origin if collision.origin is not None else np.eye(4)
+        local = (points - T[:3, 3]) @ T[:3, :3]
+        if collision.geometry.cylinder is not None:
+            cylinder = collision.geometry.cylinder
+            radial = np.hypot(local[:, 0], local[:, 1])
+            inside |= (radial <= cylinder.radius + COVER_TOL_M) & (
+                np.abs(local[:, 2]) <= cylinder.length / 2 + COVER_TOL_M
+            )
+        else:
+            half = np.asarray(collision.geometry.box.size) / 2
+            inside |= np.all(np.abs(local) <= half + COVER_TOL_M, axis=1)
+    return inside
+
+
+@models
+def test_collision_primitives_cover_every_visual_mesh(model: str) -> None:
+    urdf = _urdf(model)
+    for link in urdf.robot.links:
+        for visual in link.visuals:
+            mesh_file = (urdf_path(model).parent / visual.geometry.mesh.filename).resolve()
+            vertices = trimesh.load(mesh_file, force="mesh").vertices
+            uncovered = ~_inside_collision_shapes(link, vertices)
+            assert not uncovered.any(), f"{link.name}: {vertices[uncovered][:3]} outside its collision shapes"
 
 
 @models

@@ -1,4 +1,4 @@
-"""A lean asyncio HTTP/1.1 client for the proxy: keep-alive connections to one controller, bytes in, bytes out.
+"""A lean asyncio HTTP/1.1 client for the proxy: keep-alive connections to one controller, bytes in and out.
 
 Why not httpx.AsyncClient: the proxy only relays bytes, and httpx's request/response models, URL parsing and
 header normalisation cost several hundred microseconds per call, which is most of the proxy's overhead
@@ -11,6 +11,7 @@ from __future__ import annotations
 import asyncio
 import time
 from dataclasses import dataclass, field
+from typing import cast
 
 import httptools
 
@@ -58,8 +59,8 @@ class _Connection(asyncio.Protocol):
     # asyncio.Protocol
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        assert isinstance(transport, asyncio.Transport)
-        self.transport = transport
+        # uvloop's transports are not asyncio.Transport subclasses, but have the same methods.
+        self.transport = cast(asyncio.Transport, transport)
 
     def data_received(self, data: bytes) -> None:
         if self._exchange is None:  # bytes nobody asked for: the connection is out of step

@@ -14,6 +14,9 @@ from pendant.kinematics.limits import GRIPPER_STROKE_M
 FLOOR_SIZE_M = 2.0
 FRAME_AXES_LENGTH_M = 0.12
 FRAME_AXES_RADIUS_M = 0.004
+# Three-quarter view from the front right, the arm filling the view.
+CAMERA_POSITION_M = (1.1, -1.3, 0.9)
+CAMERA_LOOK_AT_M = (0.0, 0.0, 0.35)
 
 
 class ArmScene:
@@ -22,6 +25,8 @@ class ArmScene:
     def __init__(self, server: viser.ViserServer, urdf_path: Path) -> None:
         self._server = server
         server.scene.set_up_direction("+z")
+        server.initial_camera.position = CAMERA_POSITION_M
+        server.initial_camera.look_at = CAMERA_LOOK_AT_M
         server.scene.add_grid(
             "/floor",
             width=FLOOR_SIZE_M,

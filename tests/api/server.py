@@ -1,0 +1,66 @@
+"""Start `pendant --no-ui` (as `python -m pendant`) on a free loopback port, wait for it, stop it."""
+
+from __future__ import annotations
+
+import contextlib
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+START_TIMEOUT_S = 60.0
+STOP_TIMEOUT_S = 10.0
+LOOPBACK = "127.0.0.1"
+
+
+def free_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
+        probe.bind((LOOPBACK, 0))
+        return int(probe.getsockname()[1])
+
+
+@contextlib.contextmanager
+def running_pendant(*extra_args: str) -> Iterator[str]:
+    """The base URL of a freshly started `pendant --no-ui`; the process is stopped on exit."""
+    port = free_port()
+    command = [sys.executable, "-m", "pendant", "--no-ui", "--host", LOOPBACK, "--api-port", str(port)]
+    process = subprocess.Popen(
+        [*command, *extra_args],
+        cwd=REPO_ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
+    base_url = f"http://{LOOPBACK}:{port}"
+    try:
+        _wait_until_serving(process, base_url)
+        yield base_url
+    finally:
+        process.terminate()
+        try:
+            process.wait(STOP_TIMEOUT_S)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait(STOP_TIMEOUT_S)
+        if process.stdout is not None:
+            process.stdout.close()
+
+
+def _wait_until_serving(process: subprocess.Popen[str], base_url: str) -> None:
+    deadline = time.monotonic() + START_TIMEOUT_S
+    while time.monotonic() < deadline:
+        if process.poll() is not None:
+            output = process.stdout.read() if process.stdout else ""
+            raise RuntimeError(f"pendant exited with {process.returncode}:\n{output}")
+        try:
+            if httpx.get(f"{base_url}/robot/id", timeout=1.0).status_code == 200:
+                return
+        except httpx.TransportError:
+            pass
+        time.sleep(0.05)  # polling a real process starting up: no fake clock can stand in for this wait
+    raise RuntimeError(f"pendant did not answer on {base_url} within {START_TIMEOUT_S} s")
