@@ -1,4 +1,4 @@
-"""Proxy overhead on GET /pose: the simulator served directly vs the same simulator behind the pendant's proxy.
+"""Proxy overhead on GET /pose: the simulator served directly vs the same simulator behind the proxy.
 
 Starts `python -m pendant --no-ui --api-port A` (the "controller") and `python -m pendant.remote.proxy
 --robot http://127.0.0.1:A --port B` on free loopback ports, then times GET /pose over keep-alive httpx
@@ -98,16 +98,20 @@ def main() -> int:
         "--port",
         str(proxy_port),
     ]
-    with serving(sim, direct_url), serving(proxy, proxied_url):
-        with httpx.Client() as direct, httpx.Client() as proxied:
-            time_gets(direct, direct_url, WARMUP_REQUESTS)
-            time_gets(proxied, proxied_url, WARMUP_REQUESTS)
-            direct_samples: list[float] = []
-            proxied_samples: list[float] = []
-            block = max(1, args.requests // BLOCKS)
-            for _ in range(BLOCKS):
-                direct_samples += time_gets(direct, direct_url, block)
-                proxied_samples += time_gets(proxied, proxied_url, block)
+    direct_samples: list[float] = []
+    proxied_samples: list[float] = []
+    with (
+        serving(sim, direct_url),
+        serving(proxy, proxied_url),
+        httpx.Client() as direct,
+        httpx.Client() as proxied,
+    ):
+        time_gets(direct, direct_url, WARMUP_REQUESTS)
+        time_gets(proxied, proxied_url, WARMUP_REQUESTS)
+        block = max(1, args.requests // BLOCKS)
+        for _ in range(BLOCKS):
+            direct_samples += time_gets(direct, direct_url, block)
+            proxied_samples += time_gets(proxied, proxied_url, block)
 
     for name, samples in (("direct ", direct_samples), ("proxied", proxied_samples)):
         print(
@@ -118,7 +122,8 @@ def main() -> int:
     overhead_ms = percentile_ms(proxied_samples, 0.5) - percentile_ms(direct_samples, 0.5)
     verdict = "OK" if overhead_ms <= TARGET_OVERHEAD_MS else "OVER TARGET"
     print(
-        f"proxy overhead (p50 proxied - p50 direct): {overhead_ms:.3f} ms (target <= {TARGET_OVERHEAD_MS} ms: {verdict})"
+        f"proxy overhead (p50 proxied - p50 direct): {overhead_ms:.3f} ms "
+        f"(target <= {TARGET_OVERHEAD_MS} ms: {verdict})"
     )
     return 0
 

@@ -2,8 +2,9 @@
 
 Every request outside /pendant/ (the pendant's own namespace, e.g. GET /pendant/health) goes to the
 controller with its method, path, query string, body and headers (minus hop-by-hop ones); the controller's
-status, headers (content type included) and body come back byte for byte. If the controller cannot be reached, or does not
-answer within the read timeout, the proxy answers 502 Bad Gateway with a `text/plain` message saying why.
+status, headers (content type included) and body come back byte for byte. If the controller cannot be
+reached, or does not answer within the read timeout, the proxy answers 502 Bad Gateway with a `text/plain`
+message saying why.
 Nothing is queued or re-sent later: a command that could not be delivered is lost, and the caller is told.
 A GET (idempotent) is retried once on a fresh connection when a kept-alive one turns out to be dead.
 

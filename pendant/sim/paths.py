@@ -282,3 +282,60 @@ class SampledJointPath:
         )
         ddq = (self.slopes[k1] - self.slopes[k0]) / span if span > 0 else np.zeros_like(q)
         return q, self.slopes[k], ddq
+
+
+class SplineJointPath:
+    """A smooth joint-space curve through every waypoint q_0..q_n exactly (what PUT /poses/run follows).
+
+    Cubic Hermite pieces with the three-point tangents of a non-uniform Catmull-Rom spline: the velocity
+    direction is continuous at each waypoint, so the arm passes it without stopping. s is measured as in
+    JointPath (a chord's length is max_i |dq_i| / vmax_i); the time scaling keeps the joints in their limits.
+    """
+
+    def __init__(self, waypoints: np.ndarray, vmax: np.ndarray) -> None:
+        waypoints = np.atleast_2d(np.asarray(waypoints, dtype=float))
+        keep = _dedupe(list(waypoints), lambda a, b: float(np.max(np.abs(a - b))))
+        self.waypoints = waypoints[keep]
+        self.q_start = self.waypoints[0].copy()
+        self.q_end = self.waypoints[-1].copy()
+        n = len(self.waypoints)
+        if n < 2:
+            self.length = 0.0
+            self._knots: list[float] = [0.0]
+            return
+        deltas = np.diff(self.waypoints, axis=0)
+        lengths = np.max(np.abs(deltas) / vmax, axis=1)
+        slopes = deltas / lengths[:, None]
+        tangents = np.empty_like(self.waypoints)
+        tangents[0], tangents[-1] = slopes[0], slopes[-1]
+        for j in range(1, n - 1):
+            h0, h1 = lengths[j - 1], lengths[j]
+            tangents[j] = (h1 * slopes[j - 1] + h0 * slopes[j]) / (h0 + h1)
+        self._lengths = lengths
+        self._tangents = tangents
+        self._knots = np.concatenate([[0.0], np.cumsum(lengths)]).tolist()
+        self.length = self._knots[-1]
+
+    def _segment(self, s: float) -> tuple[int, float, float]:
+        j = max(0, min(len(self._knots) - 2, bisect.bisect_right(self._knots, s) - 1))
+        h = float(self._lengths[j])
+        return j, min(max((s - self._knots[j]) / h, 0.0), 1.0), h
+
+    def q(self, s: float) -> np.ndarray:
+        return self.derivatives(s)[0]
+
+    def derivatives(self, s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        if self.length == 0.0:
+            zero = np.zeros_like(self.q_start)
+            return self.q_start.copy(), zero, zero
+        j, u, h = self._segment(s)
+        p0, p1 = self.waypoints[j], self.waypoints[j + 1]
+        m0, m1 = self._tangents[j] * h, self._tangents[j + 1] * h
+        u2, u3 = u * u, u * u * u
+        q = (2 * u3 - 3 * u2 + 1) * p0 + (u3 - 2 * u2 + u) * m0 + (-2 * u3 + 3 * u2) * p1 + (u3 - u2) * m1
+        dq = ((6 * u2 - 6 * u) * p0 + (3 * u2 - 4 * u + 1) * m0 + (-6 * u2 + 6 * u) * p1 + (3 * u2 - 2 * u) * m1) / h
+        ddq = ((12 * u - 6) * p0 + (6 * u - 4) * m0 + (-12 * u + 6) * p1 + (6 * u - 2) * m1) / (h * h)
+        return q, dq, ddq
+
+    def grid(self, max_step: float) -> np.ndarray:
+        return refine_grid(self._knots, max_step)

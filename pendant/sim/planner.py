@@ -24,7 +24,7 @@ from pendant.controller.types import (
 from pendant.kinematics import ArmModel
 from pendant.kinematics.limits import JOINT_MAX_ACCEL_RAD_S2, JOINT_MAX_SPEED_RAD_S
 from pendant.sim import profile
-from pendant.sim.paths import CartesianPath, JointPath, SampledJointPath
+from pendant.sim.paths import CartesianPath, JointPath, SampledJointPath, SplineJointPath
 from pendant.sim.profile import TimeScaling
 from pendant.sim.transforms import inverse
 
@@ -41,9 +41,6 @@ LINEAR_MIN_STEP_M = 1e-6
 POSE_MATCH_TOL_RAD = 1e-4
 # The TCP speed cap is planned with this much margin, for the speed change inside a sampling cell.
 TCP_CAP_MARGIN = 0.98
-# Where a path curves (blends, LINEAR paths in joint space), half the acceleration budget goes to the turn
-# and half to speeding up or slowing down, so their sum stays within the joint limits.
-CURVED_BUDGET = 0.5
 FLOOR_Z_M = 0.0
 
 
@@ -51,7 +48,7 @@ FLOOR_Z_M = 0.0
 class Plan:
     """A checked trajectory: the joint path, its time scaling and where it ends."""
 
-    path: JointPath | SampledJointPath
+    path: JointPath | SplineJointPath | SampledJointPath
     scaling: TimeScaling
     q_end: np.ndarray
 
@@ -98,16 +95,23 @@ class Planner:
         tool_radius: float,
         unreachable_message: str,
     ) -> Plan:
-        """Synchronised joint-space motion from q_start through `targets` (blended at the interior ones)."""
+        """Joint-space motion from q_start to one target (a straight, synchronised move: all joints start
+        and end together) or through several (a smooth spline through each of them, without stopping)."""
         for q in targets:
             if not self.arm.within_limits(q):
                 raise Unreachable(unreachable_message)
-        path = JointPath(np.vstack([q_start, *targets]), self.vmax)
+        waypoints = np.vstack([q_start, *targets])
+        path: JointPath | SplineJointPath = (
+            JointPath(waypoints, self.vmax) if len(targets) == 1 else SplineJointPath(waypoints, self.vmax)
+        )
         q_end = np.array(targets[-1], dtype=float)
         if path.length == 0.0:
             return Plan(path, profile.still(), q_end)
         s_grid = path.grid(CHECK_JOINT_STEP_RAD / float(np.max(self.vmax)))
         qs = np.array([path.q(s) for s in s_grid])
+        # A spline may bulge past a joint limit between waypoints that are inside.
+        if np.any(qs < self.arm.lower) or np.any(qs > self.arm.upper):
+            raise Unreachable(unreachable_message)
         qs[-1] = q_end
         tcp = self._tcp_points(qs, T_flange_tool)
         # Refine cells where the TCP travels more than the check step.
@@ -122,14 +126,18 @@ class Planner:
             qs[-1] = q_end
             tcp = self._tcp_points(qs, T_flange_tool)
         self._check_collisions(qs, tcp, tool_radius)
+        # Derivatives at the cells' ends and middles: exact for straight moves (constant dq/ds, no curvature),
+        # and close for the spline, whose dq/ds is quadratic and d2q/ds2 linear inside a cell.
         mids = 0.5 * (s_grid[:-1] + s_grid[1:])
-        ddq_ds2 = np.empty((len(mids), 6))
-        for k, s in enumerate(mids):
-            _, _, ddq_ds2[k] = path.derivatives(float(s))
-        # |dq/ds| is linear inside a cell, so its largest value is at one of the cell's ends.
-        ends = np.array([path.derivatives(float(s))[1] for s in s_grid])
-        dq_ds = np.maximum(np.abs(ends[:-1]), np.abs(ends[1:]))
-        scaling = self._time_scaling(s_grid, dq_ds, ddq_ds2, tcp, params)
+        at_ends = [path.derivatives(float(s)) for s in s_grid]
+        at_mids = [path.derivatives(float(s)) for s in mids]
+        mid_d1 = np.array([d[1] for d in at_mids])
+        mid_d2 = np.array([d[2] for d in at_mids])
+        ends_d1 = np.abs(np.array([d[1] for d in at_ends]))
+        ends_d2 = np.abs(np.array([d[2] for d in at_ends]))
+        peak_d1 = np.maximum(np.maximum(ends_d1[:-1], ends_d1[1:]), np.abs(mid_d1))
+        peak_d2 = np.maximum(np.maximum(ends_d2[:-1], ends_d2[1:]), np.abs(mid_d2))
+        scaling = self._time_scaling(s_grid, mid_d1, mid_d2, tcp, params, peak_d1, peak_d2)
         return Plan(path, scaling, q_end)
 
     # --- LINEAR --------------------------------------------------------------------------------------------
@@ -165,7 +173,7 @@ class Planner:
         self._check_collisions(q_samples, tcp, tool_radius)
         s_grid = np.array(s_list)
         sampled = SampledJointPath(s_grid, q_samples)
-        slopes = np.abs(sampled.slopes)
+        slopes = sampled.slopes
         ddq = np.array([sampled.derivatives(float(0.5 * (a + b)))[2] for a, b in itertools.pairwise(s_grid)])
         scaling = self._time_scaling(s_grid, slopes, ddq, tcp, params)
         return Plan(sampled, scaling, q_samples[-1].copy())
@@ -229,25 +237,25 @@ class Planner:
         ddq_ds2: np.ndarray,
         tcp: np.ndarray,
         params: MotionParams,
+        dq_ds_peak: np.ndarray | None = None,
+        ddq_ds2_peak: np.ndarray | None = None,
     ) -> TimeScaling:
-        """Per-cell caps on ds/dt and d2s/dt2 from joint speed and acceleration limits and the TCP cap."""
+        """Caps on ds/dt per cell (joint speeds, the turn of a curved path, the TCP cap) and the joint
+        acceleration limits, for the cells' (signed) derivatives `dq_ds`, `ddq_ds2` (N, 6); the `_peak`
+        arrays are each cell's largest magnitudes (default: the same)."""
         speed = params.speed / 100.0
         accel = (params.acceleration if params.acceleration is not None else params.speed) / 100.0
-        ds = np.diff(s_grid)
+        accel_limit = accel * self.amax
         tiny = 1e-12
-        dq_ds = np.maximum(np.abs(dq_ds), tiny)
-        ddq_ds2 = np.abs(ddq_ds2)
-        v_cap = np.min(speed * self.vmax / dq_ds, axis=1)
-        curved = np.max(ddq_ds2 / self.amax, axis=1) > 1e-9
-        budget = np.where(curved, CURVED_BUDGET, 1.0)
-        turn_cap = np.min(np.sqrt(budget[:, None] * accel * self.amax / np.maximum(ddq_ds2, tiny)), axis=1)
-        v_cap = np.where(curved, np.minimum(v_cap, turn_cap), v_cap)
+        peak_d1 = np.maximum(np.abs(dq_ds if dq_ds_peak is None else dq_ds_peak), tiny)
+        peak_d2 = np.maximum(np.abs(ddq_ds2 if ddq_ds2_peak is None else ddq_ds2_peak), tiny)
+        v_cap = np.min(speed * self.vmax / peak_d1, axis=1)
+        # Where the path curves, |q''| s'^2 alone must fit in the acceleration limit.
+        v_cap = np.minimum(v_cap, np.min(np.sqrt(accel_limit / peak_d2), axis=1))
         # TCP speed per unit s: chords, widened to the neighbouring cells for the change inside a cell.
-        rate = np.linalg.norm(np.diff(tcp, axis=0), axis=1) / ds
+        rate = np.linalg.norm(np.diff(tcp, axis=0), axis=1) / np.diff(s_grid)
         widened = rate.copy()
         widened[1:] = np.maximum(widened[1:], rate[:-1])
         widened[:-1] = np.maximum(widened[:-1], rate[1:])
-        tcp_cap = TCP_CAP_MARGIN * params.tcp_max_velocity / np.maximum(widened, tiny)
-        v_cap = np.minimum(v_cap, tcp_cap)
-        a_cap = np.min(budget[:, None] * accel * self.amax / dq_ds, axis=1)
-        return profile.plan(s_grid, v_cap, a_cap)
+        v_cap = np.minimum(v_cap, TCP_CAP_MARGIN * params.tcp_max_velocity / np.maximum(widened, tiny))
+        return profile.plan(s_grid, v_cap, dq_ds, ddq_ds2, accel_limit)

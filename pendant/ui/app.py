@@ -1,4 +1,4 @@
-"""The pendant's web UI: a viser server showing the arm live, with its status and robot commands."""
+"""The pendant's web UI: a viser server showing the arm live, with status, jogging, targets, IO and settings."""
 
 from __future__ import annotations
 
@@ -9,11 +9,18 @@ from dataclasses import replace
 import viser
 
 from pendant.controller import Controller, ControllerError
+from pendant.jog import Jogger
 from pendant.kinematics import ArmModel
-from pendant.ui.commands import CommandRunner, add_robot_commands
+from pendant.sim import SimController
+from pendant.ui.commands import CommandRunner, add_freeze_button, add_robot_commands
+from pendant.ui.io_panel import IoPanel
+from pendant.ui.jog_panel import JogPanel
 from pendant.ui.scene import ArmScene
+from pendant.ui.settings_panel import SettingsPanel
+from pendant.ui.sim_panel import SimPanel
 from pendant.ui.snapshot import Snapshot, read_snapshot
 from pendant.ui.status_panel import StatusPanel
+from pendant.ui.target_panel import TargetPanel
 
 REFRESH_HZ = 30.0
 IO_EVERY_N_TICKS = 6  # IO and tool change rarely: read them at 5 Hz
@@ -28,22 +35,41 @@ class PendantUI:
         self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
         self.server.gui.configure_theme(control_layout="fixed", control_width="large", show_logo=False)
         self.runner = CommandRunner(controller)
-        self.buttons = add_robot_commands(self.server, self.runner)
-        with self.server.gui.add_folder("Status"):
-            self.status = StatusPanel(self.server, mode_line)
-        self.scene = ArmScene(self.server, arm.urdf_path)
+        self.jogger = Jogger(controller, arm)
         self.latest = Snapshot(taken_at=0.0)
+        gui = self.server.gui
+
+        self.freeze = add_freeze_button(self.server, self.runner)
+        self.status = StatusPanel(self.server, mode_line)
+        tabs = gui.add_tab_group()
+        with tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
+            self.jog = JogPanel(self.server, self.jogger)
+        with tabs.add_tab("Target", viser.Icon.TARGET):
+            self.target = TargetPanel(self.server, arm, self.runner, lambda: self.latest.q)
+        with tabs.add_tab("IO", viser.Icon.PLUG):
+            self.io = IoPanel(self.server, self.runner)
+        with tabs.add_tab("Robot", viser.Icon.ROBOT):
+            self.buttons = add_robot_commands(self.server, self.runner)
+            self.settings = SettingsPanel(self.server, self.runner)
+        if isinstance(controller, SimController):
+            with tabs.add_tab("Simulator", viser.Icon.FLASK):
+                self.sim_panel = SimPanel(self.server, controller, self.runner)
+        self.scene = ArmScene(self.server, arm.urdf_path)
         self._robot_id = self._read_quietly(controller.get_robot_id, "")
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._refresh_loop, name="pendant-refresh", daemon=True)
 
     def start(self) -> PendantUI:
+        self.refresh()
+        self.target.reset_to_current()
+        self.jogger.start_watchdog()
         self._thread.start()
         return self
 
     def stop(self) -> None:
         self._stop.set()
         self._thread.join(timeout=2.0)
+        self.jogger.stop_watchdog()
         self.runner.shutdown()
         self.server.stop()
 
@@ -52,15 +78,15 @@ class PendantUI:
         tool_name = self.latest.tool_name
         if with_io:
             tool_name = self._read_quietly(lambda: self.controller.get_tool().name, tool_name)
-        snapshot = read_snapshot(
-            self.controller, with_io=with_io, robot_id=self._robot_id, tool_name=tool_name
-        )
+        snapshot = read_snapshot(self.controller, with_io=with_io, robot_id=self._robot_id, tool_name=tool_name)
         if not with_io:
             snapshot = replace(snapshot, outputs=self.latest.outputs, inputs=self.latest.inputs)
         if snapshot.q is not None:
             self.scene.show(snapshot.q, snapshot.gripper_opening, self.arm.fk(snapshot.q))
         self.latest = snapshot
         self.status.show(snapshot)
+        if with_io:
+            self.io.show(snapshot)
         return snapshot
 
     def _refresh_loop(self) -> None:

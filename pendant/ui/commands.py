@@ -43,23 +43,24 @@ class CommandRunner:
         self._pool.shutdown(wait=False, cancel_futures=True)
 
 
+def add_freeze_button(server: viser.ViserServer, runner: CommandRunner) -> viser.GuiButtonHandle:
+    """The red Freeze button, above everything else so it is always in reach."""
+    button = server.gui.add_button("Freeze", color="red", icon=viser.Icon.HAND_STOP, order=-1000.0)
+    button.on_click(lambda event: runner.submit("Freeze", lambda c: c.freeze(), event.client))
+    return button
+
+
 def add_robot_commands(server: viser.ViserServer, runner: CommandRunner) -> dict[str, viser.GuiButtonHandle]:
-    """Freeze (red, first), then Relax, Recover, Pack and Home."""
+    """Home, Relax, Recover and Pack."""
+    actions: dict[str, Callable[[Controller], object]] = {
+        "Home": lambda c: c.set_pose(Pose(angles=list(HOME_POSE_DEG)), MotionParams(speed=HOME_SPEED_PERCENT)),
+        "Relax": lambda c: c.relax(),
+        "Recover": lambda c: c.recover(),
+        "Pack": lambda c: c.pack(),
+    }
     buttons: dict[str, viser.GuiButtonHandle] = {}
-
-    def bind(label: str, action: Callable[[Controller], object], **style: object) -> None:
-        button = server.gui.add_button(label, **style)  # type: ignore[arg-type]
-
-        @button.on_click
-        def _(event: viser.GuiEvent) -> None:
-            runner.submit(label, action, event.client)
-
+    for label, action in actions.items():
+        button = server.gui.add_button(label)
+        button.on_click(lambda event, label=label, action=action: runner.submit(label, action, event.client))
         buttons[label] = button
-
-    bind("Freeze", lambda c: c.freeze(), color="red", icon=viser.Icon.HAND_STOP)
-    with server.gui.add_folder("Robot"):
-        bind("Home", lambda c: c.set_pose(Pose(angles=list(HOME_POSE_DEG)), MotionParams(speed=HOME_SPEED_PERCENT)))
-        bind("Relax", lambda c: c.relax())
-        bind("Recover", lambda c: c.recover())
-        bind("Pack", lambda c: c.pack())
     return buttons

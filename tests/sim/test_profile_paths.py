@@ -19,6 +19,12 @@ from pendant.sim.transforms import rotvec_to_matrix
 TOL = 1e-9
 
 
+def _plan(grid: np.ndarray, v_cap: np.ndarray, a_max: float) -> profile.TimeScaling:
+    """A one-joint straight path (q = s) under a speed cap per cell and an acceleration limit."""
+    n = len(grid) - 1
+    return profile.plan(grid, v_cap, np.ones((n, 1)), np.zeros((n, 1)), np.array([a_max]))
+
+
 def _samples(scaling: profile.TimeScaling, n: int = 4001) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     ts = np.linspace(0.0, scaling.duration, n)
     values = np.array([scaling.at(t) for t in ts])
@@ -28,7 +34,7 @@ def _samples(scaling: profile.TimeScaling, n: int = 4001) -> tuple[np.ndarray, n
 def test_uniform_caps_give_a_trapezoid_from_rest_to_rest() -> None:
     length, v_max, a_max = 2.0, 0.5, 1.0
     grid = np.linspace(0.0, length, 401)
-    scaling = profile.plan(grid, np.full(400, v_max), np.full(400, a_max))
+    scaling = _plan(grid, np.full(400, v_max), a_max)
     _, s, v = _samples(scaling)
     assert s[0] == 0.0 and s[-1] == pytest.approx(length, abs=TOL)
     assert v[0] == 0.0 and v[-1] == 0.0
@@ -40,7 +46,7 @@ def test_uniform_caps_give_a_trapezoid_from_rest_to_rest() -> None:
 
 def test_short_move_is_a_triangle() -> None:
     length, a_max = 0.01, 2.0
-    scaling = profile.plan(np.linspace(0.0, length, 101), np.full(100, 10.0), np.full(100, a_max))
+    scaling = _plan(np.linspace(0.0, length, 101), np.full(100, 10.0), a_max)
     assert scaling.duration == pytest.approx(2.0 * math.sqrt(length / a_max), rel=1e-6)
 
 
@@ -48,14 +54,26 @@ def test_a_slow_cell_slows_only_around_it() -> None:
     grid = np.linspace(0.0, 10.0, 1001)
     v_cap = np.full(1000, 1.0)
     v_cap[500] = 0.2
-    scaling = profile.plan(grid, v_cap, np.full(1000, 1.0))
+    scaling = _plan(grid, v_cap, 1.0)
     assert scaling.at(scaling.duration / 4)[1] == pytest.approx(1.0)
     speeds = [scaling.at(t)[1] for t in np.linspace(0, scaling.duration, 5001)]
     assert min(v for v in speeds[100:-100]) == pytest.approx(0.2, abs=0.01)
 
 
+def test_curvature_limits_the_speed_through_a_bend() -> None:
+    # q'' = 4 per unit s^2 with a limit of 1: cruising through the cell needs s' <= 0.5.
+    grid = np.linspace(0.0, 4.0, 401)
+    d2 = np.zeros((400, 1))
+    d2[200] = 4.0
+    v_cap = np.full(400, 10.0)
+    v_cap[200] = 0.5
+    scaling = profile.plan(grid, v_cap, np.ones((400, 1)), d2, np.array([1.0]))
+    k = 200
+    assert max(scaling.v[k], scaling.v[k + 1]) <= 0.5 + 1e-12
+
+
 def test_zero_length_takes_no_time() -> None:
-    assert profile.plan(np.array([0.0, 0.0]), np.ones(1), np.ones(1)).duration == 0.0
+    assert _plan(np.array([0.0, 0.0]), np.ones(1), 1.0).duration == 0.0
 
 
 def test_joint_path_blends_pass_waypoints_within_tolerance_and_end_exactly() -> None:

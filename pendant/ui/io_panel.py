@@ -1,0 +1,54 @@
+"""Digital outputs (toggles read back from the controller), inputs, and the gripper."""
+
+from __future__ import annotations
+
+import viser
+
+from pendant.controller import SignalLevel
+from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS, INPUT_PORTS, OUTPUT_PORTS
+from pendant.ui.commands import CommandRunner
+from pendant.ui.snapshot import Snapshot
+
+
+class IoPanel:
+    """DO toggles follow what the controller reports, so a refused write springs back."""
+
+    def __init__(self, server: viser.ViserServer, runner: CommandRunner) -> None:
+        self._runner = runner
+        self._syncing = False
+        self.outputs: dict[int, viser.GuiCheckboxHandle] = {}
+        for port in OUTPUT_PORTS:
+            toggle = server.gui.add_checkbox(f"DO{port}", initial_value=False)
+            self.outputs[port] = toggle
+            toggle.on_update(lambda event, port=port: self._write_output(port, event))
+        self.inputs = {
+            port: server.gui.add_checkbox(f"DI{port}", initial_value=False, disabled=True) for port in INPUT_PORTS
+        }
+        self.gripper_open = server.gui.add_button("Open gripper", icon=viser.Icon.ARROWS_HORIZONTAL)
+        self.gripper_close = server.gui.add_button("Close gripper", icon=viser.Icon.ARROWS_MINIMIZE)
+        self.gripper_open.on_click(
+            lambda e: runner.submit("Open gripper", lambda c: c.open_gripper(DEFAULT_GRIPPER_TIMEOUT_MS), e.client)
+        )
+        self.gripper_close.on_click(
+            lambda e: runner.submit("Close gripper", lambda c: c.close_gripper(DEFAULT_GRIPPER_TIMEOUT_MS), e.client)
+        )
+
+    def show(self, snapshot: Snapshot) -> None:
+        self._syncing = True
+        try:
+            for port, level in snapshot.outputs.items():
+                high = level is SignalLevel.HIGH
+                if self.outputs[port].value != high:
+                    self.outputs[port].value = high
+            for port, level in snapshot.inputs.items():
+                high = level is SignalLevel.HIGH
+                if self.inputs[port].value != high:
+                    self.inputs[port].value = high
+        finally:
+            self._syncing = False
+
+    def _write_output(self, port: int, event: viser.GuiEvent) -> None:
+        if self._syncing or event.client is None:
+            return  # our own read-back, not an operator's click
+        level = SignalLevel.HIGH if self.outputs[port].value else SignalLevel.LOW
+        self._runner.submit(f"DO{port} {level.value}", lambda c: c.set_output(port, level), event.client)

@@ -1,0 +1,149 @@
+"""Drag to target: a gizmo at the TCP and joint sliders pose a ghost arm; Move J / Move L run it."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+import viser
+import viser.transforms as vtf
+from viser.extras import ViserUrdf
+
+from pendant.controller import Controller, MotionParams, MotionType, Pose
+from pendant.kinematics import ArmModel
+from pendant.sim.transforms import inverse, matrix_to_position, position_to_matrix
+from pendant.ui.commands import CommandRunner
+from pendant.ui.target_check import TargetCheck, check_flange_target, check_joint_target
+
+GHOST_OK_RGBA = (0.25, 0.55, 1.0, 0.35)
+GHOST_BAD_RGBA = (0.95, 0.15, 0.15, 0.45)
+GIZMO_SCALE = 0.18
+DEFAULT_MOVE_SPEED_PERCENT = 20.0
+
+
+class TargetPanel:
+    """The target the operator is preparing; never moves the arm until Move J or Move L is pressed."""
+
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        arm: ArmModel,
+        runner: CommandRunner,
+        current_q: Callable[[], np.ndarray | None],
+    ) -> None:
+        self._arm = arm
+        self._runner = runner
+        self._current_q = current_q
+        self._ghosts = {
+            ok: ViserUrdf(server, arm.urdf_path, root_node_name=f"/ghost_{'ok' if ok else 'bad'}",
+                          mesh_color_override=GHOST_OK_RGBA if ok else GHOST_BAD_RGBA)
+            for ok in (True, False)
+        }
+        self._gizmo = server.scene.add_transform_controls("/target", scale=GIZMO_SCALE, visible=False)
+        self._syncing = False
+        self.check = TargetCheck(None, "No target yet")
+
+        self.reason = server.gui.add_markdown("Drag the gizmo or the sliders to set a target.")
+        self.sliders = [
+            server.gui.add_slider(
+                f"J{i + 1} °", min=math.degrees(arm.lower[i]), max=math.degrees(arm.upper[i]), step=0.1,
+                initial_value=0.0,
+            )
+            for i in range(6)
+        ]
+        self.speed = server.gui.add_slider(
+            "Move speed %", min=1.0, max=100.0, step=1.0, initial_value=DEFAULT_MOVE_SPEED_PERCENT
+        )
+        self.from_current = server.gui.add_button("Target = current", icon=viser.Icon.TARGET)
+        self.move_j = server.gui.add_button("Move J", disabled=True)
+        self.move_l = server.gui.add_button("Move L", disabled=True)
+        self._show_ghost(None)
+
+        @self._gizmo.on_update
+        def _(_: viser.TransformControlsEvent) -> None:
+            if self._syncing:
+                return
+            T = vtf.SE3.from_rotation_and_translation(
+                vtf.SO3(np.asarray(self._gizmo.wxyz)), np.asarray(self._gizmo.position)
+            ).as_matrix()
+            self.set_flange_target(T)
+
+        for slider in self.sliders:
+            slider.on_update(lambda _: None if self._syncing else self.set_joint_target(self._slider_q()))
+        self.from_current.on_click(lambda _: self.reset_to_current())
+        self.move_j.on_click(lambda event: self.run(MotionType.JOINT, event.client))
+        self.move_l.on_click(lambda event: self.run(MotionType.LINEAR, event.client))
+
+    # --- setting the target -------------------------------------------------------------------------
+    def reset_to_current(self) -> None:
+        q = self._current_q()
+        if q is not None:
+            self.set_joint_target(q)
+
+    def set_flange_target(self, T_base_flange: np.ndarray) -> TargetCheck:
+        near = self.check.q if self.check.q is not None else self._current_q()
+        near = near if near is not None else 0.5 * (self._arm.lower + self._arm.upper)
+        self.check = check_flange_target(self._arm, T_base_flange, near)
+        self._show(move_gizmo=False)
+        return self.check
+
+    def set_joint_target(self, q: np.ndarray) -> TargetCheck:
+        self.check = check_joint_target(self._arm, np.asarray(q, dtype=float))
+        self._show(move_gizmo=True)
+        return self.check
+
+    # --- running it ---------------------------------------------------------------------------------
+    def run(self, motion: MotionType, client: viser.ClientHandle | None = None) -> None:
+        check = self.check
+        if not check.ok or check.q is None:
+            return
+        params = MotionParams(speed=float(self.speed.value), motion_type=motion)
+        q_target = check.q.copy()
+        if motion is MotionType.JOINT:
+            pose = Pose(angles=[float(v) for v in np.degrees(q_target)])
+            self._runner.submit("Move J", lambda c: c.set_pose(pose, params), client)
+        else:
+            self._runner.submit("Move L", lambda c: c.set_position(self._zero_tool_target(c, q_target), params),
+                                client)
+
+    def _zero_tool_target(self, controller: Controller, q: np.ndarray):  # type: ignore[no-untyped-def]
+        """PUT /position speaks in the zero point frame and of the tool's TCP."""
+        T_base_zero = position_to_matrix(controller.get_base())
+        T_flange_tool = position_to_matrix(controller.get_tool().position)
+        return matrix_to_position(inverse(T_base_zero) @ self._arm.fk(q) @ T_flange_tool)
+
+    # --- display ------------------------------------------------------------------------------------
+    def _show(self, *, move_gizmo: bool) -> None:
+        check = self.check
+        self._show_ghost(check)
+        self.reason.content = (
+            "**Target ready** — Move J or Move L runs it." if check.ok else f"**Cannot execute:** {check.reason}"
+        )
+        self.move_j.disabled = not check.ok
+        self.move_l.disabled = not check.ok
+        if check.q is None:
+            return
+        self._syncing = True
+        try:
+            for slider, value in zip(self.sliders, np.degrees(check.q), strict=True):
+                slider.value = float(np.clip(value, slider.min, slider.max))
+            if move_gizmo:
+                T = self._arm.fk(check.q)
+                self._gizmo.position = T[:3, 3]
+                self._gizmo.wxyz = vtf.SO3.from_matrix(T[:3, :3]).wxyz
+            self._gizmo.visible = True
+        finally:
+            self._syncing = False
+
+    def _show_ghost(self, check: TargetCheck | None) -> None:
+        for ok, ghost in self._ghosts.items():
+            visible = check is not None and check.q is not None and check.ok == ok
+            ghost.show_visual = visible
+            if visible:
+                cfg = np.zeros(len(ghost.get_actuated_joint_names()))
+                cfg[:6] = check.q
+                ghost.update_cfg(cfg)
+
+    def _slider_q(self) -> np.ndarray:
+        return np.radians([float(s.value) for s in self.sliders])

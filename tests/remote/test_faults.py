@@ -1,0 +1,159 @@
+"""Faults over real HTTP on 127.0.0.1, with the simulator as the "real" controller in its own process
+(`python -m pendant --no-ui --api-port PORT`): it starts late, it dies mid-motion, it reports an emergency or
+stops responding. The pendant must report it, never crash, and never replay a lost command."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+
+from pendant.controller.errors import (
+    MSG_EMERGENCY,
+    MSG_NOT_RESPONDING,
+    ControllerOffline,
+    Emergency,
+    NotResponding,
+)
+from pendant.controller.types import MotionParams, MotionStatus, Pose
+from pendant.remote import RemoteController, create_proxy_app
+from pendant.sim import HOME_POSE_DEG
+
+from .servers import free_port, wait_for_port
+from .uvicorn_thread import serve_in_thread
+
+ROOT = Path(__file__).resolve().parents[2]
+START_TIMEOUT_S = 15.0
+STOP_TIMEOUT_S = 5.0
+ANGLE_TOL_DEG = 1e-6
+SLOW = MotionParams(speed=2.0)  # a motion that lasts many seconds
+FAR = Pose(angles=[120.0, -60.0, 60.0, -90.0, -90.0, 90.0])
+QUIET_S = 0.5  # how long we watch a restarted controller for motion nobody asked for
+
+Launch = Callable[[list[str]], subprocess.Popen[bytes]]
+
+
+@pytest.fixture
+def launch() -> Iterator[Launch]:
+    """Start `python -m pendant ARGS...`; every process started is killed at teardown."""
+    processes: list[subprocess.Popen[bytes]] = []
+    env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+
+    def start(args: list[str]) -> subprocess.Popen[bytes]:
+        process = subprocess.Popen(
+            [sys.executable, "-m", "pendant", "--no-ui", *args],
+            cwd=ROOT,
+            env=env,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+        processes.append(process)
+        return process
+
+    yield start
+    for process in processes:
+        if process.poll() is None:
+            process.kill()
+        process.wait(STOP_TIMEOUT_S)
+
+
+def start_controller(launch: Launch, port: int) -> subprocess.Popen[bytes]:
+    process = launch(["--api-port", str(port)])
+    wait_for_port(port, START_TIMEOUT_S)
+    return process
+
+
+def kill(process: subprocess.Popen[bytes]) -> None:
+    process.kill()
+    process.wait(STOP_TIMEOUT_S)
+
+
+def wait_until(condition: Callable[[], bool], timeout_s: float = START_TIMEOUT_S) -> None:
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        if time.monotonic() > deadline:
+            raise TimeoutError("condition not met in time")
+        time.sleep(0.05)
+
+
+def test_the_pendant_starts_before_the_controller(launch: Launch) -> None:
+    controller_port, pendant_port = free_port(), free_port()
+    controller_url = f"http://127.0.0.1:{controller_port}"
+    launch(["--api-port", str(pendant_port), "--robot", controller_url])
+    wait_for_port(pendant_port, START_TIMEOUT_S)
+
+    with httpx.Client(base_url=f"http://127.0.0.1:{pendant_port}") as pendant:
+        health = pendant.get("/pendant/health").json()
+        assert health["mode"] == "robot" and health["robot_url"] == controller_url
+        assert health["online"] is False
+        assert "unreachable" in health["last_error"]
+        assert pendant.get("/pose").status_code == 502
+
+        start_controller(launch, controller_port)
+        health = pendant.get("/pendant/health").json()
+        assert health["online"] is True and health["motion_status"] == "IDLE"
+        assert pendant.get("/pose").json() == {"angles": list(HOME_POSE_DEG)}
+
+
+def test_the_controller_dies_mid_motion_and_nothing_is_replayed(launch: Launch) -> None:
+    port = free_port()
+    url = f"http://127.0.0.1:{port}"
+    controller_process = start_controller(launch, port)
+    with (
+        RemoteController(url, read_timeout=1.0) as controller,
+        serve_in_thread(create_proxy_app(url, read_timeout=1.0)) as proxy_url,
+        httpx.Client(base_url=proxy_url) as through_proxy,
+    ):
+        controller.set_pose(FAR, SLOW)
+        assert controller.get_motion_status() is MotionStatus.RUNNING
+
+        kill(controller_process)
+        with pytest.raises(ControllerOffline, match="unreachable"):
+            controller.get_pose()
+        assert not controller.health().online
+        # Commands sent while it is down fail at once, through the client and through the proxy.
+        with pytest.raises(ControllerOffline):
+            controller.set_pose(FAR, SLOW)
+        assert through_proxy.put("/pose?speed=2", json=FAR.model_dump()).status_code == 502
+
+        start_controller(launch, port)
+        assert controller.get_motion_status() is MotionStatus.IDLE  # back online on the next call
+        assert controller.health().online
+        first_pose = controller.get_pose()
+        time.sleep(QUIET_S)  # real time on purpose: the controller runs on its own clock
+        assert controller.get_motion_status() is MotionStatus.IDLE
+        assert controller.get_pose() == first_pose
+        assert first_pose.angles == pytest.approx(list(HOME_POSE_DEG), abs=ANGLE_TOL_DEG)
+
+
+def test_emergency_and_no_response_come_through_with_their_messages(launch: Launch) -> None:
+    port = free_port()
+    url = f"http://127.0.0.1:{port}"
+    start_controller(launch, port)
+    with (
+        serve_in_thread(create_proxy_app(url)) as proxy_url,
+        RemoteController(proxy_url) as controller,
+        httpx.Client(base_url=proxy_url) as through_proxy,
+    ):
+        through_proxy.put("/sim/fault/emergency").raise_for_status()
+        with pytest.raises(Emergency) as emergency:
+            controller.get_pose()
+        assert emergency.value.message == MSG_EMERGENCY
+        health = through_proxy.get("/pendant/health").json()
+        assert health["online"] is True  # it answers: the arm is what is down
+        assert health["last_error"] == MSG_EMERGENCY and health["motion_status"] is None
+
+        through_proxy.put("/sim/reset").raise_for_status()
+        through_proxy.put("/sim/fault/no_response").raise_for_status()
+        with pytest.raises(NotResponding) as silent:
+            controller.set_pose(FAR, SLOW)
+        assert silent.value.message == MSG_NOT_RESPONDING
+
+        through_proxy.put("/sim/reset").raise_for_status()
+        assert controller.get_motion_status() is MotionStatus.IDLE
