@@ -13,8 +13,9 @@ from fastapi import APIRouter
 
 from pendant import __version__
 from pendant.config import Settings
-from pendant.controller.errors import ControllerError, ControllerOffline
+from pendant.controller.errors import ControllerError, ControllerOffline, Emergency
 from pendant.controller.protocol import Controller
+from pendant.controller.types import MotionStatus
 
 HEALTH_PATH = "/pendant/health"
 
@@ -27,7 +28,7 @@ class PendantHealth:
     robot_url: str | None
     online: bool  # the controller answered (an error answer such as 503 still counts)
     latency_s: float | None  # round trip of the probe
-    motion_status: str | None  # None when the probe failed
+    motion_status: str | None  # EMERGENCY on a 503; None when the probe failed otherwise
     last_error: str | None  # the controller's message if the probe failed
     uptime_s: float
     version: str
@@ -46,6 +47,9 @@ def probe_health(settings: Settings, controller: Controller, started_at: float) 
         motion_status = str(controller.get_motion_status())
     except ControllerOffline as exc:
         online, last_error = False, exc.message
+    except Emergency as exc:
+        # The controller answers every call with 503 in an emergency: that is its motion status.
+        motion_status, last_error = MotionStatus.EMERGENCY.value, exc.message
     except ControllerError as exc:
         last_error = exc.message
     latency_s: float | None = time.perf_counter() - t0

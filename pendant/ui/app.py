@@ -33,7 +33,7 @@ class PendantUI:
         self.controller = controller
         self.arm = arm
         self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
-        self.server.gui.configure_theme(control_layout="fixed", control_width="large", show_logo=False)
+        self.server.gui.configure_theme(control_width="large", show_logo=False)
         self.runner = CommandRunner(controller)
         self.jogger = Jogger(controller, arm)
         self.latest = Snapshot(taken_at=0.0)
@@ -68,7 +68,8 @@ class PendantUI:
 
     def stop(self) -> None:
         self._stop.set()
-        self._thread.join(timeout=2.0)
+        if self._thread.is_alive():
+            self._thread.join(timeout=2.0)
         self.jogger.stop_watchdog()
         self.runner.shutdown()
         self.server.stop()

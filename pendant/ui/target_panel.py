@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from concurrent.futures import Future
 
 import numpy as np
 import viser
 import viser.transforms as vtf
 from viser.extras import ViserUrdf
 
-from pendant.controller import Controller, MotionParams, MotionType, Pose
+from pendant.controller import Controller, MotionParams, MotionType, Pose, Position
 from pendant.kinematics import ArmModel
 from pendant.sim.transforms import inverse, matrix_to_position, position_to_matrix
 from pendant.ui.commands import CommandRunner
@@ -94,20 +95,21 @@ class TargetPanel:
         return self.check
 
     # --- running it ---------------------------------------------------------------------------------
-    def run(self, motion: MotionType, client: viser.ClientHandle | None = None) -> None:
+    def run(self, motion: MotionType, client: viser.ClientHandle | None = None) -> Future[object] | None:
+        """Send the target as a Move J or Move L; None when the target cannot be executed."""
         check = self.check
         if not check.ok or check.q is None:
-            return
+            return None
         params = MotionParams(speed=float(self.speed.value), motion_type=motion)
         q_target = check.q.copy()
         if motion is MotionType.JOINT:
             pose = Pose(angles=[float(v) for v in np.degrees(q_target)])
-            self._runner.submit("Move J", lambda c: c.set_pose(pose, params), client)
-        else:
-            self._runner.submit("Move L", lambda c: c.set_position(self._zero_tool_target(c, q_target), params),
-                                client)
+            return self._runner.submit("Move J", lambda c: c.set_pose(pose, params), client)
+        return self._runner.submit(
+            "Move L", lambda c: c.set_position(self._zero_tool_target(c, q_target), params), client
+        )
 
-    def _zero_tool_target(self, controller: Controller, q: np.ndarray):  # type: ignore[no-untyped-def]
+    def _zero_tool_target(self, controller: Controller, q: np.ndarray) -> Position:
         """PUT /position speaks in the zero point frame and of the tool's TCP."""
         T_base_zero = position_to_matrix(controller.get_base())
         T_flange_tool = position_to_matrix(controller.get_tool().position)

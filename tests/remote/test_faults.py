@@ -147,7 +147,7 @@ def test_emergency_and_no_response_come_through_with_their_messages(launch: Laun
         assert emergency.value.message == MSG_EMERGENCY
         health = through_proxy.get("/pendant/health").json()
         assert health["online"] is True  # it answers: the arm is what is down
-        assert health["last_error"] == MSG_EMERGENCY and health["motion_status"] is None
+        assert health["last_error"] == MSG_EMERGENCY and health["motion_status"] == "EMERGENCY"
 
         through_proxy.put("/sim/reset").raise_for_status()
         through_proxy.put("/sim/fault/no_response").raise_for_status()

@@ -1,0 +1,115 @@
+"""The pendant page's callbacks, headless: a real viser server on loopback, no browser, a fake clock."""
+
+from __future__ import annotations
+
+import socket
+from collections.abc import Iterator
+
+import numpy as np
+import pytest
+
+from pendant.controller import MotionStatus, SignalLevel
+from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSITION
+from pendant.controller.types import MotionType
+from pendant.sim import Fault, FakeClock, SimController
+from pendant.ui.app import PendantUI
+
+ANGLE_TOL_DEG = 1e-6
+FUTURE_TIMEOUT_S = 5.0
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def ui(sim: SimController) -> Iterator[PendantUI]:
+    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=_free_port(), mode_line="Simulator · pulse75")
+    page.refresh()
+    page.target.reset_to_current()
+    yield page
+    page.stop()
+
+
+def pose_deg(sim: SimController) -> np.ndarray:
+    return np.asarray(sim.get_pose().angles)
+
+
+def test_target_starts_at_the_current_pose_and_is_executable(ui: PendantUI, sim: SimController) -> None:
+    assert ui.target.check.ok
+    np.testing.assert_allclose(np.degrees(ui.target.check.q), pose_deg(sim), atol=ANGLE_TOL_DEG)
+    assert not ui.target.move_j.disabled
+
+
+def test_unreachable_drag_target_is_red_says_why_and_cannot_run(ui: PendantUI, sim: SimController) -> None:
+    T = sim.arm.fk(np.radians(pose_deg(sim)))
+    T[:3, 3] = (2.0, 0.0, 0.5)  # two metres out: beyond any PULSE
+    check = ui.target.set_flange_target(T)
+    assert check.reason == MSG_UNREACHABLE_POSITION
+    assert ui.target.move_j.disabled and ui.target.move_l.disabled
+    assert MSG_UNREACHABLE_POSITION in ui.target.reason.content
+    before = pose_deg(sim)
+    assert ui.target.run(MotionType.JOINT) is None
+    np.testing.assert_allclose(pose_deg(sim), before, atol=ANGLE_TOL_DEG)
+
+
+def test_colliding_slider_target_is_refused(ui: PendantUI) -> None:
+    q = np.radians([0.0, -90.0, 170.0, -90.0, -90.0, 0.0])  # forearm folded into the upper arm
+    check = ui.target.set_joint_target(q)
+    assert check.reason == MSG_COLLISION
+    assert ui.target.move_j.disabled
+
+
+def test_move_j_from_sliders_reaches_the_target(ui: PendantUI, sim: SimController, clock: FakeClock) -> None:
+    target_deg = np.array([30.0, -80.0, 60.0, -70.0, -90.0, 15.0])
+    assert ui.target.set_joint_target(np.radians(target_deg)).ok
+    ui.target.run(MotionType.JOINT).result(timeout=FUTURE_TIMEOUT_S)
+    assert sim.get_motion_status() is MotionStatus.RUNNING
+    clock.advance(30.0)
+    np.testing.assert_allclose(pose_deg(sim), target_deg, atol=1e-6)
+
+
+def test_move_l_from_a_dragged_gizmo_reaches_it(ui: PendantUI, sim: SimController, clock: FakeClock) -> None:
+    T = sim.arm.fk(np.radians(pose_deg(sim)))
+    T[:3, 3] += (0.05, 0.05, -0.05)
+    assert ui.target.set_flange_target(T).ok
+    ui.target.run(MotionType.LINEAR).result(timeout=FUTURE_TIMEOUT_S)
+    clock.advance(30.0)
+    np.testing.assert_allclose(sim.arm.fk(np.radians(pose_deg(sim)))[:3, 3], T[:3, 3], atol=1e-6)
+
+
+def test_output_toggle_from_the_page_sets_the_controller_output(ui: PendantUI, sim: SimController) -> None:
+    ui.runner.submit("DO2", lambda c: c.set_output(2, SignalLevel.HIGH), None).result(FUTURE_TIMEOUT_S)
+    ui.refresh()
+    assert ui.io.outputs[2].value is True
+    assert sim.get_output(2) is SignalLevel.HIGH
+
+
+def test_error_state_is_shown_as_a_red_banner_and_recover_clears_it(ui: PendantUI, sim: SimController) -> None:
+    sim.inject_fault(Fault.ERROR)
+    ui.refresh()
+    assert "ERROR" in ui.status._html.content and "#e03131" in ui.status._html.content
+    ui.runner.submit("Recover", lambda c: c.recover(), None).result(FUTURE_TIMEOUT_S)
+    assert ui.refresh().motion_status is MotionStatus.IDLE
+
+
+def test_invalid_tool_form_is_refused_before_anything_is_sent(ui: PendantUI, sim: SimController) -> None:
+    before = sim.get_tool()
+    ui.settings.tool_name.value = "   "
+    assert not ui.settings.submit_tool(None)
+    ui.settings.tool_name.value = "gripper"
+    ui.settings.tool_xyz.value = (0.0, 0.0, 5000.0)
+    assert not ui.settings.submit_tool(None)
+    assert sim.get_tool() == before
+
+
+def test_valid_tool_form_sets_the_tool(ui: PendantUI, sim: SimController) -> None:
+    ui.settings.tool_name.value = "gripper"
+    ui.settings.tool_xyz.value = (0.0, 0.0, 120.0)
+    assert ui.settings.submit_tool(None)
+    ui.runner.submit("sync", lambda c: None, None).result(FUTURE_TIMEOUT_S)
+    tool = sim.get_tool()
+    assert tool.name == "gripper"
+    assert tool.point.z == pytest.approx(0.12)
