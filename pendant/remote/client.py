@@ -232,16 +232,13 @@ class RemoteController:
                     continue
                 raise self._offline(self._transport_message(request_line, exc)) from exc
             latency_s = time.perf_counter() - started
-            error = (
-                None
-                if response.is_success
-                else error_for_status(response.status_code, response.content, request_line)
-            )
-            if isinstance(error, ControllerOffline):
-                raise self._offline(error.message)
-            self._mark_online(latency_s)
-            if error is not None:
+            if not response.is_success:
+                error = error_for_status(response.status_code, response.content, request_line)
+                if isinstance(error, ControllerOffline):
+                    raise self._offline(error.message)
+                self._mark_online(latency_s)  # a refusal is still an answer
                 raise error
+            self._mark_online(latency_s)
             return response
         raise AssertionError("unreachable")  # the loop always returns or raises
 

@@ -28,7 +28,13 @@ from starlette.types import ASGIApp, Receive, Scope, Send
 from pendant.config import Settings
 from pendant.remote.client import DEFAULT_CONNECT_TIMEOUT_S, RemoteController
 from pendant.remote.health import health_router
-from pendant.remote.upstream import UpstreamConnectError, UpstreamError, UpstreamPool, UpstreamTimeout
+from pendant.remote.upstream import (
+    UpstreamConnectError,
+    UpstreamError,
+    UpstreamPool,
+    UpstreamResponse,
+    UpstreamTimeout,
+)
 
 DEFAULT_PROXY_READ_TIMEOUT_S = 10.0
 PENDANT_PREFIX = "/pendant/"  # served by the pendant itself, never forwarded
@@ -49,7 +55,8 @@ _HOP_BY_HOP = frozenset(
         b"upgrade",
     }
 )
-_NOT_FORWARDED_UP = _HOP_BY_HOP | {b"host", b"content-length"}
+# `expect: 100-continue` was already answered by the server in front; the controller gets the whole body.
+_NOT_FORWARDED_UP = _HOP_BY_HOP | {b"host", b"content-length", b"expect"}
 _NOT_FORWARDED_DOWN = _HOP_BY_HOP | {b"content-length", b"date", b"server"}
 _NO_BODY_STATUSES = frozenset({204, 304})
 
@@ -83,6 +90,8 @@ class _Forwarder:
         body = b""
         while True:
             message = await receive()
+            if message["type"] == "http.disconnect":  # the caller gave up: send nothing on its behalf
+                return
             body += message.get("body", b"")
             if not message.get("more_body", False):
                 break
@@ -105,7 +114,7 @@ class _Forwarder:
 
     async def _exchange(
         self, method: str, target: bytes, headers: list[tuple[bytes, bytes]], body: bytes, path: str
-    ) -> object:
+    ) -> UpstreamResponse | Response:
         """The controller's answer, or the 502 Response saying why there is none."""
         attempts = 2 if method == "GET" else 1
         for attempt in range(attempts):
@@ -125,13 +134,18 @@ def create_proxy_app(
     robot_url: str,
     *,
     settings: Settings | None = None,
+    controller: RemoteController | None = None,
     on_request: RequestHook | None = None,
     connect_timeout: float = DEFAULT_CONNECT_TIMEOUT_S,
     read_timeout: float = DEFAULT_PROXY_READ_TIMEOUT_S,
     started_at: float | None = None,
 ) -> FastAPI:
     """An ASGI app serving the PULSE API by forwarding to the controller at `robot_url` (plain HTTP), plus
-    GET /pendant/health. More pendant routes can be added to it under /pendant/."""
+    GET /pendant/health. More pendant routes can be added to it under /pendant/.
+
+    `controller`: the RemoteController the rest of the pendant (UI, programs) uses, so that the health route
+    probes and reports that very link; by default the app makes its own (closed with the app).
+    """
     robot_url = robot_url.rstrip("/")
     parts = urlsplit(robot_url)
     if parts.scheme != "http" or not parts.hostname:
@@ -140,7 +154,8 @@ def create_proxy_app(
     started_at = started_at if started_at is not None else time.monotonic()
     pool = UpstreamPool(parts.hostname, parts.port or 80, connect_timeout, read_timeout)
     # The health probe is a blocking client: the health route runs in the thread pool.
-    health_probe = RemoteController(robot_url, connect_timeout=connect_timeout, get_retries=0)
+    owns_probe = controller is None
+    health_probe = controller or RemoteController(robot_url, connect_timeout=connect_timeout, get_retries=0)
 
     @contextlib.asynccontextmanager
     async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
@@ -148,7 +163,8 @@ def create_proxy_app(
             yield
         finally:
             await pool.aclose()
-            health_probe.close()
+            if owns_probe:
+                health_probe.close()
 
     app = FastAPI(
         title="PULSE pendant (proxy to a real controller)",

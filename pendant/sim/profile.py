@@ -77,7 +77,12 @@ def plan(
     ddq_ds2 = np.asarray(ddq_ds2, dtype=float)
     if n_cells == 1:  # a single cell would have to start and end at rest: split it
         s = np.array([s[0], 0.5 * (s[0] + s[1]), s[1]])
-        v_cap, dq_ds, ddq_ds2, n_cells = np.repeat(v_cap, 2), np.repeat(dq_ds, 2, 0), np.repeat(ddq_ds2, 2, 0), 2
+        v_cap, dq_ds, ddq_ds2, n_cells = (
+            np.repeat(v_cap, 2),
+            np.repeat(dq_ds, 2, 0),
+            np.repeat(ddq_ds2, 2, 0),
+            2,
+        )
     if v_cap.shape != (n_cells,) or dq_ds.shape[0] != n_cells or ddq_ds2.shape != dq_ds.shape:
         raise ValueError("v_cap, dq_ds and ddq_ds2 need one entry per cell")
     if np.any(v_cap <= 0.0) or np.any(np.asarray(accel_limit) <= 0.0):

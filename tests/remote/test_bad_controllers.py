@@ -103,6 +103,17 @@ def test_the_proxy_answers_502_when_the_controller_hangs(proxy_to_hung_controlle
         assert client.get("/status/motion").content == b'"IDLE"'
 
 
+def test_the_proxy_answers_502_when_the_controller_speaks_no_http() -> None:
+    with (
+        raw_server(lambda _head: b"\x00\x01garbage\r\n\r\n") as robot_url,
+        serve_in_thread(create_proxy_app(robot_url, connect_timeout=CONNECT_TIMEOUT_S)) as proxy_url,
+        httpx.Client(base_url=proxy_url) as client,
+    ):
+        answer = client.get("/pose")
+        assert answer.status_code == 502
+        assert "no valid HTTP answer" in answer.text
+
+
 def test_the_proxy_answers_502_when_the_controller_is_gone() -> None:
     app = create_proxy_app(f"http://127.0.0.1:{free_port()}", connect_timeout=CONNECT_TIMEOUT_S)
     with serve_in_thread(app) as proxy_url, httpx.Client(base_url=proxy_url) as client:

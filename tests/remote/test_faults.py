@@ -112,6 +112,7 @@ def test_the_controller_dies_mid_motion_and_nothing_is_replayed(launch: Launch) 
     ):
         controller.set_pose(FAR, SLOW)
         assert controller.get_motion_status() is MotionStatus.RUNNING
+        assert through_proxy.get("/status/motion").content == b'"RUNNING"'
 
         kill(controller_process)
         with pytest.raises(ControllerOffline, match="unreachable"):
@@ -123,8 +124,9 @@ def test_the_controller_dies_mid_motion_and_nothing_is_replayed(launch: Launch) 
         assert through_proxy.put("/pose?speed=2", json=FAR.model_dump()).status_code == 502
 
         start_controller(launch, port)
-        assert controller.get_motion_status() is MotionStatus.IDLE  # back online on the next call
-        assert controller.health().online
+        assert controller.get_motion_status() is MotionStatus.IDLE
+        assert controller.health().online  # back online on the next call
+        assert through_proxy.get("/status/motion").content == b'"IDLE"'
         first_pose = controller.get_pose()
         time.sleep(QUIET_S)  # real time on purpose: the controller runs on its own clock
         assert controller.get_motion_status() is MotionStatus.IDLE
@@ -156,4 +158,25 @@ def test_emergency_and_no_response_come_through_with_their_messages(launch: Laun
         assert silent.value.message == MSG_NOT_RESPONDING
 
         through_proxy.put("/sim/reset").raise_for_status()
+        assert controller.get_motion_status() is MotionStatus.IDLE
+
+
+def test_kept_alive_connections_to_a_dead_controller_do_not_swallow_commands(launch: Launch) -> None:
+    port = free_port()
+    url = f"http://127.0.0.1:{port}"
+    controller_process = start_controller(launch, port)
+    with (
+        RemoteController(url) as controller,
+        serve_in_thread(create_proxy_app(url)) as proxy_url,
+        httpx.Client(base_url=proxy_url) as through_proxy,
+    ):
+        # Both leave a kept-alive connection behind...
+        controller.freeze()
+        assert through_proxy.put("/freeze").status_code == 200
+        kill(controller_process)
+        start_controller(launch, port)
+        # ...to a process that is gone. The next command must go to the new one, once.
+        controller.relax()
+        assert controller.get_motion_status() is MotionStatus.ZERO_GRAVITY
+        assert through_proxy.put("/freeze").status_code == 200
         assert controller.get_motion_status() is MotionStatus.IDLE

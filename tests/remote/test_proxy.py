@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Iterator
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import httpx
@@ -57,6 +58,7 @@ CALLS = [
     Call("GET", "/robot/id"),
     Call("GET", "/signal/output/1"),
     Call("GET", "/signal/input/4"),
+    Call("HEAD", "/pose"),
     # Commands, accepted
     Call.json("POST", "/tool", TOOL),
     Call.json("POST", "/base", POSITION | {"point": {"x": 0.0, "y": 0.0, "z": 0.0}}),
@@ -131,6 +133,17 @@ def test_every_answer_is_passed_through_byte_for_byte(
         assert answer(proxied, call) == expected, call
         statuses.add(expected[0])
     assert statuses >= {200, 400, 404, 405, 412, 500, 503}  # the list covers every kind of answer
+
+
+def test_concurrent_requests_each_get_their_own_answer(
+    direct_and_proxied: tuple[httpx.Client, httpx.Client],
+) -> None:
+    direct, proxied = direct_and_proxied
+    paths = ["/pose", "/position", "/status/motors", "/robot/id", "/tool"] * 8
+    expected = {path: direct.get(path).content for path in set(paths)}
+    with ThreadPoolExecutor(max_workers=8) as pool:
+        answers = list(pool.map(lambda path: proxied.get(path).content, paths))
+    assert answers == [expected[path] for path in paths]
 
 
 def test_the_health_route_is_the_pendants_own(direct_and_proxied: tuple[httpx.Client, httpx.Client]) -> None:

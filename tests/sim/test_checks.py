@@ -17,7 +17,7 @@ from pendant.controller.errors import (
     PreconditionFailed,
     Unreachable,
 )
-from pendant.controller.types import MotionParams, MotionStatus, MotionType, Pose, SignalLevel
+from pendant.controller.types import MotionParams, MotionType, Pose, SignalLevel
 from pendant.sim import FakeClock, SimController
 
 from .helpers import finish, position, shifted

@@ -9,7 +9,8 @@ from pendant.controller.types import MotionParams, MotionStatus, MotionType, Pos
 from pendant.kinematics.limits import JOINT_MAX_ACCEL_RAD_S2, JOINT_MAX_SPEED_RAD_S
 from pendant.sim import FakeClock, SimController
 from pendant.sim.paths import CARTESIAN_BLEND_TOL_M
-from pendant.sim.transforms import rotation_angle, rotvec_to_matrix, matrix_to_rotvec
+from pendant.sim.transforms import matrix_to_rotvec, rotation_angle, rotvec_to_matrix
+
 from .helpers import ANGLE_TOL_DEG, DT, POS_TOL_M, finish, record, shifted
 
 LINE_TOL_M = 1e-4  # a LINEAR path stays this close to its line

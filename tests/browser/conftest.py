@@ -1,0 +1,92 @@
+"""A real pendant process (simulator + UI + API on loopback) and a real Chromium driven by Playwright."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking"]
+ARTIFACTS = Path(__file__).resolve().parents[2] / "test-artifacts"
+START_TIMEOUT_S = 60.0
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _wait_http(url: str, deadline: float) -> None:
+    while time.monotonic() < deadline:
+        try:
+            httpx.get(url, timeout=1.0)
+            return
+        except httpx.HTTPError:
+            time.sleep(0.2)
+    raise TimeoutError(f"{url} did not answer within {START_TIMEOUT_S} s")
+
+
+class Pendant:
+    def __init__(self, ui_url: str, api_url: str) -> None:
+        self.ui_url = ui_url
+        self.api = httpx.Client(base_url=api_url, timeout=5.0)
+
+    def pose(self) -> list[float]:
+        return self.api.get("/pose").json()["angles"]
+
+    def status(self) -> str:
+        return self.api.get("/status/motion").text.strip('"')
+
+
+@pytest.fixture(scope="module")
+def pendant() -> Iterator[Pendant]:
+    ui_port, api_port = _free_port(), _free_port()
+    process = subprocess.Popen(
+        [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        env={**os.environ, "PYTHONUNBUFFERED": "1"},
+    )
+    try:
+        deadline = time.monotonic() + START_TIMEOUT_S
+        _wait_http(f"http://127.0.0.1:{api_port}/pose", deadline)
+        _wait_http(f"http://127.0.0.1:{ui_port}/", deadline)
+        yield Pendant(f"http://127.0.0.1:{ui_port}/", f"http://127.0.0.1:{api_port}")
+    finally:
+        process.terminate()
+        try:
+            process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            process.kill()
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[object]:
+    from playwright.sync_api import sync_playwright
+
+    if not Path(CHROMIUM).exists():
+        pytest.fail(f"Chromium not found at {CHROMIUM}: install Debian's chromium (apt-get install chromium)")
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        yield browser
+        browser.close()
+
+
+@pytest.fixture
+def page(browser, pendant: Pendant):  # type: ignore[no-untyped-def]
+    ARTIFACTS.mkdir(exist_ok=True)
+    page = browser.new_page(viewport={"width": 1400, "height": 900})
+    page.goto(pendant.ui_url)
+    page.get_by_role("button", name="Freeze").wait_for(timeout=30_000)
+    yield page
+    page.close()

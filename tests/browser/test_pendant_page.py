@@ -1,0 +1,62 @@
+"""The main path in a real browser: hold a jog button, release, then pose a target and Move J."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from .conftest import ARTIFACTS, Pendant
+
+HOLD_S = 1.2
+SETTLE_S = 0.6
+ANGLE_TOL_DEG = 0.01
+MOVE_TIMEOUT_S = 30.0
+
+
+def wait_idle(pendant: Pendant, timeout_s: float = MOVE_TIMEOUT_S) -> None:
+    deadline = time.monotonic() + timeout_s
+    while pendant.status() != "IDLE":
+        assert time.monotonic() < deadline, "the arm did not come to rest"
+        time.sleep(0.1)
+
+
+def test_hold_j1_plus_moves_the_arm_and_release_stops_it(page, pendant: Pendant) -> None:
+    wait_idle(pendant)
+    before = np.array(pendant.pose())
+    page.get_by_role("tab", name="Jog").click()
+    button = page.get_by_role("button", name="J1+", exact=True)
+    box = button.bounding_box()
+    assert box is not None
+    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    page.mouse.down()
+    time.sleep(HOLD_S)
+    during = np.array(pendant.pose())
+    page.screenshot(path=str(ARTIFACTS / "jog-holding-j1.png"))
+    page.mouse.up()
+    time.sleep(SETTLE_S)
+    stopped = np.array(pendant.pose())
+    time.sleep(SETTLE_S)
+    later = np.array(pendant.pose())
+
+    assert during[0] > before[0] + 1.0, "holding J1+ did not turn joint 1"
+    np.testing.assert_allclose(during[1:], before[1:], atol=ANGLE_TOL_DEG)
+    np.testing.assert_allclose(later, stopped, atol=ANGLE_TOL_DEG)  # released: the arm stays put
+    assert pendant.status() == "IDLE"
+
+
+def test_sliders_pose_the_ghost_and_move_j_runs_it(page, pendant: Pendant) -> None:
+    wait_idle(pendant)
+    page.get_by_role("tab", name="Target").click()
+    page.get_by_role("button", name="Target = current").click()
+    target_j1 = round(pendant.pose()[0] - 25.0, 1)
+    j1_input = page.locator("input[type=number]").first  # J1's number box beside its slider
+    j1_input.fill(str(target_j1))
+    j1_input.press("Enter")
+    time.sleep(SETTLE_S)
+    page.screenshot(path=str(ARTIFACTS / "target-ghost.png"))
+    page.get_by_role("button", name="Move J").click()
+    time.sleep(SETTLE_S)
+    wait_idle(pendant)
+    page.screenshot(path=str(ARTIFACTS / "after-move-j.png"))
+    assert abs(pendant.pose()[0] - target_j1) < ANGLE_TOL_DEG
