@@ -18,6 +18,7 @@ from pendant.api.routers.robot import robot_router
 from pendant.api.routers.signal import signal_router
 from pendant.api.routers.status import status_router
 from pendant.api.routers.tool import tool_router
+from pendant.api.routing import DirectDispatch, direct_endpoints
 from pendant.controller.protocol import Controller
 from pendant.controller.types import Pose, Position, Tool
 
@@ -60,7 +61,7 @@ def create_app(controller: Controller) -> FastAPI:
         description=DESCRIPTION,
         openapi_tags=docs.TAGS,
     )
-    for router in (
+    routers = [
         position_router(controller),
         pose_router(controller),
         status_router(controller),
@@ -69,16 +70,17 @@ def create_app(controller: Controller) -> FastAPI:
         robot_router(controller),
         gripper_router(controller),
         signal_router(controller),
-    ):
-        app.include_router(router)
-
+    ]
     sim_type = _sim_controller_type()
     if sim_type is not None and isinstance(controller, sim_type):
         from pendant.api.routers.sim import sim_router
 
-        app.include_router(sim_router(controller))
+        routers.append(sim_router(controller))
+    for router in routers:
+        app.include_router(router)
 
     install_error_handlers(app)
+    app.add_middleware(DirectDispatch, table=direct_endpoints(routers))
     app.openapi = lambda: _openapi(app)  # type: ignore[method-assign]
     app.state.controller = controller
     return app

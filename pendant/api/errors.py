@@ -9,6 +9,8 @@
   parameter problem like an out-of-range one, so it is 412 too: 400 is the reference's "Message parsing
   error", which is about the body.
 - FastAPI's 422 never leaves the app: its validation errors are re-mapped here.
+- Anything else that goes wrong inside the controller is what a client of the real one would see: 500 "Robot
+  does not respond" (the exception still propagates to the server's log).
 """
 
 from __future__ import annotations
@@ -19,7 +21,13 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.responses import Response
 
 from pendant.api.wire import TextResponse, text_literal
-from pendant.controller.errors import MSG_BAD_FORMAT, BadRequest, ControllerError, PreconditionFailed
+from pendant.controller.errors import (
+    MSG_BAD_FORMAT,
+    BadRequest,
+    ControllerError,
+    NotResponding,
+    PreconditionFailed,
+)
 from pendant.controller.types import (
     INPUT_PORTS,
     OUTPUT_PORTS,
@@ -101,6 +109,10 @@ async def _on_validation_error(request: Request, exc: Exception) -> Response:
     return error_response(error_for_validation(exc, request.url.path))
 
 
+async def _on_unexpected_error(_request: Request, _exc: Exception) -> Response:
+    return error_response(NotResponding())
+
+
 async def _on_http_error(_request: Request, exc: Exception) -> Response:
     # 404 unknown path, 405 wrong method: same plain-text shape as every other error.
     assert isinstance(exc, StarletteHTTPException)
@@ -111,3 +123,4 @@ def install_error_handlers(app: FastAPI) -> None:
     app.add_exception_handler(ControllerError, _on_controller_error)
     app.add_exception_handler(RequestValidationError, _on_validation_error)
     app.add_exception_handler(StarletteHTTPException, _on_http_error)
+    app.add_exception_handler(Exception, _on_unexpected_error)

@@ -63,6 +63,8 @@ HOME_POSE_DEG = (0.0, -90.0, 90.0, -90.0, -90.0, 0.0)
 # Transportation pose for PUT /pack: upper arm up, forearm folded down beside it, tool pointing down.
 PACK_POSE_DEG = (0.0, -90.0, 150.0, -150.0, -90.0, 0.0)
 PACK_SPEED_PERCENT = 20.0
+# Where pack() goes first when the straight way to the transport pose is blocked (base angle kept).
+UPRIGHT_DEG = (0.0, -90.0, 0.0, -90.0, -90.0, 0.0)
 DEFAULT_TOOL = Tool(
     name="flange",
     point=Point(x=0.0, y=0.0, z=0.0),
@@ -72,7 +74,6 @@ DEFAULT_TOOL = Tool(
 DEFAULT_BASE = Position(point=Point(x=0.0, y=0.0, z=0.0), rotation=Rotation(roll=0.0, pitch=0.0, yaw=0.0))
 GRIPPER_OPEN, GRIPPER_CLOSED = 1.0, 0.0
 POWER_ON_GRIPPER = GRIPPER_OPEN
-MSG_ARM_ERROR = "Arm error: the arm is in the ERROR state, recover it first (PUT /recover)"
 MSG_HAND_NEEDS_RELAX = "The arm can be moved by hand only in ZERO_GRAVITY: relax it first (PUT /relax)"
 # Finished motions kept for the thermal model before they are folded in (bounds memory if nobody reads).
 _HISTORY_LIMIT = 256
@@ -140,7 +141,16 @@ class SimController:
     def _settle(self, now: float) -> Motion | None:
         """Retire the motions finished by `now`; the motion running at `now`, or None at rest."""
         queue = self._queue
-        while queue and queue[0].t_end <= now:
+        while queue:
+            head = queue[0]
+            if head.fails and head.t0 <= now:
+                # Its turn came and it cannot run: the arm stays, the rest of the queue is dropped.
+                queue.clear()
+                self._mode = _Mode.MOTION_FAILED
+                self._pose_cache = None
+                break
+            if head.t_end > now:
+                break
             done = queue.popleft()
             self._rest_q = done.q_end
             self._rest_gripper = done.gripper_end
@@ -182,7 +192,7 @@ class SimController:
     def _check_can_move(self) -> None:
         self._check_alive()
         if self._mode is _Mode.ERROR:
-            raise NotResponding(MSG_ARM_ERROR)
+            raise NotResponding()  # the reference's 500 text; GET /status/motion says ERROR
 
     def _enqueue(self, plan: Plan | None, gripper_to: float | None = None, duration: float = 0.0) -> None:
         now = self._clock.now()
@@ -380,12 +390,30 @@ class SimController:
         self._enqueue(None, gripper_to=target, duration=timeout_ms / 1000.0)
 
     def pack(self) -> None:
-        """Queue a JOINT move to the transportation pose PACK_POSE_DEG at PACK_SPEED_PERCENT."""
+        """Queue a JOINT move to the transportation pose PACK_POSE_DEG at PACK_SPEED_PERCENT, through the
+        upright pose when the straight way is blocked. The reference lists no 412 for PUT /pack: with no
+        clear way the command is accepted and fails when its turn comes (MOTION_FAILED, queue dropped)."""
         with self._lock:
             self._check_can_move()
-            self._enqueue(
-                self._plan_to_configurations([self._pack_q], MotionParams(speed=PACK_SPEED_PERCENT))
+            params = MotionParams(speed=PACK_SPEED_PERCENT)
+            for route in ([self._pack_q], [np.radians(UPRIGHT_DEG), self._pack_q]):
+                try:
+                    plan = self._plan_to_configurations(route, params)
+                except (Collision, Unreachable):
+                    continue
+                self._enqueue(plan)
+                return
+            t0, q0, g0 = self._queue_end(self._clock.now())
+            self._queue.append(
+                Motion(t0=t0, duration=0.0, q_end=q0, gripper_start=g0, gripper_end=g0, fails=True)
             )
+            self._mode = _Mode.ACTIVE
+            self._pose_cache = None
+
+    def busy_until(self) -> float:
+        """The clock time at which everything queued will be done (now, at rest)."""
+        with self._lock:
+            return self._queue_end(self._clock.now())[0]
 
     # --- state commands ------------------------------------------------------------------------------------
 

@@ -40,6 +40,7 @@ SERVO_IDLE_RISE_C = 3.0  # the board warms a little just by being powered
 SERVO_SWITCHING_OHM = 0.05  # conduction losses in the drive, per A^2
 # Integration step while the arm moves (at rest the exact exponential covers any gap in one step).
 THERMAL_STEP_S = 0.1
+THERMAL_MAX_STEPS = 2000  # per stretch integrated (very slow motions get longer steps)
 
 RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
 
@@ -106,7 +107,7 @@ class ServoModel:
         span = t_end - self.t
         if span <= 0.0:
             return
-        n = max(1, math.ceil(span / THERMAL_STEP_S))
+        n = min(THERMAL_MAX_STEPS, max(1, math.ceil(span / THERMAL_STEP_S)))
         dt = span / n
         for _ in range(n):
             q, dq, ddq = state_at(self.t + 0.5 * dt)

@@ -42,6 +42,7 @@ POSE_MATCH_TOL_RAD = 1e-4
 # The TCP speed cap is planned with this much margin, for the speed change inside a sampling cell.
 TCP_CAP_MARGIN = 0.98
 FLOOR_Z_M = 0.0
+MAX_TCP_REFINE = 64
 
 
 @dataclass(frozen=True)
@@ -119,7 +120,8 @@ class Planner:
         if np.any(chords > CHECK_TCP_STEP_M):
             pieces = [s_grid[:1]]
             for k, chord in enumerate(chords):
-                n = max(1, math.ceil(chord / CHECK_TCP_STEP_M))
+                # (capped: a tool metres long must not blow the grid up)
+                n = min(MAX_TCP_REFINE, max(1, math.ceil(chord / CHECK_TCP_STEP_M)))
                 pieces.append(np.linspace(s_grid[k], s_grid[k + 1], n + 1)[1:])
             s_grid = np.concatenate(pieces)
             qs = np.array([path.q(s) for s in s_grid])
@@ -156,6 +158,10 @@ class Planner:
         original base frame), blended at the interior ones. With `q_final` the motion must end in that very
         configuration (a LINEAR move to a pose)."""
         T_tool_flange = inverse(T_flange_tool)
+        # Every waypoint must be reachable at all before the line is sampled (and a far one is refused fast).
+        for T_tcp in tcp_targets:
+            if not np.all(np.isfinite(T_tcp)) or len(self.arm.ik_all(T_tcp @ T_tool_flange)) == 0:
+                raise Unreachable(unreachable_message)
         T_start = self.arm.fk(q_start) @ T_flange_tool
         path = CartesianPath([T_start, *tcp_targets])
         if path.length == 0.0:

@@ -23,6 +23,7 @@ class Motion:
     gripper_start: float
     gripper_end: float
     plan: Plan | None = None  # None: a gripper action, the arm holds q_end
+    fails: bool = False  # a command that turned out impossible: when reached, the queue stops (MOTION_FAILED)
 
     @property
     def t_end(self) -> float:

@@ -53,6 +53,9 @@ def running_pendant(*extra_args: str) -> Iterator[str]:
 
 def _wait_until_serving(process: subprocess.Popen[str], base_url: str) -> None:
     deadline = time.monotonic() + START_TIMEOUT_S
+    announced = process.stdout.readline() if process.stdout else ""  # printed before the server starts
+    if base_url not in announced:
+        raise RuntimeError(f"pendant did not announce {base_url}, it said: {announced!r}")
     while time.monotonic() < deadline:
         if process.poll() is not None:
             output = process.stdout.read() if process.stdout else ""

@@ -226,3 +226,17 @@ def test_pulse90_moves_too(sim90: SimController, clock: FakeClock) -> None:
     sim90.set_pose(TARGET, JOINT_50)
     finish(sim90, clock)
     assert np.allclose(sim90.get_pose().angles, TARGET.angles, atol=ANGLE_TOL_DEG)
+
+
+def test_pack_with_no_clear_way_fails_as_a_motion(sim: SimController, clock: FakeClock) -> None:
+    # Put by hand into a tangle: every way to the folded pose runs the arm into itself or the floor.
+    sim.relax()
+    sim.move_by_hand(Pose(angles=[-68.0, -122.0, 140.0, 156.0, -51.0, 26.0]))
+    sim.set_pose(Pose(angles=[-60.0, -122.0, 140.0, 156.0, -51.0, 26.0]), JOINT_50)
+    sim.pack()  # accepted: the reference lists no 412 for PUT /pack
+    sim.set_pose(Pose(angles=[-68.0, -122.0, 140.0, 156.0, -51.0, 26.0]), JOINT_50)
+    assert sim.get_motion_status() is MotionStatus.RUNNING
+    finish(sim, clock)
+    # The first move ran; the pack failed where its turn came and dropped the move queued after it.
+    assert sim.get_motion_status() is MotionStatus.MOTION_FAILED
+    assert np.allclose(sim.get_pose().angles, [-60.0, -122.0, 140.0, 156.0, -51.0, 26.0], atol=ANGLE_TOL_DEG)

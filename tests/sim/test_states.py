@@ -125,9 +125,8 @@ def test_error_freezes_the_arm_refuses_motion_and_recovers(sim: SimController, c
         lambda: sim.close_gripper(100),
         sim.relax,
     ):
-        with pytest.raises(NotResponding) as info:  # 500 "Arm error"
+        with pytest.raises(NotResponding):  # 500, "Arm error"
             command()
-        assert "ERROR" in info.value.message
     sim.freeze()
     assert sim.get_motion_status() is MotionStatus.ERROR
     sim.set_output(2, SignalLevel.HIGH)  # the control box IO still works

@@ -11,7 +11,9 @@ from pendant.api import docs
 from pendant.api.errors import MSG_FAULT, MSG_INPUT_PORT
 from pendant.api.params import POSE, InputPort, json_body, read_body
 from pendant.api.wire import TextResponse, empty_result
+from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSE
 from pendant.controller.types import SignalLevel
+from pendant.sim.controller import MSG_HAND_NEEDS_RELAX
 
 if TYPE_CHECKING:
     from pendant.sim import SimController
@@ -73,7 +75,12 @@ def sim_router(sim: SimController) -> APIRouter:
             "relaxed (ZERO_GRAVITY, after PUT /relax), else 412."
         ),
         response_class=TextResponse,
-        responses={**docs.empty_ok(), **docs.bad_format(), **docs.precondition(), **docs.arm_errors()},
+        responses={
+            **docs.empty_ok(),
+            **docs.bad_format(),
+            **docs.precondition(MSG_HAND_NEEDS_RELAX, MSG_UNREACHABLE_POSE, MSG_COLLISION),
+            **docs.arm_errors(),
+        },
         openapi_extra=json_body(docs.ref("Pose"), docs.EXAMPLE_POSE, "Where the hand puts the arm"),
     )
     async def move_by_hand(request: Request) -> TextResponse:
