@@ -1,15 +1,19 @@
-"""The `pendant` command: flags -> Settings -> controller -> the API server (and, later, the UI).
+"""The `pendant` command: flags -> Settings -> controller -> the web UI and the API server.
 
-    pendant --no-ui [--host 127.0.0.1] [--api-port 8081] [--model pulse75|pulse90]
+    pendant [--host 127.0.0.1] [--ui-port 8080] [--api-port 8081] [--model pulse75|pulse90] [--robot URL]
 
-serves the simulator's PULSE REST API alone, on the controller's own port.
+serves the pendant's page and the PULSE REST API (the simulator's, or a proxy to the real arm at --robot);
+with --no-ui, the API alone on the controller's own port.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+import time
 from collections.abc import Sequence
+
+from typing import TYPE_CHECKING
 
 from starlette.types import ASGIApp
 
@@ -17,6 +21,9 @@ from pendant import __version__
 from pendant.config import Settings
 from pendant.controller.protocol import Controller
 from pendant.paths import MODEL_NAMES
+
+if TYPE_CHECKING:
+    from pendant.ui.app import PendantUI
 
 _DEFAULTS = Settings()
 
@@ -67,15 +74,36 @@ def make_controller(settings: Settings) -> Controller:
     return SimController(model=settings.model, clock=MonotonicClock())
 
 
-def make_api_app(settings: Settings, controller: Controller) -> ASGIApp:
-    """The app on the API port: the simulator's PULSE API, or a transparent proxy to the real controller."""
-    if settings.robot_url is not None:
-        from pendant.remote import create_proxy_app
+def make_api_app(settings: Settings, controller: Controller, started_at: float) -> ASGIApp:
+    """The app on the API port: the simulator's PULSE API, or a transparent proxy to the real controller;
+    both also answer GET /pendant/health."""
+    from pendant.remote import health_router
 
-        return create_proxy_app(settings.robot_url, settings=settings)
+    if settings.robot_url is not None:
+        from pendant.remote import RemoteController, create_proxy_app
+
+        assert isinstance(controller, RemoteController)
+        return create_proxy_app(settings.robot_url, settings=settings, controller=controller, started_at=started_at)
     from pendant.api import create_app
 
-    return create_app(controller)
+    app = create_app(controller)
+    app.include_router(health_router(settings, controller, started_at))
+    return app
+
+
+def start_ui(settings: Settings, controller: Controller) -> PendantUI:
+    """The pendant's page on its own port (viser serves it from its own thread)."""
+    from pendant.kinematics import ArmModel
+    from pendant.ui.app import PendantUI
+
+    source = f"robot {settings.robot_url}" if settings.robot_url else "simulator"
+    return PendantUI(
+        controller,
+        ArmModel.load(settings.model),
+        host=settings.host,
+        port=settings.ui_port,
+        mode_line=f"{source} · {settings.model}",
+    ).start()
 
 
 def api_url(settings: Settings) -> str:
@@ -84,6 +112,8 @@ def api_url(settings: Settings) -> str:
 
 def announce(settings: Settings) -> None:
     """Print where things are served, first thing, so a user (or a test) knows where to go."""
+    if not settings.no_ui:
+        print(f"PULSE pendant: http://{settings.host}:{settings.ui_port}", flush=True)
     source = settings.robot_url or f"simulated {settings.model}"
     print(f"PULSE REST API ({source}): {api_url(settings)}  (docs: {api_url(settings)}/docs)", flush=True)
 
@@ -103,10 +133,16 @@ def serve_api(settings: Settings, app: ASGIApp) -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     settings = parse_settings(argv)
+    started_at = time.monotonic()
     controller = make_controller(settings)
-    api_app = make_api_app(settings, controller)
+    api_app = make_api_app(settings, controller, started_at)
+    ui = None if settings.no_ui else start_ui(settings, controller)
     announce(settings)
-    serve_api(settings, api_app)
+    try:
+        serve_api(settings, api_app)
+    finally:
+        if ui is not None:
+            ui.stop()
     return 0
 
 

@@ -72,6 +72,11 @@ DEFAULT_TOOL = Tool(
     radius=0.0,
 )
 DEFAULT_BASE = Position(point=Point(x=0.0, y=0.0, z=0.0), rotation=Rotation(roll=0.0, pitch=0.0, yaw=0.0))
+# Offsets beyond these are typing errors, not tools or cells (and would overflow the frame arithmetic).
+MAX_TOOL_OFFSET_M = 2.0
+MAX_BASE_OFFSET_M = 100.0
+MSG_TOOL_TOO_BIG = f"Tool offset and radius must be within {MAX_TOOL_OFFSET_M:g} m of the flange"
+MSG_BASE_TOO_FAR = f"Zero point must be within {MAX_BASE_OFFSET_M:g} m of the arm base"
 GRIPPER_OPEN, GRIPPER_CLOSED = 1.0, 0.0
 POWER_ON_GRIPPER = GRIPPER_OPEN
 MSG_HAND_NEEDS_RELAX = "The arm can be moved by hand only in ZERO_GRAVITY: relax it first (PUT /relax)"
@@ -457,6 +462,9 @@ class SimController:
         """Attach a tool: its point and rotation are the TCP pose relative to the flange (see module doc)."""
         with self._lock:
             self._check_alive()
+            offset = max(abs(tool.point.x), abs(tool.point.y), abs(tool.point.z))
+            if offset > MAX_TOOL_OFFSET_M or tool.radius > MAX_TOOL_OFFSET_M:
+                raise PreconditionFailed(MSG_TOOL_TOO_BIG)
             self._apply_tool(tool)
             return self._tool
 
@@ -464,6 +472,8 @@ class SimController:
         """Move the zero point: `base` is its pose in the physical base frame."""
         with self._lock:
             self._check_alive()
+            if max(abs(base.point.x), abs(base.point.y), abs(base.point.z)) > MAX_BASE_OFFSET_M:
+                raise PreconditionFailed(MSG_BASE_TOO_FAR)
             self._apply_base(base)
             return self._base
 

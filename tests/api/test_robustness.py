@@ -17,14 +17,14 @@ HUGE_POINT = {"x": HUGE, "y": HUGE, "z": HUGE}
         ("/tool", {"name": "huge", "point": HUGE_POINT, "rotation": ROTATION, "radius": 0.0}),
     ],
 )
-def test_a_huge_offset_is_refused_or_absorbed(client: TestClient, path: str, body: dict) -> None:
+def test_a_huge_offset_is_refused_and_changes_nothing(client: TestClient, path: str, body: dict) -> None:
     before = client.get("/position").json()
     response = client.post(path, json=body)
-    assert response.status_code in (200, 412), response.text
+    assert response.status_code == 412, response.text
+    assert "within" in response.json()
     after = client.get("/position")
     assert after.status_code == 200, after.text
-    if response.status_code == 412:
-        assert after.json() == before
+    assert after.json() == before
 
 
 @pytest.mark.parametrize("x", [1e6, 1e300])
