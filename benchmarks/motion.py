@@ -24,7 +24,7 @@ from pendant.controller.types import (
     Tool,
 )
 from pendant.sim import FakeClock, MonotonicClock, SimController
-from pendant.sim.transforms import position_to_matrix
+from pendant.kinematics.transforms import position_to_matrix
 
 JOINT_MOVES = [
     ("JOINT 100% long", Pose(angles=[170.0, -100.0, 100.0, -30.0, -150.0, 120.0]), MotionParams(speed=100)),

@@ -20,7 +20,7 @@ from pendant.jog.targets import (
 )
 from pendant.kinematics import ArmModel
 from pendant.kinematics.limits import JOINT_MAX_SPEED_RAD_S
-from pendant.sim.transforms import matrix_to_position, position_to_matrix
+from pendant.kinematics.transforms import matrix_to_position, position_to_matrix
 
 log = logging.getLogger(__name__)
 

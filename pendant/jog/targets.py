@@ -13,7 +13,7 @@ from enum import StrEnum
 import numpy as np
 
 from pendant.kinematics import ArmModel
-from pendant.sim.transforms import inverse, rotvec_to_matrix
+from pendant.kinematics.transforms import inverse, rotvec_to_matrix
 
 # Manual reduced speed (ISO 10218-1): the TCP never exceeds 250 mm/s while jogging.
 JOG_TCP_MAX_VELOCITY_M_S = 0.25

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pendant.sim.transforms import matrix_to_rotvec, rotvec_to_matrix
+from pendant.kinematics.transforms import matrix_to_rotvec, rotvec_to_matrix
 
 # How far a blended path may pass from an interior waypoint (documented in README).
 JOINT_BLEND_TOL_RAD = np.radians(0.5)

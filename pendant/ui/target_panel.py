@@ -13,7 +13,7 @@ from viser.extras import ViserUrdf
 
 from pendant.controller import Controller, MotionParams, MotionType, Pose, Position
 from pendant.kinematics import ArmModel
-from pendant.sim.transforms import inverse, matrix_to_position, position_to_matrix
+from pendant.kinematics.transforms import inverse, matrix_to_position, position_to_matrix
 from pendant.ui.commands import CommandRunner
 from pendant.ui.target_check import TargetCheck, check_flange_target, check_joint_target
 

@@ -8,7 +8,7 @@ import numpy as np
 
 from pendant.controller.types import MotionStatus, Point, Position, Rotation
 from pendant.sim import FakeClock, SimController
-from pendant.sim.transforms import position_to_matrix
+from pendant.kinematics.transforms import position_to_matrix
 
 POS_TOL_M = 1e-6
 ANGLE_TOL_DEG = 1e-6

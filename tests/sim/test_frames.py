@@ -9,7 +9,7 @@ import pytest
 
 from pendant.controller.types import MotionParams, MotionType, Point, Position, Rotation, Tool
 from pendant.sim import DEFAULT_BASE, DEFAULT_TOOL, FakeClock, SimController
-from pendant.sim.transforms import position_to_matrix
+from pendant.kinematics.transforms import position_to_matrix
 
 from .helpers import POS_TOL_M, finish, position, record, shifted
 

@@ -9,7 +9,7 @@ from pendant.controller.types import MotionParams, MotionStatus, MotionType, Pos
 from pendant.kinematics.limits import JOINT_MAX_ACCEL_RAD_S2, JOINT_MAX_SPEED_RAD_S
 from pendant.sim import FakeClock, SimController
 from pendant.sim.paths import CARTESIAN_BLEND_TOL_M
-from pendant.sim.transforms import matrix_to_rotvec, rotation_angle, rotvec_to_matrix
+from pendant.kinematics.transforms import matrix_to_rotvec, rotation_angle, rotvec_to_matrix
 
 from .helpers import ANGLE_TOL_DEG, DT, POS_TOL_M, finish, record, shifted
 
@@ -181,7 +181,7 @@ def test_a_queued_command_is_checked_from_where_the_queue_ends(sim: SimControlle
     flipped = Pose(angles=[20.0, -80.0, 80.0, -90.0, -70.0, -350.0])
     sim.set_pose(flipped, JOINT_50)
     flipped_position = sim._T_zero_origbase @ sim.arm.fk(np.radians(flipped.angles))
-    from pendant.sim.transforms import matrix_to_position
+    from pendant.kinematics.transforms import matrix_to_position
 
     sim.set_position(matrix_to_position(flipped_position), JOINT_50)
     finish(sim, clock)

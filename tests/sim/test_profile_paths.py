@@ -14,7 +14,7 @@ from pendant.sim.paths import (
     CartesianPath,
     JointPath,
 )
-from pendant.sim.transforms import rotvec_to_matrix
+from pendant.kinematics.transforms import rotvec_to_matrix
 
 TOL = 1e-9
 

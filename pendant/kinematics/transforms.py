@@ -1,4 +1,4 @@
-"""Rigid transforms for the simulator: Position <-> 4x4, roll/pitch/yaw, rotation vectors.
+"""Rigid transforms: Position <-> 4x4, roll/pitch/yaw, rotation vectors.
 
 Rotations follow the project convention R = Rz(yaw) Ry(pitch) Rx(roll); transforms are named T_a_b.
 """
