@@ -1,7 +1,8 @@
-"""The pendant's web UI: a viser server showing the arm live, with status, jogging, targets, IO and settings."""
+"""The pendant's web UI: one shared 3D scene, and for every browser its own panels (see session.py)."""
 
 from __future__ import annotations
 
+import logging
 import threading
 import time
 from dataclasses import replace
@@ -11,57 +12,53 @@ import viser
 from pendant.controller import Controller, ControllerError
 from pendant.jog import Jogger
 from pendant.kinematics import ArmModel
-from pendant.sim import SimController
-from pendant.ui.commands import CommandRunner, add_freeze_button, add_robot_commands
-from pendant.ui.io_panel import IoPanel
-from pendant.ui.jog_panel import JogPanel
+from pendant.ui.commands import CommandRunner
+from pendant.ui.gui_target import GuiTarget
 from pendant.ui.scene import ArmScene
-from pendant.ui.settings_panel import SettingsPanel
-from pendant.ui.sim_panel import SimPanel
+from pendant.ui.session import ClientSession
 from pendant.ui.snapshot import Snapshot, read_snapshot
-from pendant.ui.status_panel import StatusPanel
-from pendant.ui.target_panel import TargetPanel
+
+log = logging.getLogger(__name__)
 
 REFRESH_HZ = 30.0
 IO_EVERY_N_TICKS = 6  # IO and tool change rarely: read them at 5 Hz
 
 
 class PendantUI:
-    """Serves the page on `host:port` and keeps it in step with `controller` until `stop()`."""
+    """Serves the page on `host:port` and keeps every connected browser in step with `controller`."""
 
     def __init__(self, controller: Controller, arm: ArmModel, *, host: str, port: int, mode_line: str) -> None:
         self.controller = controller
         self.arm = arm
+        self.mode_line = mode_line
         self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
         self.server.gui.configure_theme(control_width="large", show_logo=False)
         self.runner = CommandRunner(controller)
         self.jogger = Jogger(controller, arm)
-        self.latest = Snapshot(taken_at=0.0)
-        gui = self.server.gui
-
-        self.freeze = add_freeze_button(self.server, self.runner)
-        self.status = StatusPanel(self.server, mode_line)
-        tabs = gui.add_tab_group()
-        with tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
-            self.jog = JogPanel(self.server, self.jogger)
-        with tabs.add_tab("Target", viser.Icon.TARGET):
-            self.target = TargetPanel(self.server, arm, self.runner, lambda: self.latest.q)
-        with tabs.add_tab("IO", viser.Icon.PLUG):
-            self.io = IoPanel(self.server, self.runner)
-        with tabs.add_tab("Robot", viser.Icon.ROBOT):
-            self.buttons = add_robot_commands(self.server, self.runner)
-            self.settings = SettingsPanel(self.server, self.runner)
-        if isinstance(controller, SimController):
-            with tabs.add_tab("Simulator", viser.Icon.FLASK):
-                self.sim_panel = SimPanel(self.server, controller, self.runner)
         self.scene = ArmScene(self.server, arm.urdf_path)
+        self.latest = Snapshot(taken_at=0.0)
+        self.sessions: dict[int, ClientSession] = {}
+        self._sessions_lock = threading.Lock()
         self._robot_id = self._read_quietly(controller.get_robot_id, "")
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._refresh_loop, name="pendant-refresh", daemon=True)
+        self.server.on_client_connect(self._connect)
+        self.server.on_client_disconnect(self._disconnect)
+
+    def open_session(self, target: GuiTarget) -> ClientSession:
+        """Build the panels on `target`: a browser's own GUI, or the server's (headless tests)."""
+        return ClientSession(
+            target,
+            controller=self.controller,
+            arm=self.arm,
+            runner=self.runner,
+            jogger=self.jogger,
+            mode_line=self.mode_line,
+            current_q=lambda: self.latest.q,
+        )
 
     def start(self) -> PendantUI:
         self.refresh()
-        self.target.reset_to_current()
         self.jogger.start_watchdog()
         self._thread.start()
         return self
@@ -85,17 +82,31 @@ class PendantUI:
         if snapshot.q is not None:
             self.scene.show(snapshot.q, snapshot.gripper_opening, self.arm.fk(snapshot.q))
         self.latest = snapshot
-        self.status.show(snapshot)
-        if with_io:
-            self.io.show(snapshot)
+        with self._sessions_lock:
+            sessions = list(self.sessions.values())
+        for session in sessions:
+            session.show(snapshot, with_io=with_io)
         return snapshot
+
+    def _connect(self, client: viser.ClientHandle) -> None:
+        session = self.open_session(client)
+        session.show(self.latest, with_io=True)
+        with self._sessions_lock:
+            self.sessions[client.client_id] = session
+
+    def _disconnect(self, client: viser.ClientHandle) -> None:
+        with self._sessions_lock:
+            self.sessions.pop(client.client_id, None)
 
     def _refresh_loop(self) -> None:
         period = 1.0 / REFRESH_HZ
         tick = 0
         next_at = time.monotonic()
         while not self._stop.is_set():
-            self.refresh(with_io=tick % IO_EVERY_N_TICKS == 0)
+            try:
+                self.refresh(with_io=tick % IO_EVERY_N_TICKS == 0)
+            except Exception:  # a broken browser connection must not stop the live view for the others
+                log.exception("refresh failed")
             tick += 1
             next_at += period
             self._stop.wait(max(0.0, next_at - time.monotonic()))

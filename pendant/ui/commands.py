@@ -9,6 +9,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 import viser
 
 from pendant.controller import Controller, ControllerError, MotionParams, Pose
+from pendant.ui.gui_target import GuiTarget
 
 log = logging.getLogger(__name__)
 
@@ -16,41 +17,76 @@ HOME_POSE_DEG = (0.0, -90.0, 0.0, -90.0, -90.0, 0.0)
 HOME_SPEED_PERCENT = 20.0
 
 
-class CommandRunner:
-    """Sends commands to the controller on a worker thread so a slow controller never blocks the page."""
+Gate = Callable[[viser.ClientHandle | None], str | None]
 
-    def __init__(self, controller: Controller) -> None:
+
+class CommandRefused(Exception):
+    """The page refused a command before it reached the controller (e.g. the browser is only a viewer)."""
+
+
+def notify_refusal(client: viser.ClientHandle | None, title: str, message: str) -> None:
+    log.warning("%s: %s", title, message)
+    if client is not None:
+        client.add_notification(title=title, body=message, color="red", auto_close_seconds=8.0)
+
+
+class CommandRunner:
+    """Sends commands to the controller on a worker thread so a slow controller never blocks the page.
+
+    `gate(client)` says why a browser may not command (None: it may); internal callers pass client=None.
+    Urgent commands (Freeze) skip the gate, since stopping is always allowed, and run on their own thread
+    so they never wait behind a slow command.
+    """
+
+    def __init__(self, controller: Controller, gate: Gate | None = None) -> None:
         self._controller = controller
+        self.gate: Gate = gate if gate is not None else (lambda client: None)
         self._pool = ThreadPoolExecutor(max_workers=2, thread_name_prefix="pendant-command")
+        self._urgent = ThreadPoolExecutor(max_workers=1, thread_name_prefix="pendant-freeze")
+
+    def refusal(self, client: viser.ClientHandle | None, label: str) -> str | None:
+        """Why `client` may not send `label` (and tell it so), or None."""
+        reason = self.gate(client) if client is not None else None
+        if reason is not None:
+            notify_refusal(client, f"{label} refused", reason)
+        return reason
 
     def submit(
-        self, label: str, action: Callable[[Controller], object], client: viser.ClientHandle | None
+        self,
+        label: str,
+        action: Callable[[Controller], object],
+        client: viser.ClientHandle | None,
+        *,
+        urgent: bool = False,
     ) -> Future[object]:
+        reason = None if urgent else self.refusal(client, label)
+        if reason is not None:
+            refused: Future[object] = Future()
+            refused.set_exception(CommandRefused(reason))
+            return refused
+
         def run() -> object:
             try:
                 return action(self._controller)
             except ControllerError as error:
-                log.warning("%s refused: %s", label, error.message)
-                if client is not None:
-                    client.add_notification(
-                        title=f"{label} refused", body=error.message, color="red", auto_close_seconds=8.0
-                    )
+                notify_refusal(client, f"{label} refused", error.message)
                 raise
 
-        return self._pool.submit(run)
+        return (self._urgent if urgent else self._pool).submit(run)
 
     def shutdown(self) -> None:
         self._pool.shutdown(wait=False, cancel_futures=True)
+        self._urgent.shutdown(wait=False, cancel_futures=True)
 
 
-def add_freeze_button(server: viser.ViserServer, runner: CommandRunner) -> viser.GuiButtonHandle:
+def add_freeze_button(target: GuiTarget, runner: CommandRunner) -> viser.GuiButtonHandle:
     """The red Freeze button, above everything else so it is always in reach."""
-    button = server.gui.add_button("Freeze", color="red", icon=viser.Icon.HAND_STOP, order=-1000.0)
-    button.on_click(lambda event: runner.submit("Freeze", lambda c: c.freeze(), event.client))
+    button = target.gui.add_button("Freeze", color="red", icon=viser.Icon.HAND_STOP, order=-1000.0)
+    button.on_click(lambda event: runner.submit("Freeze", lambda c: c.freeze(), event.client, urgent=True))
     return button
 
 
-def add_robot_commands(server: viser.ViserServer, runner: CommandRunner) -> dict[str, viser.GuiButtonHandle]:
+def add_robot_commands(target: GuiTarget, runner: CommandRunner) -> dict[str, viser.GuiButtonHandle]:
     """Home, Relax, Recover and Pack."""
     actions: dict[str, Callable[[Controller], object]] = {
         "Home": lambda c: c.set_pose(Pose(angles=list(HOME_POSE_DEG)), MotionParams(speed=HOME_SPEED_PERCENT)),
@@ -60,7 +96,7 @@ def add_robot_commands(server: viser.ViserServer, runner: CommandRunner) -> dict
     }
     buttons: dict[str, viser.GuiButtonHandle] = {}
     for label, action in actions.items():
-        button = server.gui.add_button(label)
+        button = target.gui.add_button(label)
         button.on_click(lambda event, label=label, action=action: runner.submit(label, action, event.client))
         buttons[label] = button
     return buttons

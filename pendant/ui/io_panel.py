@@ -6,6 +6,7 @@ import viser
 
 from pendant.controller import SignalLevel
 from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS, INPUT_PORTS, OUTPUT_PORTS
+from pendant.ui.gui_target import GuiTarget
 from pendant.ui.commands import CommandRunner
 from pendant.ui.snapshot import Snapshot
 
@@ -13,19 +14,19 @@ from pendant.ui.snapshot import Snapshot
 class IoPanel:
     """DO toggles follow what the controller reports, so a refused write springs back."""
 
-    def __init__(self, server: viser.ViserServer, runner: CommandRunner) -> None:
+    def __init__(self, target: GuiTarget, runner: CommandRunner) -> None:
         self._runner = runner
         self._syncing = False
         self.outputs: dict[int, viser.GuiCheckboxHandle] = {}
         for port in OUTPUT_PORTS:
-            toggle = server.gui.add_checkbox(f"DO{port}", initial_value=False)
+            toggle = target.gui.add_checkbox(f"DO{port}", initial_value=False)
             self.outputs[port] = toggle
             toggle.on_update(lambda event, port=port: self._write_output(port, event))
         self.inputs = {
-            port: server.gui.add_checkbox(f"DI{port}", initial_value=False, disabled=True) for port in INPUT_PORTS
+            port: target.gui.add_checkbox(f"DI{port}", initial_value=False, disabled=True) for port in INPUT_PORTS
         }
-        self.gripper_open = server.gui.add_button("Open gripper", icon=viser.Icon.ARROWS_HORIZONTAL)
-        self.gripper_close = server.gui.add_button("Close gripper", icon=viser.Icon.ARROWS_MINIMIZE)
+        self.gripper_open = target.gui.add_button("Open gripper", icon=viser.Icon.ARROWS_HORIZONTAL)
+        self.gripper_close = target.gui.add_button("Close gripper", icon=viser.Icon.ARROWS_MINIMIZE)
         self.gripper_open.on_click(
             lambda e: runner.submit("Open gripper", lambda c: c.open_gripper(DEFAULT_GRIPPER_TIMEOUT_MS), e.client)
         )

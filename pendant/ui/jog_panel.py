@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import logging
 import math
 
 import viser
@@ -10,8 +9,8 @@ import viser
 from pendant.controller import ControllerError
 from pendant.jog import JogFrame, JogRequest, Jogger
 from pendant.jog.targets import CARTESIAN_AXES
-
-log = logging.getLogger(__name__)
+from pendant.ui.commands import CommandRunner, notify_refusal
+from pendant.ui.gui_target import GuiTarget
 
 CONTINUOUS = "Continuous"
 STEP_CHOICES = (CONTINUOUS, "0.1", "1", "10")  # mm for X Y Z, degrees for joints and rotations
@@ -27,17 +26,18 @@ def button_label(frame: JogFrame, axis: int, direction: int) -> str:
 class JogPanel:
     """Buttons whose labels follow the frame: "J1-" ... "J6+" for joints, "X-" ... "Yaw+" for Base/Tool."""
 
-    def __init__(self, server: viser.ViserServer, jogger: Jogger) -> None:
+    def __init__(self, target: GuiTarget, jogger: Jogger, runner: CommandRunner) -> None:
         self._jogger = jogger
-        self.frame = server.gui.add_dropdown("Frame", [f.value for f in JogFrame], initial_value="Joint")
-        self.step = server.gui.add_dropdown("Step (mm / °)", STEP_CHOICES, initial_value=CONTINUOUS)
-        self.speed = server.gui.add_slider(
+        self._runner = runner
+        self.frame = target.gui.add_dropdown("Frame", [f.value for f in JogFrame], initial_value="Joint")
+        self.step = target.gui.add_dropdown("Step (mm / °)", STEP_CHOICES, initial_value=CONTINUOUS)
+        self.speed = target.gui.add_slider(
             "Speed %", min=1.0, max=100.0, step=1.0, initial_value=DEFAULT_SPEED_PERCENT
         )
         self.buttons: dict[tuple[int, int], viser.GuiButtonHandle] = {}
         for axis in range(6):
             for direction in (-1, +1):
-                button = server.gui.add_button(button_label(JogFrame.JOINT, axis, direction))
+                button = target.gui.add_button(button_label(JogFrame.JOINT, axis, direction))
                 self.buttons[(axis, direction)] = button
                 self._bind(button, axis, direction)
         self.frame.on_update(lambda _: self._relabel())
@@ -59,12 +59,12 @@ class JogPanel:
         @button.on_hold(callback_hz=HOLD_CONFIRM_HZ)
         def _(event: viser.GuiEvent) -> None:
             request = self.request(axis, direction)
-            if request.step is not None:
+            if request.step is not None or self._runner.refusal(event.client, request.label()) is not None:
                 return
             try:
                 self._jogger.hold(request)
             except ControllerError as error:
-                _notify(event.client, f"{request.label()} refused", error.message)
+                notify_refusal(event.client, f"{request.label()} refused", error.message)
 
         @button.on_click
         def _(event: viser.GuiEvent) -> None:
@@ -72,13 +72,7 @@ class JogPanel:
             try:
                 if request.step is None:
                     self._jogger.release("released")  # the click arrives on release: stop at once
-                elif not self._jogger.step(request):
-                    _notify(event.client, f"{request.label()}", "Cannot move further that way")
+                elif self._runner.refusal(event.client, request.label()) is None and not self._jogger.step(request):
+                    notify_refusal(event.client, request.label(), "Cannot move further that way")
             except ControllerError as error:
-                _notify(event.client, f"{request.label()} refused", error.message)
-
-
-def _notify(client: viser.ClientHandle | None, title: str, body: str) -> None:
-    log.warning("%s: %s", title, body)
-    if client is not None:
-        client.add_notification(title=title, body=body, color="red", auto_close_seconds=6.0)
+                notify_refusal(event.client, f"{request.label()} refused", error.message)

@@ -9,6 +9,7 @@ import viser
 from pydantic import ValidationError
 
 from pendant.controller import Point, Position, Rotation, Tool
+from pendant.ui.gui_target import GuiTarget
 from pendant.ui.commands import CommandRunner
 
 MM_LIMIT = 2000.0  # an offset beyond 2 m is a typing error, not a tool
@@ -27,18 +28,18 @@ def position_from_form(xyz_mm: tuple[float, float, float], rpy_deg: tuple[float,
 
 
 class SettingsPanel:
-    def __init__(self, server: viser.ViserServer, runner: CommandRunner) -> None:
+    def __init__(self, target: GuiTarget, runner: CommandRunner) -> None:
         self._runner = runner
-        with server.gui.add_folder("Tool (TCP offset from the flange)", expand_by_default=False):
-            self.tool_name = server.gui.add_text("Name", initial_value="flange")
-            self.tool_xyz = server.gui.add_vector3("XYZ mm", initial_value=(0.0, 0.0, 0.0), step=0.1)
-            self.tool_rpy = server.gui.add_vector3("RPY °", initial_value=(0.0, 0.0, 0.0), step=0.1)
-            self.tool_radius = server.gui.add_number("Radius mm", initial_value=0.0, min=0.0, step=0.1)
-            self.set_tool = server.gui.add_button("Set tool")
-        with server.gui.add_folder("Base (zero point)", expand_by_default=False):
-            self.base_xyz = server.gui.add_vector3("XYZ mm", initial_value=(0.0, 0.0, 0.0), step=0.1)
-            self.base_rpy = server.gui.add_vector3("RPY °", initial_value=(0.0, 0.0, 0.0), step=0.1)
-            self.set_base = server.gui.add_button("Set base")
+        with target.gui.add_folder("Tool (TCP offset from the flange)", expand_by_default=False):
+            self.tool_name = target.gui.add_text("Name", initial_value="flange")
+            self.tool_xyz = target.gui.add_vector3("XYZ mm", initial_value=(0.0, 0.0, 0.0), step=0.1)
+            self.tool_rpy = target.gui.add_vector3("RPY °", initial_value=(0.0, 0.0, 0.0), step=0.1)
+            self.tool_radius = target.gui.add_number("Radius mm", initial_value=0.0, min=0.0, step=0.1)
+            self.set_tool = target.gui.add_button("Set tool")
+        with target.gui.add_folder("Base (zero point)", expand_by_default=False):
+            self.base_xyz = target.gui.add_vector3("XYZ mm", initial_value=(0.0, 0.0, 0.0), step=0.1)
+            self.base_rpy = target.gui.add_vector3("RPY °", initial_value=(0.0, 0.0, 0.0), step=0.1)
+            self.set_base = target.gui.add_button("Set base")
         self.set_tool.on_click(lambda e: self.submit_tool(e.client))
         self.set_base.on_click(lambda e: self.submit_base(e.client))
 

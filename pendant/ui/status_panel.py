@@ -8,6 +8,7 @@ import math
 import viser
 
 from pendant.controller import MotionStatus, SignalLevel
+from pendant.ui.gui_target import GuiTarget
 from pendant.ui.snapshot import Snapshot
 
 STATE_COLOURS: dict[MotionStatus | None, str] = {
@@ -71,10 +72,14 @@ def render_status(snapshot: Snapshot, mode_line: str) -> str:
 
 
 class StatusPanel:
-    def __init__(self, server: viser.ViserServer, mode_line: str) -> None:
+    def __init__(self, target: GuiTarget, mode_line: str) -> None:
         self._mode_line = mode_line
-        self._html = server.gui.add_html(render_status(Snapshot(taken_at=0.0), mode_line))
+        self._html = target.gui.add_html(render_status(Snapshot(taken_at=0.0), mode_line))
         self._last = ""
+
+    @property
+    def content(self) -> str:
+        return self._last
 
     def show(self, snapshot: Snapshot) -> None:
         content = render_status(snapshot, self._mode_line)

@@ -14,6 +14,7 @@ from viser.extras import ViserUrdf
 from pendant.controller import Controller, MotionParams, MotionType, Pose, Position
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import inverse, matrix_to_position, position_to_matrix
+from pendant.ui.gui_target import GuiTarget
 from pendant.ui.commands import CommandRunner
 from pendant.ui.target_check import TargetCheck, check_flange_target, check_joint_target
 
@@ -28,7 +29,7 @@ class TargetPanel:
 
     def __init__(
         self,
-        server: viser.ViserServer,
+        target: GuiTarget,
         arm: ArmModel,
         runner: CommandRunner,
         current_q: Callable[[], np.ndarray | None],
@@ -37,28 +38,28 @@ class TargetPanel:
         self._runner = runner
         self._current_q = current_q
         self._ghosts = {
-            ok: ViserUrdf(server, arm.urdf_path, root_node_name=f"/ghost_{'ok' if ok else 'bad'}",
+            ok: ViserUrdf(target, arm.urdf_path, root_node_name=f"/ghost_{'ok' if ok else 'bad'}",
                           mesh_color_override=GHOST_OK_RGBA if ok else GHOST_BAD_RGBA)
             for ok in (True, False)
         }
-        self._gizmo = server.scene.add_transform_controls("/target", scale=GIZMO_SCALE, visible=False)
+        self._gizmo = target.scene.add_transform_controls("/target", scale=GIZMO_SCALE, visible=False)
         self._syncing = False
         self.check = TargetCheck(None, "No target yet")
 
-        self.reason = server.gui.add_markdown("Drag the gizmo or the sliders to set a target.")
+        self.reason = target.gui.add_markdown("Drag the gizmo or the sliders to set a target.")
         self.sliders = [
-            server.gui.add_slider(
+            target.gui.add_slider(
                 f"J{i + 1} °", min=math.degrees(arm.lower[i]), max=math.degrees(arm.upper[i]), step=0.1,
                 initial_value=0.0,
             )
             for i in range(6)
         ]
-        self.speed = server.gui.add_slider(
+        self.speed = target.gui.add_slider(
             "Move speed %", min=1.0, max=100.0, step=1.0, initial_value=DEFAULT_MOVE_SPEED_PERCENT
         )
-        self.from_current = server.gui.add_button("Target = current", icon=viser.Icon.TARGET)
-        self.move_j = server.gui.add_button("Move J", disabled=True)
-        self.move_l = server.gui.add_button("Move L", disabled=True)
+        self.from_current = target.gui.add_button("Target = current", icon=viser.Icon.TARGET)
+        self.move_j = target.gui.add_button("Move J", disabled=True)
+        self.move_l = target.gui.add_button("Move L", disabled=True)
         self._show_ghost(None)
 
         @self._gizmo.on_update

@@ -13,6 +13,7 @@ from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSITION
 from pendant.controller.types import MotionType
 from pendant.sim import Fault, FakeClock, SimController
 from pendant.ui.app import PendantUI
+from pendant.ui.session import ClientSession
 
 ANGLE_TOL_DEG = 1e-6
 FUTURE_TIMEOUT_S = 5.0
@@ -25,77 +26,89 @@ def _free_port() -> int:
 
 
 @pytest.fixture
-def ui(sim: SimController) -> Iterator[PendantUI]:
+def pendant_ui(sim: SimController) -> Iterator[PendantUI]:
     page = PendantUI(sim, sim.arm, host="127.0.0.1", port=_free_port(), mode_line="Simulator · pulse75")
     page.refresh()
-    page.target.reset_to_current()
     yield page
     page.stop()
+
+
+@pytest.fixture
+def ui(pendant_ui: ClientSession) -> ClientSession:
+    """The panels one browser would get, built on the server's GUI so no browser is needed."""
+    session = pendant_ui.open_session(pendant_ui.server)
+    with pendant_ui._sessions_lock:
+        pendant_ui.sessions[-1] = session
+    return session
 
 
 def pose_deg(sim: SimController) -> np.ndarray:
     return np.asarray(sim.get_pose().angles)
 
 
-def test_target_starts_at_the_current_pose_and_is_executable(ui: PendantUI, sim: SimController) -> None:
-    assert ui.target.check.ok
-    np.testing.assert_allclose(np.degrees(ui.target.check.q), pose_deg(sim), atol=ANGLE_TOL_DEG)
-    assert not ui.target.move_j.disabled
+def test_target_starts_at_the_current_pose_and_is_executable(ui: ClientSession, sim: SimController) -> None:
+    assert ui.target_panel.check.ok
+    np.testing.assert_allclose(np.degrees(ui.target_panel.check.q), pose_deg(sim), atol=ANGLE_TOL_DEG)
+    assert not ui.target_panel.move_j.disabled
 
 
-def test_unreachable_drag_target_is_red_says_why_and_cannot_run(ui: PendantUI, sim: SimController) -> None:
+def test_unreachable_drag_target_is_red_says_why_and_cannot_run(ui: ClientSession, sim: SimController) -> None:
     T = sim.arm.fk(np.radians(pose_deg(sim)))
     T[:3, 3] = (2.0, 0.0, 0.5)  # two metres out: beyond any PULSE
-    check = ui.target.set_flange_target(T)
+    check = ui.target_panel.set_flange_target(T)
     assert check.reason == MSG_UNREACHABLE_POSITION
-    assert ui.target.move_j.disabled and ui.target.move_l.disabled
-    assert MSG_UNREACHABLE_POSITION in ui.target.reason.content
+    assert ui.target_panel.move_j.disabled and ui.target_panel.move_l.disabled
+    assert MSG_UNREACHABLE_POSITION in ui.target_panel.reason.content
     before = pose_deg(sim)
-    assert ui.target.run(MotionType.JOINT) is None
+    assert ui.target_panel.run(MotionType.JOINT) is None
     np.testing.assert_allclose(pose_deg(sim), before, atol=ANGLE_TOL_DEG)
 
 
-def test_colliding_slider_target_is_refused(ui: PendantUI) -> None:
+def test_colliding_slider_target_is_refused(ui: ClientSession) -> None:
     q = np.radians([0.0, -90.0, 170.0, -90.0, -90.0, 0.0])  # forearm folded into the upper arm
-    check = ui.target.set_joint_target(q)
+    check = ui.target_panel.set_joint_target(q)
     assert check.reason == MSG_COLLISION
-    assert ui.target.move_j.disabled
+    assert ui.target_panel.move_j.disabled
 
 
-def test_move_j_from_sliders_reaches_the_target(ui: PendantUI, sim: SimController, clock: FakeClock) -> None:
+def test_move_j_from_sliders_reaches_the_target(ui: ClientSession, sim: SimController, clock: FakeClock) -> None:
     target_deg = np.array([30.0, -80.0, 60.0, -70.0, -90.0, 15.0])
-    assert ui.target.set_joint_target(np.radians(target_deg)).ok
-    ui.target.run(MotionType.JOINT).result(timeout=FUTURE_TIMEOUT_S)
+    assert ui.target_panel.set_joint_target(np.radians(target_deg)).ok
+    ui.target_panel.run(MotionType.JOINT).result(timeout=FUTURE_TIMEOUT_S)
     assert sim.get_motion_status() is MotionStatus.RUNNING
     clock.advance(30.0)
     np.testing.assert_allclose(pose_deg(sim), target_deg, atol=1e-6)
 
 
-def test_move_l_from_a_dragged_gizmo_reaches_it(ui: PendantUI, sim: SimController, clock: FakeClock) -> None:
+def test_move_l_from_a_dragged_gizmo_reaches_it(ui: ClientSession, sim: SimController, clock: FakeClock) -> None:
     T = sim.arm.fk(np.radians(pose_deg(sim)))
     T[:3, 3] += (0.05, 0.05, -0.05)
-    assert ui.target.set_flange_target(T).ok
-    ui.target.run(MotionType.LINEAR).result(timeout=FUTURE_TIMEOUT_S)
+    assert ui.target_panel.set_flange_target(T).ok
+    ui.target_panel.run(MotionType.LINEAR).result(timeout=FUTURE_TIMEOUT_S)
     clock.advance(30.0)
     np.testing.assert_allclose(sim.arm.fk(np.radians(pose_deg(sim)))[:3, 3], T[:3, 3], atol=1e-6)
 
 
-def test_output_toggle_from_the_page_sets_the_controller_output(ui: PendantUI, sim: SimController) -> None:
-    ui.runner.submit("DO2", lambda c: c.set_output(2, SignalLevel.HIGH), None).result(FUTURE_TIMEOUT_S)
-    ui.refresh()
+def test_output_toggle_from_the_page_sets_the_controller_output(
+    ui: ClientSession, pendant_ui: PendantUI, sim: SimController
+) -> None:
+    pendant_ui.runner.submit("DO2", lambda c: c.set_output(2, SignalLevel.HIGH), None).result(FUTURE_TIMEOUT_S)
+    pendant_ui.refresh()
     assert ui.io.outputs[2].value is True
     assert sim.get_output(2) is SignalLevel.HIGH
 
 
-def test_error_state_is_shown_as_a_red_banner_and_recover_clears_it(ui: PendantUI, sim: SimController) -> None:
+def test_error_state_is_shown_as_a_red_banner_and_recover_clears_it(
+    ui: ClientSession, pendant_ui: PendantUI, sim: SimController
+) -> None:
     sim.inject_fault(Fault.ERROR)
-    ui.refresh()
-    assert "ERROR" in ui.status._html.content and "#e03131" in ui.status._html.content
-    ui.runner.submit("Recover", lambda c: c.recover(), None).result(FUTURE_TIMEOUT_S)
-    assert ui.refresh().motion_status is MotionStatus.IDLE
+    pendant_ui.refresh()
+    assert "ERROR" in ui.status.content and "#e03131" in ui.status.content
+    pendant_ui.runner.submit("Recover", lambda c: c.recover(), None).result(FUTURE_TIMEOUT_S)
+    assert pendant_ui.refresh().motion_status is MotionStatus.IDLE
 
 
-def test_invalid_tool_form_is_refused_before_anything_is_sent(ui: PendantUI, sim: SimController) -> None:
+def test_invalid_tool_form_is_refused_before_anything_is_sent(ui: ClientSession, sim: SimController) -> None:
     before = sim.get_tool()
     ui.settings.tool_name.value = "   "
     assert not ui.settings.submit_tool(None)
@@ -105,11 +118,11 @@ def test_invalid_tool_form_is_refused_before_anything_is_sent(ui: PendantUI, sim
     assert sim.get_tool() == before
 
 
-def test_valid_tool_form_sets_the_tool(ui: PendantUI, sim: SimController) -> None:
+def test_valid_tool_form_sets_the_tool(ui: ClientSession, pendant_ui: PendantUI, sim: SimController) -> None:
     ui.settings.tool_name.value = "gripper"
     ui.settings.tool_xyz.value = (0.0, 0.0, 120.0)
     assert ui.settings.submit_tool(None)
-    ui.runner.submit("sync", lambda c: None, None).result(FUTURE_TIMEOUT_S)
+    pendant_ui.runner.submit("sync", lambda c: None, None).result(FUTURE_TIMEOUT_S)
     tool = sim.get_tool()
     assert tool.name == "gripper"
     assert tool.point.z == pytest.approx(0.12)
