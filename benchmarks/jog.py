@@ -1,0 +1,140 @@
+"""Jogging: how fast the arm stops after the operator lets go, and how fast a press shows in the browser.
+
+1. Deadman stop latency (wall clock, in-process simulator on the real clock): confirm a continuous jog at
+   20 Hz, stop confirming, and time from the last confirmation until the arm is frozen. The deadman is
+   200 ms, so the target is 200 ms plus a few ms of watchdog period.
+2. Press -> first pose change seen in the browser: a real `pendant` process and Debian's chromium; the page
+   timestamps the pointerdown on "J1+" and the arrival of the first websocket message after it (at rest
+   the pendant sends nothing, so that message is the arm's new pose). Target: p50 <= 100 ms. (Painting it
+   adds one frame: Chromium renders WebGL in software here, at about 15-20 frames/s on 2 loaded cores.)
+
+Run: .venv/bin/python benchmarks/jog.py [--trials 20]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import httpx
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from pendant.controller import MotionStatus
+from pendant.jog import JogFrame, JogRequest, Jogger
+from pendant.sim import MonotonicClock, SimController
+from tests.api.server import free_port
+
+CONFIRM_PERIOD_S = 0.05
+# Small, because Chromium paints WebGL in software here: a bigger canvas only measures the painting.
+VIEWPORT = (960, 600)
+CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking"]
+
+
+def deadman_latencies(trials: int) -> list[float]:
+    sim = SimController("pulse75", MonotonicClock())
+    jogger = Jogger(sim, sim.arm)
+    jogger.start_watchdog()
+    latencies = []
+    try:
+        for i in range(trials):
+            request = JogRequest(JogFrame.JOINT, 0, +1 if i % 2 == 0 else -1, speed_percent=10)
+            for _ in range(6):
+                jogger.hold(request)
+                time.sleep(CONFIRM_PERIOD_S)
+            jogger.hold(request)
+            last_confirm = time.monotonic()
+            while sim.get_motion_status() is MotionStatus.RUNNING:
+                time.sleep(0.0005)
+            latencies.append(time.monotonic() - last_confirm)
+    finally:
+        jogger.stop_watchdog()
+    return latencies
+
+
+# Before the page loads: timestamp every server message reaching the page, and every press.
+_INSTRUMENT = """
+window.__messages = [];
+window.__pressedAt = null;
+const NativeWorker = window.Worker;  // viser's websocket lives in a worker that posts each message over
+window.Worker = function (...args) {
+  const worker = new NativeWorker(...args);
+  worker.addEventListener('message', () => window.__messages.push(performance.now()));
+  return worker;
+};
+window.Worker.prototype = NativeWorker.prototype;
+document.addEventListener('pointerdown', () => { window.__pressedAt = performance.now(); }, true);
+"""
+_FIRST_UPDATE_AFTER_PRESS = "() => window.__messages.find(t => t > window.__pressedAt) ?? null"
+
+
+def browser_latencies(trials: int) -> list[float]:
+    from playwright.sync_api import sync_playwright
+
+    ui_port, api_port = free_port(), free_port()
+    process = subprocess.Popen(
+        [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    api = httpx.Client(base_url=f"http://127.0.0.1:{api_port}", timeout=5.0)
+    latencies = []
+    try:
+        _wait(lambda: api.get("/pose").status_code == 200)
+        with sync_playwright() as playwright:
+            browser = playwright.chromium.launch(executable_path="/usr/bin/chromium", args=CHROMIUM_ARGS)
+            page = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
+            page.add_init_script(_INSTRUMENT)
+            page.goto(f"http://127.0.0.1:{ui_port}/")
+            page.locator("#motion-state").wait_for(timeout=30_000)
+            button = page.get_by_role("button", name="J1+", exact=True)
+            box = button.bounding_box()
+            assert box is not None
+            page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+            for _ in range(trials):
+                page.mouse.down()
+                page.wait_for_function(f"({_FIRST_UPDATE_AFTER_PRESS})() !== null", timeout=5_000)
+                first = page.evaluate(_FIRST_UPDATE_AFTER_PRESS)
+                latencies.append((first - page.evaluate("window.__pressedAt")) / 1000.0)
+                time.sleep(0.2)
+                page.mouse.up()
+                _wait(lambda: api.get("/status/motion").text.strip('"') == "IDLE")
+                time.sleep(0.3)
+            browser.close()
+    finally:
+        process.terminate()
+        process.wait(10)
+    return latencies
+
+
+def _wait(ready, timeout_s: float = 60.0) -> None:  # type: ignore[no-untyped-def]
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        try:
+            if ready():
+                return
+        except httpx.HTTPError:
+            pass
+        time.sleep(0.1)
+    raise TimeoutError("pendant did not come up")
+
+
+def _report(name: str, values: list[float]) -> None:
+    ms = sorted(v * 1000 for v in values)
+    p99 = ms[min(len(ms) - 1, round(0.99 * (len(ms) - 1)))]
+    print(f"{name}: n={len(ms)} p50 {statistics.median(ms):.1f} ms, p99 {p99:.1f} ms, max {ms[-1]:.1f} ms")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--trials", type=int, default=20)
+    args = parser.parse_args()
+    _report("deadman: last confirmation -> arm frozen", deadman_latencies(args.trials))
+    _report("browser: J1+ pressed -> first pose change on the page", browser_latencies(args.trials))
+
+
+if __name__ == "__main__":
+    main()
