@@ -8,6 +8,7 @@ from fastapi import FastAPI
 from fastapi.openapi.utils import get_openapi
 
 from pendant import __version__
+from pendant.access.http_guard import TokenGuard
 from pendant.api import docs
 from pendant.api.errors import install_error_handlers
 from pendant.api.routers.base import base_router
@@ -21,6 +22,7 @@ from pendant.api.routers.tool import tool_router
 from pendant.api.routing import DirectDispatch, direct_endpoints
 from pendant.controller.protocol import Controller
 from pendant.controller.types import Pose, Position, Tool
+from pendant.eventlog import EventLog
 
 DESCRIPTION = """\
 The REST API of the Rozum Robotics PULSE controller, as in its API reference guide, served by the pendant
@@ -42,6 +44,10 @@ emergency state".
 Motion commands take `speed` (1 to 100 %, mandatory), `type` (JOINT or LINEAR, default JOINT) and
 `tcp_max_velocity` (0.001 to 2 m/s, default 2). Rozum's later SDK's `motionType`, `velocity` and
 `acceleration` are accepted too.
+
+Access: a pendant exposed beyond loopback (`pendant --host 0.0.0.0`) has an access token (printed at
+start-up, or `--token`). Every request that changes the robot (PUT, POST) must then carry it in the
+`X-Pendant-Token` header: without it the answer is 401, with a wrong one 403. Reads stay open.
 """
 
 
@@ -53,8 +59,12 @@ def _sim_controller_type() -> type | None:
     return SimController
 
 
-def create_app(controller: Controller) -> FastAPI:
-    """The API for one controller; the /sim routes are mounted only when it is the simulator."""
+def create_app(controller: Controller, *, token: str | None = None, events: EventLog | None = None) -> FastAPI:
+    """The API for one controller; the /sim routes are mounted only when it is the simulator.
+
+    `token`: when given (the pendant is exposed on a network), every PUT/POST needs it in the
+    `X-Pendant-Token` header (401 without, 403 wrong); reads stay open. `events`: log of every such request.
+    """
     app = FastAPI(
         title="PULSE REST API",
         version=__version__,
@@ -81,6 +91,8 @@ def create_app(controller: Controller) -> FastAPI:
 
     install_error_handlers(app)
     app.add_middleware(DirectDispatch, table=direct_endpoints(routers))
+    if token is not None or events is not None:
+        app.add_middleware(TokenGuard, token=token, events=events)  # added last: runs first
     app.openapi = lambda: _openapi(app)  # type: ignore[method-assign]
     app.state.controller = controller
     return app

@@ -1,4 +1,4 @@
-"""A taught program: named waypoints inside move steps, plus gripper, output and wait steps (pydantic, versioned).
+"""A taught program: named waypoints in move steps, plus gripper, output and wait steps (pydantic, versioned).
 
 A waypoint lives inside the move step that goes to it, so a step list is the whole program: moving a step
 up or down moves its waypoint with it, and no step can point at a waypoint that was deleted.

@@ -18,6 +18,8 @@ HOME_SPEED_PERCENT = 20.0
 
 
 Gate = Callable[[viser.ClientHandle | None], str | None]
+# Told of every command: its label, who sent it, why it was refused (None: sent) and its future (an event log).
+OnSubmit = Callable[[str, viser.ClientHandle | None, str | None, Future[object]], None]
 
 
 class CommandRefused(Exception):
@@ -41,6 +43,7 @@ class CommandRunner:
     def __init__(self, controller: Controller, gate: Gate | None = None) -> None:
         self._controller = controller
         self.gate: Gate = gate if gate is not None else (lambda client: None)
+        self.on_submit: OnSubmit | None = None
         self._pool = ThreadPoolExecutor(max_workers=2, thread_name_prefix="pendant-command")
         self._urgent = ThreadPoolExecutor(max_workers=1, thread_name_prefix="pendant-freeze")
 
@@ -61,18 +64,21 @@ class CommandRunner:
     ) -> Future[object]:
         reason = None if urgent else self.refusal(client, label)
         if reason is not None:
-            refused: Future[object] = Future()
-            refused.set_exception(CommandRefused(reason))
-            return refused
+            future: Future[object] = Future()
+            future.set_exception(CommandRefused(reason))
+        else:
 
-        def run() -> object:
-            try:
-                return action(self._controller)
-            except ControllerError as error:
-                notify_refusal(client, f"{label} refused", error.message)
-                raise
+            def run() -> object:
+                try:
+                    return action(self._controller)
+                except ControllerError as error:
+                    notify_refusal(client, f"{label} refused", error.message)
+                    raise
 
-        return (self._urgent if urgent else self._pool).submit(run)
+            future = (self._urgent if urgent else self._pool).submit(run)
+        if self.on_submit is not None:
+            self.on_submit(label, client, reason, future)
+        return future
 
     def shutdown(self) -> None:
         self._pool.shutdown(wait=False, cancel_futures=True)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 
 import numpy as np
 import viser
@@ -11,10 +11,13 @@ from pendant.controller import Controller
 from pendant.jog import Jogger
 from pendant.kinematics import ArmModel
 from pendant.sim import SimController
+from pendant.telemetry import Telemetry
 from pendant.ui.commands import CommandRunner, add_freeze_button, add_robot_commands
+from pendant.ui.dashboard_panel import DashboardPanel, PlotData
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.io_panel import IoPanel
 from pendant.ui.jog_panel import JogPanel
+from pendant.ui.roles import ControlDesk, ControlPanel
 from pendant.ui.settings_panel import SettingsPanel
 from pendant.ui.sim_panel import SimPanel
 from pendant.ui.snapshot import Snapshot
@@ -22,8 +25,22 @@ from pendant.ui.status_panel import StatusPanel
 from pendant.ui.target_panel import TargetPanel
 
 
+RecordingListener = Callable[[viser.ClientHandle | None, str], None]
+
+
+def _set_disabled(handle: viser.GuiInputHandle, disabled: bool) -> None:
+    if handle.disabled != disabled:  # each assignment is a message to the browser
+        handle.disabled = disabled
+
+
 class ClientSession:
-    """Freeze on top, the status, then tabs: Jog, Target, IO, Robot (and Simulator in simulator mode)."""
+    """Freeze on top, the status and the control line, then tabs: Jog, Target, IO, Robot (and Simulator in
+    simulator mode), Dashboard.
+
+    A viewer's session has every motion, IO and settings control disabled (Freeze never is); the server
+    refuses their commands anyway (see roles.ControlDesk). `client_id` None: panels built on the server's
+    own GUI (headless tests), never locked.
+    """
 
     def __init__(
         self,
@@ -35,10 +52,18 @@ class ClientSession:
         jogger: Jogger,
         mode_line: str,
         current_q: Callable[[], np.ndarray | None],
+        desk: ControlDesk,
+        telemetry: Telemetry,
+        client_id: int | None = None,
+        url_token: str | None = None,
+        on_recording: RecordingListener | None = None,
     ) -> None:
         self.target = target
+        self.client_id = client_id
+        self._desk = desk
         self.freeze = add_freeze_button(target, runner)
         self.status = StatusPanel(target, mode_line)
+        self.control = ControlPanel(target, desk, client_id, url_token)
         self.tabs = target.gui.add_tab_group()
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
             self.jog = JogPanel(target, jogger, runner)
@@ -53,9 +78,63 @@ class ClientSession:
         if isinstance(controller, SimController):
             with self.tabs.add_tab("Simulator", viser.Icon.FLASK):
                 self.sim_panel = SimPanel(target, controller, runner)
+        with self.tabs.add_tab("Dashboard", viser.Icon.GAUGE):
+            self.dashboard = DashboardPanel(
+                target,
+                telemetry,
+                may_record=desk.gate,
+                on_recording=on_recording if on_recording is not None else (lambda client, message: None),
+            )
         self.target_panel.reset_to_current()
+        self._operator_only: list[viser.GuiInputHandle] = list(self._commanding_handles())
+        self.locked = False
+        self.apply_role(desk.operator)
+
+    def _commanding_handles(self) -> Iterable[viser.GuiInputHandle]:
+        """Every control that moves the arm or changes IO or settings (Freeze is not one of them)."""
+        jog = self.jog
+        yield from (jog.frame, jog.step, jog.speed, *jog.buttons.values())
+        target = self.target_panel
+        yield from (*target.sliders, target.speed, target.from_current)
+        yield from self.io.outputs.values()
+        yield from (self.io.gripper_open, self.io.gripper_close)
+        yield from self.robot_buttons.values()
+        s = self.settings
+        yield from (s.tool_name, s.tool_xyz, s.tool_rpy, s.tool_radius, s.set_tool, s.base_xyz, s.base_rpy, s.set_base)
+        if self.sim_panel is not None:
+            yield from (*self.sim_panel.inputs.values(), *self.sim_panel.faults.values(), self.sim_panel.reset)
+
+    def lock_with(self, *handles: viser.GuiInputHandle) -> None:
+        """Add controls that only the operator may use (e.g. a panel wired in later)."""
+        self._operator_only.extend(handles)
+        for handle in handles:
+            _set_disabled(handle, self.locked)
+
+    def apply_role(self, operator: int | None) -> None:
+        """Enable the commanding controls for the operator's browser, disable them for a viewer's."""
+        self.locked = self.client_id is not None and operator != self.client_id
+        for handle in self._operator_only:
+            _set_disabled(handle, self.locked)
+        self.target_panel.locked = self.locked
+        ok = self.target_panel.check.ok
+        _set_disabled(self.target_panel.move_j, self.locked or not ok)
+        _set_disabled(self.target_panel.move_l, self.locked or not ok)
+        self.control.show(operator)
+        self.dashboard.show_recording(locked=self.locked)
 
     def show(self, snapshot: Snapshot, *, with_io: bool) -> None:
         self.status.show(snapshot)
         if with_io:
             self.io.show(snapshot)
+
+    def show_dashboard(
+        self, *, table_html: str | None, plots: PlotData | None, events_html: str | None
+    ) -> None:
+        """The dashboard's shared renderings (None: nothing new of that kind)."""
+        if table_html is not None:
+            self.dashboard.show_table(table_html)
+            self.dashboard.show_recording(locked=self.locked)
+        if plots is not None:
+            self.dashboard.show_plots(plots)
+        if events_html is not None:
+            self.dashboard.show_events(events_html)

@@ -44,6 +44,7 @@ class TargetPanel:
         }
         self._gizmo = target.scene.add_transform_controls("/target", scale=GIZMO_SCALE, visible=False)
         self._syncing = False
+        self.locked = False  # a viewer's page: Move J / Move L stay disabled whatever the target
         self.check = TargetCheck(None, "No target yet")
 
         self.reason = target.gui.add_markdown("Drag the gizmo or the sliders to set a target.")
@@ -123,8 +124,8 @@ class TargetPanel:
         self.reason.content = (
             "**Target ready** — Move J or Move L runs it." if check.ok else f"**Cannot execute:** {check.reason}"
         )
-        self.move_j.disabled = not check.ok
-        self.move_l.disabled = not check.ok
+        self.move_j.disabled = not check.ok or self.locked
+        self.move_l.disabled = not check.ok or self.locked
         if check.q is None:
             return
         self._syncing = True

@@ -1,0 +1,66 @@
+"""The pendant's event log: state changes, errors and every command with who sent it, newest last.
+
+One log per pendant process, shared by the web UI and the API server (threads and the event loop both write
+to it), kept in memory as a bounded ring: the dashboard shows its tail.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass
+from enum import StrEnum
+
+log = logging.getLogger(__name__)
+
+DEFAULT_CAPACITY = 1000
+
+
+class EventKind(StrEnum):
+    STATE = "state"  # the controller's motion state changed
+    ERROR = "error"  # the controller reported an error, or a command failed
+    COMMAND = "command"  # a command was accepted (from a browser or an API client)
+    REFUSED = "refused"  # a command or a control request was refused (viewer, wrong token)
+    CONTROL = "control"  # who is the operator changed
+
+
+@dataclass(frozen=True)
+class Event:
+    seq: int  # 1, 2, 3, ... in the order they were logged
+    wall_time: float  # time.time()
+    kind: EventKind
+    source: str  # who: "browser #3 (10.0.0.7)", "API 10.0.0.9 (python-requests/2.31)", "controller"
+    message: str
+
+
+class EventLog:
+    """A thread-safe ring of the last `capacity` events; `seq` tells readers whether anything is new."""
+
+    def __init__(self, capacity: int = DEFAULT_CAPACITY, now: Callable[[], float] = time.time) -> None:
+        self._events: deque[Event] = deque(maxlen=capacity)
+        self._lock = threading.Lock()
+        self._now = now
+        self._seq = 0
+
+    @property
+    def seq(self) -> int:
+        """The number of the last event logged (0 when none): unchanged means nothing new."""
+        return self._seq
+
+    def record(self, kind: EventKind, source: str, message: str) -> Event:
+        with self._lock:
+            self._seq += 1
+            event = Event(self._seq, self._now(), kind, source, message)
+            self._events.append(event)
+        level = logging.WARNING if kind in (EventKind.ERROR, EventKind.REFUSED) else logging.INFO
+        log.log(level, "%s %s: %s", kind.value, source, message)
+        return event
+
+    def recent(self, count: int | None = None) -> list[Event]:
+        """The last `count` events (all kept when None), oldest first."""
+        with self._lock:
+            events = list(self._events)
+        return events if count is None else events[-count:]

@@ -1,0 +1,243 @@
+"""A program as a standalone Python script that drives a PULSE controller over HTTP with the same motion.
+
+The script executes the runner's grouping (pendant.program.plan): consecutive moves of one type and speed
+are one PUT /poses/run or /positions/run, and it waits for each motion the way the runner does (polling
+GET /status/motion and the pose). It needs only Python and httpx.
+"""
+
+from __future__ import annotations
+
+import pprint
+from datetime import UTC, datetime
+
+from pendant.controller.types import MotionType
+from pendant.program.models import (
+    GripperStep,
+    OutputStep,
+    Program,
+    WaitInputStep,
+    WaitStep,
+    describe_step,
+)
+from pendant.program.plan import MoveGroup, plan_segments
+from pendant.program.runner import ARRIVAL_TOL_DEG, ARRIVAL_TOL_M, POLL_S, START_GRACE_S
+
+DEFAULT_URL = "http://127.0.0.1:8081"
+
+
+def program_operations(program: Program) -> list[dict[str, object]]:
+    """The program as a flat list of controller operations (plain data: str, int, float, list, dict)."""
+    operations: list[dict[str, object]] = []
+    for segment in plan_segments(program.steps):
+        if isinstance(segment, MoveGroup):
+            numbers = [i + 1 for i in segment.indices]
+            what = "; ".join(describe_step(move) for move in segment.moves)
+            if segment.motion is MotionType.JOINT:
+                operations.append(
+                    {
+                        "op": "run_poses",
+                        "steps": numbers,
+                        "what": what,
+                        "speed": segment.moves[0].speed,
+                        "targets": [[float(a) for a in move.waypoint.pose.angles] for move in segment.moves],
+                    }
+                )
+            else:
+                operations.append(
+                    {
+                        "op": "run_positions",
+                        "steps": numbers,
+                        "what": what,
+                        "speed": segment.moves[0].speed,
+                        "targets": [move.waypoint.position.model_dump(mode="json") for move in segment.moves],
+                    }
+                )
+            continue
+        step, base = segment.step, {"steps": [segment.index + 1], "what": describe_step(segment.step)}
+        match step:
+            case GripperStep():
+                operations.append(
+                    {"op": "gripper", **base, "action": step.action.value, "timeout_ms": step.timeout_ms}
+                )
+            case OutputStep():
+                operations.append({"op": "output", **base, "port": step.port, "level": step.level.value})
+            case WaitInputStep():
+                operations.append(
+                    {
+                        "op": "wait_input",
+                        **base,
+                        "port": step.port,
+                        "level": step.level.value,
+                        "timeout_ms": step.timeout_ms,
+                    }
+                )
+            case WaitStep():
+                operations.append({"op": "wait", **base, "ms": step.ms})
+    return operations
+
+
+def export_script(program: Program) -> str:
+    """Python source of a script running `program` on the controller given by argv or $PULSE_URL."""
+    operations = pprint.pformat(program_operations(program), width=110, sort_dicts=False)
+    stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
+    return (
+        _TEMPLATE.replace("__NAME__", program.name)
+        .replace("__STAMP__", stamp)
+        .replace("__DEFAULT_URL__", DEFAULT_URL)
+        .replace("__OPERATIONS__", operations)
+        .replace("__POLL_S__", repr(POLL_S))
+        .replace("__START_GRACE_S__", repr(START_GRACE_S))
+        .replace("__TOL_DEG__", repr(ARRIVAL_TOL_DEG))
+        .replace("__TOL_M__", repr(ARRIVAL_TOL_M))
+    )
+
+
+_TEMPLATE = '''#!/usr/bin/env python3
+"""PULSE program "__NAME__", exported by the PULSE teach pendant (__STAMP__).
+
+Runs the taught motion on a PULSE controller through its REST API:
+
+    python this_script.py [CONTROLLER_URL] [--loops N]
+
+CONTROLLER_URL defaults to $PULSE_URL, else __DEFAULT_URL__. --loops 0 repeats until Ctrl-C (which freezes
+the arm). Exit status 0 when the program ran to the end, 1 when a step failed (the controller's message is
+printed), 2 on bad arguments.
+
+Why plain httpx and not Rozum's official SDK (pulse-api): httpx is what the pendant itself speaks with, so
+the script runs wherever the pendant is installed, with no second SDK and its own pinned dependencies
+(pdhttp) to clash with yours; and every request is right here to read, one call per step, exactly as the
+controller's API reference documents it.
+
+Consecutive moves of the same type and speed go in one PUT /poses/run (JOINT) or /positions/run (LINEAR),
+so the arm blends through them; the script then polls GET /status/motion until the arm is IDLE at the last
+waypoint, as the pendant's runner does.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+
+import httpx
+
+OPERATIONS = __OPERATIONS__
+
+POLL_S = __POLL_S__
+START_GRACE_S = __START_GRACE_S__  # a controller may still say IDLE just after accepting a motion
+ARRIVAL_TOL_DEG = __TOL_DEG__
+ARRIVAL_TOL_M = __TOL_M__
+FAILED_STATES = ("MOTION_FAILED", "ERROR", "EMERGENCY", "ZERO_GRAVITY")
+
+
+class StepFailed(Exception):
+    pass
+
+
+def call(client: httpx.Client, method: str, path: str, **kwargs) -> httpx.Response:
+    response = client.request(method, path, **kwargs)
+    if response.status_code >= 400:
+        raise StepFailed(f"{method} {path} answered {response.status_code}: {message(response)}")
+    return response
+
+
+def message(response: httpx.Response) -> str:
+    """The controller's message: its answers are plain text, sometimes JSON-quoted."""
+    return response.text.strip().strip('"')
+
+
+def text(client: httpx.Client, path: str) -> str:
+    return message(call(client, "GET", path))
+
+
+def where(client: httpx.Client, joint: bool) -> list[float]:
+    if joint:
+        return [float(a) for a in call(client, "GET", "/pose").json()["angles"]]
+    point = call(client, "GET", "/position").json()["point"]
+    return [point["x"], point["y"], point["z"]]
+
+
+def arrived(here: list[float], target: list[float], joint: bool) -> bool:
+    if joint:
+        return max(abs(a - b) for a, b in zip(here, target)) <= ARRIVAL_TOL_DEG
+    return sum((a - b) ** 2 for a, b in zip(here, target)) ** 0.5 <= ARRIVAL_TOL_M
+
+
+def wait_for_motion(client: httpx.Client, target: list[float] | None, joint: bool, at_least_s: float) -> None:
+    """Until the arm is IDLE (at `target`, when given) and `at_least_s` have passed."""
+    started = time.monotonic()
+    seen_running = False
+    while True:
+        status = text(client, "/status/motion")
+        if status in FAILED_STATES:
+            raise StepFailed(f"the controller reports {status}")
+        if status == "RUNNING":
+            seen_running = True
+        elif time.monotonic() - started >= at_least_s:
+            if target is None or arrived(where(client, joint), target, joint):
+                return
+            if seen_running or time.monotonic() - started > START_GRACE_S:
+                raise StepFailed("the arm stopped before reaching its waypoint")
+        time.sleep(POLL_S)
+
+
+def execute(client: httpx.Client, operation: dict) -> None:
+    kind = operation["op"]
+    if kind in ("run_poses", "run_positions"):
+        joint = kind == "run_poses"
+        targets = operation["targets"]
+        body = [{"angles": angles} for angles in targets] if joint else targets
+        query = {"speed": operation["speed"], "type": "JOINT" if joint else "LINEAR"}
+        call(client, "PUT", "/poses/run" if joint else "/positions/run", json=body, params=query)
+        last = targets[-1] if joint else [targets[-1]["point"][axis] for axis in "xyz"]
+        wait_for_motion(client, last, joint, 0.0)
+    elif kind == "gripper":
+        call(client, "PUT", f"/gripper/{operation['action']}", params={"timeout": operation["timeout_ms"]})
+        wait_for_motion(client, None, True, operation["timeout_ms"] / 1000.0)
+    elif kind == "output":
+        call(client, "PUT", f"/signal/output/{operation['port']}/{operation['level'].lower()}")
+    elif kind == "wait_input":
+        deadline = time.monotonic() + operation["timeout_ms"] / 1000.0
+        while text(client, f"/signal/input/{operation['port']}") != operation["level"]:
+            if time.monotonic() >= deadline:
+                port, level, ms = operation["port"], operation["level"], operation["timeout_ms"]
+                raise StepFailed(f"DI{port} did not go {level} within {ms} ms")
+            time.sleep(POLL_S)
+    elif kind == "wait":
+        time.sleep(operation["ms"] / 1000.0)
+    else:
+        raise ValueError(f"unknown operation {kind!r}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("url", nargs="?", default=os.environ.get("PULSE_URL", "__DEFAULT_URL__"))
+    parser.add_argument("--loops", type=int, default=1, help="how many times to run (0: until Ctrl-C)")
+    args = parser.parse_args(argv)
+    if args.loops < 0:
+        parser.error("--loops must be >= 0")
+    with httpx.Client(base_url=args.url.rstrip("/"), timeout=10.0) as client:
+        loop = 0
+        try:
+            while args.loops == 0 or loop < args.loops:
+                loop += 1
+                for operation in OPERATIONS:
+                    try:
+                        execute(client, operation)
+                    except (StepFailed, httpx.HTTPError) as error:
+                        numbers = operation["steps"]
+                        steps = str(numbers[0]) if len(numbers) == 1 else f"{numbers[0]}-{numbers[-1]}"
+                        print(f"Step {steps} ({operation['what']}) failed: {error}", file=sys.stderr)
+                        return 1
+        except KeyboardInterrupt:
+            call(client, "PUT", "/freeze")
+            print("Interrupted: the arm is frozen", file=sys.stderr)
+            return 1
+    print(f"Done: {loop} loop(s) of {len(OPERATIONS)} operation(s)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
+'''

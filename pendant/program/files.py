@@ -1,0 +1,186 @@
+"""Program files: a folder of versioned JSON documents, written atomically, read with clear refusals.
+
+A write goes to a temporary file in the same folder, is fsynced, renamed over the target and the folder is
+fsynced, so a crash or a kill leaves either the old file or the new one, never half of one.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import re
+import tempfile
+from pathlib import Path
+
+from pydantic import ValidationError
+
+from pendant.program.models import SCHEMA_VERSION, Program
+
+DEFAULT_PROGRAMS_DIR = Path("programs")  # relative to the pendant's working directory
+SUFFIX = ".json"
+AUTOSAVE_FILE = ".autosave.json"  # a dot file: never listed as a program
+AUTOSAVE_REFUSED_FILE = ".autosave.refused.json"
+NAME_MAX = 64
+_NAME_OK = re.compile(r"[A-Za-z0-9 _.\-]+")
+MAX_FILE_BYTES = 5_000_000  # a program of thousands of steps is ~1 MB; anything bigger is not a program
+
+
+class ProgramFileError(Exception):
+    """A file the pendant refuses (bad name, not JSON, not a program, newer schema); `str()` says why."""
+
+
+def sanitize_name(name: str) -> str:
+    """A program name safe to use as a file name in the programs folder (no path, no dot file).
+
+    Strips a trailing ".json"; raises ProgramFileError for names that would leave the folder or hide.
+    """
+    cleaned = name.strip()
+    if cleaned.lower().endswith(SUFFIX):
+        cleaned = cleaned[: -len(SUFFIX)].strip()
+    if not cleaned:
+        raise ProgramFileError("A program needs a name")
+    if len(cleaned) > NAME_MAX:
+        raise ProgramFileError(f"A program name is at most {NAME_MAX} characters")
+    if not _NAME_OK.fullmatch(cleaned) or cleaned.startswith("."):
+        raise ProgramFileError(
+            f"{name!r} is not a usable program name: use letters, digits, spaces, '_', '-' and '.' "
+            "(not first)"
+        )
+    return cleaned
+
+
+def parse_program(data: bytes, source: str) -> Program:
+    """The program in `data`, or ProgramFileError saying why `source` is refused."""
+    if len(data) > MAX_FILE_BYTES:
+        raise ProgramFileError(f"{source} is too big to be a program ({len(data)} bytes)")
+    try:
+        document = json.loads(data)
+    except (UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise ProgramFileError(f"{source} is not a JSON document: {error}") from error
+    if not isinstance(document, dict):
+        raise ProgramFileError(f"{source} is not a program (expected a JSON object)")
+    version = document.get("schema_version")
+    if not isinstance(version, int) or isinstance(version, bool):
+        raise ProgramFileError(f"{source} is not a program file (no schema_version)")
+    if version > SCHEMA_VERSION:
+        raise ProgramFileError(
+            f"{source} was written by a newer pendant (schema version {version}; this pendant reads up to "
+            f"{SCHEMA_VERSION}). Update the pendant to open it."
+        )
+    try:
+        return Program.model_validate(document)
+    except ValidationError as error:
+        problems = "; ".join(
+            f"{'.'.join(str(part) for part in issue['loc'])}: {issue['msg']}" for issue in error.errors()[:3]
+        )
+        raise ProgramFileError(f"{source} is not a valid program: {problems}") from error
+
+
+def dump_program(program: Program) -> bytes:
+    return (program.model_dump_json(indent=2) + "\n").encode()
+
+
+def atomic_write(path: Path, data: bytes) -> None:
+    """Replace `path` with `data` so that a crash at any moment leaves the old or the new content."""
+    folder = path.parent
+    folder.mkdir(parents=True, exist_ok=True)
+    fd, temp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
+    try:
+        with os.fdopen(fd, "wb") as temp:
+            temp.write(data)
+            temp.flush()
+            os.fsync(temp.fileno())
+        os.replace(temp_name, path)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(temp_name)
+        raise
+    _fsync_dir(folder)
+
+
+def _fsync_dir(folder: Path) -> None:
+    # The rename is only durable once the folder's entry is on disk (POSIX); Windows cannot open folders.
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+class ProgramStore:
+    """The programs folder: list, load, save, delete by name; the autosave of the program being edited."""
+
+    def __init__(self, folder: Path | str = DEFAULT_PROGRAMS_DIR) -> None:
+        self.folder = Path(folder)
+
+    def path_of(self, name: str) -> Path:
+        return self.folder / f"{sanitize_name(name)}{SUFFIX}"
+
+    def names(self) -> list[str]:
+        """Saved programs, sorted (dot files such as the autosave are not programs)."""
+        if not self.folder.is_dir():
+            return []
+        return sorted(
+            p.name[: -len(SUFFIX)]
+            for p in self.folder.iterdir()
+            if p.is_file() and p.name.endswith(SUFFIX) and not p.name.startswith(".")
+        )
+
+    def exists(self, name: str) -> bool:
+        return self.path_of(name).is_file()
+
+    def load(self, name: str) -> Program:
+        path = self.path_of(name)
+        try:
+            data = path.read_bytes()
+        except FileNotFoundError as error:
+            raise ProgramFileError(f"No program named {sanitize_name(name)!r}") from error
+        return parse_program(data, path.name).model_copy(update={"name": sanitize_name(name)})
+
+    def save(self, program: Program, name: str) -> Program:
+        """Write `program` as `name` (replacing it); returns the program carrying that name."""
+        clean = sanitize_name(name)
+        named = program.model_copy(update={"name": clean, "schema_version": SCHEMA_VERSION})
+        atomic_write(self.path_of(clean), dump_program(named))
+        return named
+
+    def delete(self, name: str) -> None:
+        path = self.path_of(name)
+        try:
+            path.unlink()
+        except FileNotFoundError as error:
+            raise ProgramFileError(f"No program named {sanitize_name(name)!r}") from error
+        _fsync_dir(self.folder)
+
+    # --- autosave: the program being edited, with the file it belongs to ---------------------------------
+    @property
+    def autosave_path(self) -> Path:
+        return self.folder / AUTOSAVE_FILE
+
+    def autosave(self, program: Program, file_name: str | None, dirty: bool) -> None:
+        document = {"file_name": file_name, "dirty": dirty, "program": program.model_dump(mode="json")}
+        atomic_write(self.autosave_path, (json.dumps(document, indent=2) + "\n").encode())
+
+    def restore(self) -> tuple[Program, str | None, bool] | None:
+        """The autosaved (program, file name, unsaved changes), or None when there is none to restore.
+
+        An unreadable autosave is moved aside to AUTOSAVE_REFUSED_FILE, never silently overwritten."""
+        try:
+            data = self.autosave_path.read_bytes()
+        except OSError:
+            return None
+        try:
+            document = json.loads(data)
+            program = parse_program(json.dumps(document["program"]).encode(), AUTOSAVE_FILE)
+            file_name = document.get("file_name")
+            return program, file_name if isinstance(file_name, str) else None, bool(document.get("dirty"))
+        except (ValueError, KeyError, TypeError, ProgramFileError):
+            with contextlib.suppress(OSError):
+                os.replace(self.autosave_path, self.folder / AUTOSAVE_REFUSED_FILE)
+            return None

@@ -1,0 +1,191 @@
+"""One operator, many viewers: who may command the arm from a browser, and the panel to take control.
+
+The `ControlDesk` is the server's record (one per pendant); the `CommandRunner`'s gate and the jog panel ask it
+before anything reaches the controller, so a viewer is refused by the server, not only greyed out in its page.
+On loopback with no token the first browser gets control as it connects (a single user at the machine drives
+at once); a pendant with an access token (exposed on a network) gives control only to a browser that
+presents the token, from its page URL or typed into the "Access token" field.
+"""
+
+from __future__ import annotations
+
+import html
+import threading
+from collections.abc import Callable
+
+import viser
+
+from pendant.access import tokens_match
+from pendant.eventlog import EventKind, EventLog
+from pendant.ui.gui_target import GuiTarget
+
+MSG_VIEWER = "This browser is a viewer: press Take control first"
+MSG_NO_TOKEN = "This pendant needs its access token to take control"
+MSG_WRONG_TOKEN = "Wrong access token"
+
+ControlListener = Callable[[int | None], None]
+
+
+def browser_name(client_id: int, address: str | None = None) -> str:
+    """`browser #3 (10.0.0.7)`: how the event log and the page name a browser."""
+    return f"browser #{client_id}" + (f" ({address})" if address else "")
+
+
+class ControlDesk:
+    """Who the operator is (a browser's client id, or None), and the rules to change it. Thread-safe."""
+
+    def __init__(self, events: EventLog, *, token: str | None = None, auto_grant: bool | None = None) -> None:
+        self._events = events
+        self._token = token
+        self._auto_grant = token is None if auto_grant is None else auto_grant
+        self._operator: int | None = None
+        self._names: dict[int, str] = {}
+        self._listeners: list[ControlListener] = []
+        self._lock = threading.RLock()
+
+    @property
+    def needs_token(self) -> bool:
+        return self._token is not None
+
+    @property
+    def operator(self) -> int | None:
+        return self._operator
+
+    def name(self, client_id: int | None) -> str:
+        if client_id is None:
+            return "nobody"
+        return self._names.get(client_id, browser_name(client_id))
+
+    def on_change(self, listener: ControlListener) -> None:
+        """`listener(operator)` after every change of operator (called outside the desk's lock)."""
+        self._listeners.append(listener)
+
+    def is_operator(self, client_id: int | None) -> bool:
+        return client_id is not None and client_id == self._operator
+
+    # --- browsers coming and going ------------------------------------------------------------------
+    def join(self, client_id: int, address: str | None = None) -> None:
+        with self._lock:
+            self._names[client_id] = browser_name(client_id, address)
+            grant = self._auto_grant and self._operator is None
+            if grant:
+                self._operator = client_id
+        if grant:
+            self._changed(f"{self.name(client_id)} has control (first browser on this machine)")
+
+    def leave(self, client_id: int) -> bool:
+        """Forget a browser; True when it was the operator (control is released)."""
+        with self._lock:
+            name = self.name(client_id)
+            was_operator = self._operator == client_id
+            if was_operator:
+                self._operator = None
+            self._names.pop(client_id, None)
+        if was_operator:
+            self._changed(f"{name} left: control released")
+        return was_operator
+
+    # --- control ------------------------------------------------------------------------------------
+    def take(self, client_id: int, offered_token: str | None = None) -> str | None:
+        """Make `client_id` the operator; the reason when refused (refusals are logged)."""
+        with self._lock:
+            name = self.name(client_id)
+            if self._operator == client_id:
+                return None
+            reason: str | None = None
+            if self._token is not None and not offered_token:
+                reason = MSG_NO_TOKEN
+            elif self._token is not None and not tokens_match(offered_token, self._token):
+                reason = MSG_WRONG_TOKEN
+            elif self._operator is not None:
+                reason = f"{self.name(self._operator)} has control: ask them to release it"
+            if reason is None:
+                self._operator = client_id
+        if reason is not None:
+            self._events.record(EventKind.REFUSED, name, f"Take control refused: {reason}")
+            return reason
+        self._changed(f"{name} took control")
+        return None
+
+    def release(self, client_id: int) -> bool:
+        """Give up control; False when `client_id` did not have it."""
+        with self._lock:
+            if self._operator != client_id:
+                return False
+            self._operator = None
+        self._changed(f"{self.name(client_id)} released control")
+        return True
+
+    def gate(self, client: viser.ClientHandle | None) -> str | None:
+        """The CommandRunner's gate: None for the operator (and for the server itself), else the reason."""
+        if client is None or self.is_operator(client.client_id):
+            return None
+        operator = self._operator
+        if operator is None:
+            return MSG_VIEWER
+        return f"{MSG_VIEWER} ({self.name(operator)} has control)"
+
+    def _changed(self, message: str) -> None:
+        self._events.record(EventKind.CONTROL, "pendant", message)
+        operator = self._operator
+        for listener in list(self._listeners):
+            listener(operator)
+
+
+class ControlPanel:
+    """A browser's role line with "Take control" and "Release control" (and "Access token" when needed)."""
+
+    def __init__(
+        self,
+        target: GuiTarget,
+        desk: ControlDesk,
+        client_id: int | None,
+        url_token: str | None = None,
+    ) -> None:
+        self._desk = desk
+        self._target = target
+        self.client_id = client_id
+        self.url_token = url_token  # the token the page's URL carried, if any
+        self.role = target.gui.add_html("")
+        self.token: viser.GuiTextHandle | None = None
+        if desk.needs_token:
+            hint = "from the page URL" if url_token else "printed when the pendant started"
+            self.token = target.gui.add_text("Access token", initial_value="", hint=f"The token {hint}")
+        self.take_button = target.gui.add_button("Take control", icon=viser.Icon.STEERING_WHEEL)
+        self.release_button = target.gui.add_button("Release control", icon=viser.Icon.HAND_OFF)
+        self.take_button.on_click(lambda event: self.take(event.client))
+        self.release_button.on_click(lambda event: self.release())
+        self.show(desk.operator)
+
+    def offered_token(self) -> str | None:
+        typed = self.token.value.strip() if self.token is not None else ""
+        return typed or self.url_token
+
+    def take(self, client: viser.ClientHandle | None = None) -> str | None:
+        """Ask for control with the typed token (or the URL's); the reason when refused."""
+        if self.client_id is None:
+            return "Not a browser"
+        reason = self._desk.take(self.client_id, self.offered_token())
+        if reason is not None and client is not None:
+            client.add_notification(title="Take control refused", body=reason, color="red", auto_close_seconds=8.0)
+        return reason
+
+    def release(self) -> bool:
+        return self.client_id is not None and self._desk.release(self.client_id)
+
+    def show(self, operator: int | None) -> None:
+        mine = operator is not None and operator == self.client_id
+        if mine:
+            text = '<b style="color:#2b8a3e">You have control</b> (operator)'
+        elif operator is None:
+            text = "<b>Viewing</b> · nobody has control"
+        else:
+            text = f"<b>Viewing</b> · {html.escape(self._desk.name(operator))} has control"
+        you = f" · you are {html.escape(self._desk.name(self.client_id))}" if self.client_id is not None else ""
+        content = f'<div style="font-size:0.85em">{text}{you}</div>'
+        if self.role.content != content:
+            self.role.content = content
+        if self.take_button.disabled != mine:
+            self.take_button.disabled = mine
+        if self.release_button.disabled == mine:
+            self.release_button.disabled = not mine

@@ -1,0 +1,133 @@
+"""An exported script drives the simulator over real HTTP to the same end as the runner in-process."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+import numpy as np
+import pytest
+
+from pendant.controller import MotionType, Pose, SignalLevel
+from pendant.controller.types import OUTPUT_PORTS
+from pendant.program import (
+    GripperAction,
+    GripperStep,
+    MoveStep,
+    OutputStep,
+    Program,
+    ProgramRunner,
+    RunState,
+    WaitInputStep,
+    WaitStep,
+    export_script,
+    program_operations,
+)
+from tests.api.server import running_pendant
+
+ANGLE_TOL_DEG = 1e-6
+SCRIPT_TIMEOUT_S = 60.0
+
+
+@pytest.fixture(scope="module")
+def api_url() -> Iterator[str]:
+    """One `pendant --no-ui` (simulator on real time) serving the API on a free loopback port."""
+    with running_pendant() as url:
+        yield url
+
+
+def pick_and_place(waypoints) -> Program:  # type: ignore[no-untyped-def]
+    a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
+    return Program(
+        name="pick & place",
+        steps=(
+            MoveStep(waypoint=a, speed=100.0),
+            GripperStep(action=GripperAction.CLOSE, timeout_ms=100),
+            OutputStep(port=1, level=SignalLevel.HIGH),
+            MoveStep(waypoint=b, motion=MotionType.LINEAR, speed=100.0),
+            MoveStep(waypoint=c, motion=MotionType.LINEAR, speed=100.0),
+            WaitInputStep(port=1, level=SignalLevel.LOW, timeout_ms=500),
+            GripperStep(action=GripperAction.OPEN, timeout_ms=100),
+            OutputStep(port=2, level=SignalLevel.HIGH),
+            WaitStep(ms=50),
+            MoveStep(waypoint=a, speed=100.0),
+            MoveStep(waypoint=b, speed=100.0),
+        ),
+    )
+
+
+def test_the_export_is_one_call_per_blended_group_and_valid_python(waypoints) -> None:
+    program = pick_and_place(waypoints)
+    operations = program_operations(program)
+    assert [o["op"] for o in operations] == [
+        "run_poses",
+        "gripper",
+        "output",
+        "run_positions",
+        "wait_input",
+        "gripper",
+        "output",
+        "wait",
+        "run_poses",
+    ]
+    assert operations[3]["steps"] == [4, 5] and operations[-1]["steps"] == [10, 11]
+    source = export_script(program)
+    ast.parse(source)
+    assert "import httpx" in source and "pulse-api" in source  # says which client, and why
+
+
+def test_the_exported_script_ends_where_the_runner_does(
+    sim, clock, waypoints, tmp_path: Path, api_url
+) -> None:
+    program = pick_and_place(waypoints)
+    in_process = ProgramRunner(sim, sleep=clock.advance, now=clock.now).run(program)
+    assert in_process.state is RunState.FINISHED
+    script = tmp_path / "pick_place.py"
+    script.write_text(export_script(program))
+
+    done = subprocess.run(
+        [sys.executable, str(script), api_url],
+        capture_output=True,
+        text=True,
+        timeout=SCRIPT_TIMEOUT_S,
+        check=False,
+    )
+    assert done.returncode == 0, done.stderr
+    with httpx.Client(base_url=api_url, timeout=5.0) as api:
+        pose = api.get("/pose").json()["angles"]
+        outputs = {port: api.get(f"/signal/output/{port}").text.strip('"') for port in OUTPUT_PORTS}
+
+    np.testing.assert_allclose(pose, sim.get_pose().angles, atol=ANGLE_TOL_DEG)
+    assert outputs == {port: sim.get_output(port).value for port in OUTPUT_PORTS}
+    assert outputs == {1: "HIGH", 2: "HIGH"}
+
+
+def test_a_refused_step_exits_1_with_the_step_and_the_controller_message(
+    tmp_path: Path, waypoints, api_url
+) -> None:
+    a = waypoints["A"]
+    far = a.model_copy(update={"name": "Far", "pose": Pose(angles=[0.0, -90.0, 400.0, -90.0, -90.0, 0.0])})
+    program = Program(
+        steps=(
+            WaitStep(ms=10),
+            MoveStep(waypoint=far, speed=100.0),
+            OutputStep(port=1, level=SignalLevel.LOW),
+        )
+    )
+    script = tmp_path / "refused.py"
+    script.write_text(export_script(program))
+    done = subprocess.run(
+        [sys.executable, str(script), api_url],
+        capture_output=True,
+        text=True,
+        timeout=SCRIPT_TIMEOUT_S,
+        check=False,
+    )
+    assert done.returncode == 1
+    assert (
+        "Step 2 (Move J to Far @ 100%) failed: PUT /poses/run answered 412: Unreachable Pose" in done.stderr
+    )

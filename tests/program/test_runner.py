@@ -1,0 +1,269 @@
+"""The runner on the simulator's fake clock: blending, loops, step, pause, stop, errors and waits."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import pytest
+
+from pendant.controller import MotionType, Pose, SignalLevel
+from pendant.program import (
+    GripperAction,
+    GripperStep,
+    MoveStep,
+    OutputStep,
+    Program,
+    ProgramRunner,
+    RunState,
+    WaitInputStep,
+    WaitStep,
+    Waypoint,
+    plan_segments,
+)
+from pendant.sim import FakeClock, SimController
+
+ANGLE_TOL_DEG = 1e-6
+
+
+class Recording:
+    """The simulator, with every command the runner sends written down in order."""
+
+    def __init__(self, sim: SimController) -> None:
+        self._sim = sim
+        self.calls: list[tuple[str, object]] = []
+
+    def __getattr__(self, name: str) -> object:
+        attribute = getattr(self._sim, name)
+        if name.startswith("get_") or not callable(attribute):
+            return attribute
+
+        def record(*args: object) -> object:
+            self.calls.append((name, args))
+            return attribute(*args)
+
+        return record
+
+    def names(self) -> list[str]:
+        return [name for name, _ in self.calls]
+
+
+def move(waypoint: Waypoint, motion: MotionType = MotionType.JOINT, speed: float = 50.0) -> MoveStep:
+    return MoveStep(waypoint=waypoint, motion=motion, speed=speed)
+
+
+def sleeping(clock: FakeClock, at: float, action: Callable[[], None]) -> Callable[[float], None]:
+    """A sleep that advances the fake clock and does `action` once, when the clock passes `at` seconds."""
+    done = False
+
+    def sleep(dt: float) -> None:
+        nonlocal done
+        clock.advance(dt)
+        if not done and clock.now() >= at:
+            done = True
+            action()
+
+    return sleep
+
+
+def angles(sim: SimController) -> np.ndarray:
+    return np.array(sim.get_pose().angles)
+
+
+def test_consecutive_moves_of_one_type_and_speed_run_as_one_blended_call(sim, clock, waypoints) -> None:
+    a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
+    program = Program(
+        steps=(
+            move(a),
+            move(b),  # JOINT 50: one /poses/run
+            move(c, MotionType.LINEAR),
+            move(a, MotionType.LINEAR),  # LINEAR 50: one /positions/run
+            move(b, speed=80.0),  # another speed: its own call
+            OutputStep(port=1, level=SignalLevel.HIGH),
+            move(c),
+        )
+    )
+    recording = Recording(sim)
+    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
+
+    result = runner.run(program)
+
+    assert result.state is RunState.FINISHED and result.progress == 1.0
+    assert recording.names() == ["run_poses", "run_positions", "run_poses", "set_output", "run_poses"]
+    first_poses, params = recording.calls[0][1]  # type: ignore[misc]
+    assert [p.angles for p in first_poses] == [a.pose.angles, b.pose.angles]
+    assert params.motion_type is MotionType.JOINT and params.speed == 50.0
+    assert len(recording.calls[1][1][0]) == 2  # type: ignore[index, arg-type]
+    np.testing.assert_allclose(angles(sim), c.pose.angles, atol=ANGLE_TOL_DEG)
+    assert sim.get_output(1) is SignalLevel.HIGH
+
+
+def test_plan_groups_only_neighbouring_moves_and_step_mode_splits_them(waypoints) -> None:
+    a, b = waypoints["A"], waypoints["B"]
+    steps = (move(a), move(b), WaitStep(ms=10), move(a), move(b, MotionType.LINEAR))
+    assert [list(s.indices) for s in plan_segments(steps)] == [[0, 1], [2], [3], [4]]
+    assert [list(s.indices) for s in plan_segments(steps, blend=False)] == [[0], [1], [2], [3], [4]]
+
+
+def test_outputs_are_set_only_once_the_arm_has_arrived(sim, clock, waypoints) -> None:
+    a = waypoints["A"]
+    seen: list[np.ndarray] = []
+    recording = Recording(sim)
+
+    def set_output(port: int, level: SignalLevel) -> None:
+        seen.append(angles(sim))
+        sim.set_output(port, level)
+
+    recording.set_output = set_output  # type: ignore[method-assign]
+    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
+    runner.run(Program(steps=(move(a), OutputStep(port=2, level=SignalLevel.HIGH))))
+    np.testing.assert_allclose(seen[0], a.pose.angles, atol=ANGLE_TOL_DEG)
+
+
+def test_loop_count_repeats_the_whole_program(sim, clock, waypoints) -> None:
+    program = Program(
+        steps=(
+            move(waypoints["A"]),
+            GripperStep(action=GripperAction.CLOSE, timeout_ms=100),
+            move(waypoints["B"]),
+            GripperStep(action=GripperAction.OPEN, timeout_ms=100),
+        )
+    )
+    recording = Recording(sim)
+    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
+    progress: list[float] = []
+    runner.add_listener(lambda p: progress.append(p.progress))
+
+    result = runner.run(program, loops=3)
+
+    assert result.state is RunState.FINISHED and result.loop == 3
+    assert recording.names() == ["run_poses", "close_gripper", "run_poses", "open_gripper"] * 3
+    assert progress == sorted(progress) and progress[-1] == 1.0
+
+
+def test_step_runs_one_step_at_a_time_without_blending(sim, clock, waypoints) -> None:
+    a, b = waypoints["A"], waypoints["B"]
+    program = Program(steps=(move(a), move(b), OutputStep(port=1, level=SignalLevel.HIGH)))
+    runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
+
+    first = runner.step(program)
+    assert first.state is RunState.PAUSED and first.step_index == 1
+    np.testing.assert_allclose(angles(sim), a.pose.angles, atol=ANGLE_TOL_DEG)
+    second = runner.step()
+    assert second.state is RunState.PAUSED and second.step_index == 2
+    np.testing.assert_allclose(angles(sim), b.pose.angles, atol=ANGLE_TOL_DEG)
+    assert sim.get_output(1) is SignalLevel.LOW
+    assert runner.step().state is RunState.FINISHED
+    assert sim.get_output(1) is SignalLevel.HIGH
+
+
+def test_pause_holds_the_arm_and_resume_finishes_the_program(sim, clock, waypoints) -> None:
+    a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
+    program = Program(steps=(move(a), move(b), move(c)))
+    holder: list[ProgramRunner] = []
+    runner = ProgramRunner(sim, now=clock.now, sleep=sleeping(clock, 0.6, lambda: holder[0].pause()))
+    holder.append(runner)
+
+    paused = runner.run(program)
+
+    assert paused.state is RunState.PAUSED
+    held = angles(sim)
+    clock.advance(5.0)
+    np.testing.assert_allclose(angles(sim), held, atol=ANGLE_TOL_DEG)  # frozen, not drifting on
+    assert not np.allclose(held, c.pose.angles)
+    done = runner.resume()
+    assert done.state is RunState.FINISHED
+    np.testing.assert_allclose(angles(sim), c.pose.angles, atol=ANGLE_TOL_DEG)
+
+
+def test_stop_freezes_the_arm_where_it_is(sim, clock, waypoints) -> None:
+    program = Program(
+        steps=(move(waypoints["A"]), move(waypoints["B"]), OutputStep(port=1, level=SignalLevel.HIGH))
+    )
+    holder: list[ProgramRunner] = []
+    runner = ProgramRunner(sim, now=clock.now, sleep=sleeping(clock, 0.4, lambda: holder[0].stop()))
+    holder.append(runner)
+
+    result = runner.run(program)
+
+    assert result.state is RunState.STOPPED
+    stopped = angles(sim)
+    clock.advance(5.0)
+    np.testing.assert_allclose(angles(sim), stopped, atol=ANGLE_TOL_DEG)
+    assert sim.get_motion_status().value == "IDLE"
+    assert sim.get_output(1) is SignalLevel.LOW  # nothing after the stop ran
+    assert runner.resume().state is RunState.STOPPED  # a stopped run cannot be resumed
+
+
+def test_a_refused_move_stops_the_program_naming_the_step_and_the_reason(sim, clock, waypoints) -> None:
+    a = waypoints["A"]
+    beyond_limits = Waypoint(
+        name="Far", pose=Pose(angles=[0.0, -90.0, 400.0, -90.0, -90.0, 0.0]), position=a.position
+    )
+    program = Program(
+        steps=(
+            move(a),
+            OutputStep(port=1, level=SignalLevel.HIGH),
+            move(beyond_limits),
+            OutputStep(port=2, level=SignalLevel.HIGH),
+        )
+    )
+    runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
+
+    result = runner.run(program)
+
+    assert result.state is RunState.FAILED and result.failed_step == 2
+    assert result.message == "Step 3 (Move J to Far @ 50%) failed: Unreachable Pose"
+    assert sim.get_output(1) is SignalLevel.HIGH and sim.get_output(2) is SignalLevel.LOW
+
+
+def test_a_fault_during_a_motion_names_the_step_it_interrupted(sim, clock, waypoints) -> None:
+    from pendant.sim.controller import Fault
+
+    program = Program(steps=(WaitStep(ms=100), move(waypoints["A"])))
+    runner = ProgramRunner(
+        sim, now=clock.now, sleep=sleeping(clock, 0.5, lambda: sim.inject_fault(Fault.EMERGENCY))
+    )
+
+    result = runner.run(program)
+
+    assert result.state is RunState.FAILED
+    assert result.message == "Step 2 (Move J to A @ 50%) failed: Robot unavailable in emergency state"
+
+
+def test_wait_for_input_times_out_with_a_clear_message(sim, clock) -> None:
+    program = Program(steps=(WaitInputStep(port=2, level=SignalLevel.HIGH, timeout_ms=1500),))
+    runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
+    started = clock.now()
+
+    result = runner.run(program)
+
+    assert result.state is RunState.FAILED
+    assert (
+        result.message
+        == "Step 1 (Wait DI2 HIGH (timeout 1500 ms)) failed: DI2 did not go HIGH within 1500 ms"
+    )
+    assert clock.now() - started == pytest.approx(1.5, abs=0.06)
+
+
+def test_wait_for_input_continues_when_the_input_arrives(sim, clock) -> None:
+    program = Program(
+        steps=(
+            WaitInputStep(port=3, level=SignalLevel.HIGH, timeout_ms=5000),
+            OutputStep(port=1, level=SignalLevel.HIGH),
+        )
+    )
+    runner = ProgramRunner(
+        sim, now=clock.now, sleep=sleeping(clock, 0.3, lambda: sim.set_input(3, SignalLevel.HIGH))
+    )
+    assert runner.run(program).state is RunState.FINISHED
+    assert sim.get_output(1) is SignalLevel.HIGH
+
+
+def test_waits_and_the_gripper_take_their_time(sim, clock) -> None:
+    program = Program(steps=(WaitStep(ms=750), GripperStep(action=GripperAction.CLOSE, timeout_ms=500)))
+    runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
+    started = clock.now()
+    runner.run(program)
+    assert clock.now() - started == pytest.approx(1.25, abs=0.06)
+    assert sim.gripper_opening() == 0.0
