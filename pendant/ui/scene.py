@@ -10,6 +10,7 @@ import viser.transforms as vtf
 from viser.extras import ViserUrdf
 
 from pendant.kinematics.limits import GRIPPER_STROKE_M
+from pendant.ui.trail import TcpTrail
 
 FLOOR_SIZE_M = 2.0
 FRAME_AXES_LENGTH_M = 0.12
@@ -44,10 +45,12 @@ class ArmScene:
         self._tcp_frame = server.scene.add_frame(
             "/tcp_frame", axes_length=FRAME_AXES_LENGTH_M, axes_radius=FRAME_AXES_RADIUS_M
         )
+        self.trail = TcpTrail(server)
         self._last: tuple[np.ndarray, float] | None = None
 
-    def show(self, q: np.ndarray, gripper_opening: float, T_base_tcp: np.ndarray) -> None:
+    def show(self, q: np.ndarray, gripper_opening: float, T_base_tcp: np.ndarray, now: float) -> None:
         """Move the arm to joint angles q (radians) with the gripper `gripper_opening` (0 closed, 1 open)."""
+        self.trail.update(now, T_base_tcp[:3, 3])
         if self._last is not None and np.array_equal(self._last[0], q) and self._last[1] == gripper_opening:
             return  # nothing changed: send nothing to the browsers
         self._last = (q.copy(), gripper_opening)
