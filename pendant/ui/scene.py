@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 import numpy as np
@@ -48,9 +49,12 @@ class ArmScene:
         self.trail = TcpTrail(server)
         self._last: tuple[np.ndarray, float] | None = None
 
-    def show(self, q: np.ndarray, gripper_opening: float, T_base_tcp: np.ndarray, now: float) -> None:
-        """Move the arm to joint angles q (radians) with the gripper `gripper_opening` (0 closed, 1 open)."""
-        self.trail.update(now, T_base_tcp[:3, 3])
+    def show(
+        self, q: np.ndarray, gripper_opening: float, T_base_tcp: np.ndarray, now: float | None = None
+    ) -> None:
+        """Move the arm to joint angles q (radians) with the gripper `gripper_opening` (0 closed, 1 open);
+        `now` (monotonic seconds) times the trail."""
+        self.trail.update(time.monotonic() if now is None else now, T_base_tcp[:3, 3])
         if self._last is not None and np.array_equal(self._last[0], q) and self._last[1] == gripper_opening:
             return  # nothing changed: send nothing to the browsers
         self._last = (q.copy(), gripper_opening)
