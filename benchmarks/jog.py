@@ -24,7 +24,7 @@ import httpx
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from pendant.controller import MotionStatus
-from pendant.jog import JogFrame, JogRequest, Jogger
+from pendant.jog import JogFrame, Jogger, JogRequest
 from pendant.sim import MonotonicClock, SimController
 from tests.api.server import free_port
 

@@ -12,7 +12,6 @@ import argparse
 import sys
 import time
 from collections.abc import Sequence
-
 from typing import TYPE_CHECKING
 
 from starlette.types import ASGIApp
@@ -83,7 +82,9 @@ def make_api_app(settings: Settings, controller: Controller, started_at: float) 
         from pendant.remote import RemoteController, create_proxy_app
 
         assert isinstance(controller, RemoteController)
-        return create_proxy_app(settings.robot_url, settings=settings, controller=controller, started_at=started_at)
+        return create_proxy_app(
+            settings.robot_url, settings=settings, controller=controller, started_at=started_at
+        )
     from pendant.api import create_app
 
     app = create_app(controller)

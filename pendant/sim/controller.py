@@ -51,11 +51,11 @@ from pendant.controller.types import (
     Tool,
 )
 from pendant.kinematics import ArmModel
+from pendant.kinematics.transforms import inverse, matrix_to_position, position_to_matrix
 from pendant.sim.clock import Clock, MonotonicClock
 from pendant.sim.motors import ServoModel, servo_ids
 from pendant.sim.planner import Plan, Planner, check_params
 from pendant.sim.timeline import Motion
-from pendant.kinematics.transforms import inverse, matrix_to_position, position_to_matrix
 
 # Power-on pose: upper arm up, forearm forward, tool pointing straight down (degrees, base first). Chosen
 # clear of the wrist singularity (q5 = 0) and of the roll/pitch/yaw gimbal lock (pitch = +-90 degrees).

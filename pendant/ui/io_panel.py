@@ -6,8 +6,8 @@ import viser
 
 from pendant.controller import SignalLevel
 from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS, INPUT_PORTS, OUTPUT_PORTS
-from pendant.ui.gui_target import GuiTarget
 from pendant.ui.commands import CommandRunner
+from pendant.ui.gui_target import GuiTarget
 from pendant.ui.snapshot import Snapshot
 
 
@@ -23,15 +23,20 @@ class IoPanel:
             self.outputs[port] = toggle
             toggle.on_update(lambda event, port=port: self._write_output(port, event))
         self.inputs = {
-            port: target.gui.add_checkbox(f"DI{port}", initial_value=False, disabled=True) for port in INPUT_PORTS
+            port: target.gui.add_checkbox(f"DI{port}", initial_value=False, disabled=True)
+            for port in INPUT_PORTS
         }
         self.gripper_open = target.gui.add_button("Open gripper", icon=viser.Icon.ARROWS_HORIZONTAL)
         self.gripper_close = target.gui.add_button("Close gripper", icon=viser.Icon.ARROWS_MINIMIZE)
         self.gripper_open.on_click(
-            lambda e: runner.submit("Open gripper", lambda c: c.open_gripper(DEFAULT_GRIPPER_TIMEOUT_MS), e.client)
+            lambda e: runner.submit(
+                "Open gripper", lambda c: c.open_gripper(DEFAULT_GRIPPER_TIMEOUT_MS), e.client
+            )
         )
         self.gripper_close.on_click(
-            lambda e: runner.submit("Close gripper", lambda c: c.close_gripper(DEFAULT_GRIPPER_TIMEOUT_MS), e.client)
+            lambda e: runner.submit(
+                "Close gripper", lambda c: c.close_gripper(DEFAULT_GRIPPER_TIMEOUT_MS), e.client
+            )
         )
 
     def show(self, snapshot: Snapshot) -> None:

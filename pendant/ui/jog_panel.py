@@ -7,7 +7,7 @@ import math
 import viser
 
 from pendant.controller import ControllerError
-from pendant.jog import JogFrame, JogRequest, Jogger
+from pendant.jog import JogFrame, Jogger, JogRequest
 from pendant.jog.targets import CARTESIAN_AXES
 from pendant.ui.commands import CommandRunner, notify_refusal
 from pendant.ui.gui_target import GuiTarget
@@ -72,7 +72,9 @@ class JogPanel:
             try:
                 if request.step is None:
                     self._jogger.release("released")  # the click arrives on release: stop at once
-                elif self._runner.refusal(event.client, request.label()) is None and not self._jogger.step(request):
+                elif self._runner.refusal(event.client, request.label()) is None and not self._jogger.step(
+                    request
+                ):
                     notify_refusal(event.client, request.label(), "Cannot move further that way")
             except ControllerError as error:
                 notify_refusal(event.client, f"{request.label()} refused", error.message)

@@ -9,8 +9,8 @@ import viser
 from pydantic import ValidationError
 
 from pendant.controller import Point, Position, Rotation, Tool
-from pendant.ui.gui_target import GuiTarget
 from pendant.ui.commands import CommandRunner
+from pendant.ui.gui_target import GuiTarget
 
 MM_LIMIT = 2000.0  # an offset beyond 2 m is a typing error, not a tool
 
@@ -49,8 +49,12 @@ class SettingsPanel:
             name = self.tool_name.value.strip()
             if not name:
                 raise ValueError("the tool needs a name")
-            tool = Tool(name=name, point=position.point, rotation=position.rotation,
-                        radius=float(self.tool_radius.value) / 1000.0)
+            tool = Tool(
+                name=name,
+                point=position.point,
+                rotation=position.rotation,
+                radius=float(self.tool_radius.value) / 1000.0,
+            )
         except (ValueError, ValidationError) as error:
             _refuse(client, "Tool not set", error)
             return False

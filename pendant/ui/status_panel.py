@@ -5,8 +5,6 @@ from __future__ import annotations
 import html
 import math
 
-import viser
-
 from pendant.controller import MotionStatus, SignalLevel
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.snapshot import Snapshot

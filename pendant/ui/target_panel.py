@@ -14,8 +14,8 @@ from viser.extras import ViserUrdf
 from pendant.controller import Controller, MotionParams, MotionType, Pose, Position
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import inverse, matrix_to_position, position_to_matrix
-from pendant.ui.gui_target import GuiTarget
 from pendant.ui.commands import CommandRunner
+from pendant.ui.gui_target import GuiTarget
 from pendant.ui.target_check import TargetCheck, check_flange_target, check_joint_target
 
 GHOST_OK_RGBA = (0.25, 0.55, 1.0, 0.35)
@@ -38,8 +38,12 @@ class TargetPanel:
         self._runner = runner
         self._current_q = current_q
         self._ghosts = {
-            ok: ViserUrdf(target, arm.urdf_path, root_node_name=f"/ghost_{'ok' if ok else 'bad'}",
-                          mesh_color_override=GHOST_OK_RGBA if ok else GHOST_BAD_RGBA)
+            ok: ViserUrdf(
+                target,
+                arm.urdf_path,
+                root_node_name=f"/ghost_{'ok' if ok else 'bad'}",
+                mesh_color_override=GHOST_OK_RGBA if ok else GHOST_BAD_RGBA,
+            )
             for ok in (True, False)
         }
         self._gizmo = target.scene.add_transform_controls("/target", scale=GIZMO_SCALE, visible=False)
@@ -50,7 +54,10 @@ class TargetPanel:
         self.reason = target.gui.add_markdown("Drag the gizmo or the sliders to set a target.")
         self.sliders = [
             target.gui.add_slider(
-                f"J{i + 1} °", min=math.degrees(arm.lower[i]), max=math.degrees(arm.upper[i]), step=0.1,
+                f"J{i + 1} °",
+                min=math.degrees(arm.lower[i]),
+                max=math.degrees(arm.upper[i]),
+                step=0.1,
                 initial_value=0.0,
             )
             for i in range(6)
@@ -122,7 +129,9 @@ class TargetPanel:
         check = self.check
         self._show_ghost(check)
         self.reason.content = (
-            "**Target ready** — Move J or Move L runs it." if check.ok else f"**Cannot execute:** {check.reason}"
+            "**Target ready** — Move J or Move L runs it."
+            if check.ok
+            else f"**Cannot execute:** {check.reason}"
         )
         self.move_j.disabled = not check.ok or self.locked
         self.move_l.disabled = not check.ok or self.locked

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from pendant.controller import MotionStatus
-from pendant.jog import DEADMAN_TIMEOUT_S, JOG_TCP_MAX_VELOCITY_M_S, JogFrame, JogRequest, Jogger
+from pendant.jog import DEADMAN_TIMEOUT_S, JOG_TCP_MAX_VELOCITY_M_S, JogFrame, Jogger, JogRequest
 from pendant.sim import FakeClock, SimController
 
 CONFIRM_PERIOD_S = 0.05  # the page confirms at 20 Hz while the button is held

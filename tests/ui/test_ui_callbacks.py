@@ -11,7 +11,7 @@ import pytest
 from pendant.controller import MotionStatus, SignalLevel
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSITION
 from pendant.controller.types import MotionType
-from pendant.sim import Fault, FakeClock, SimController
+from pendant.sim import FakeClock, Fault, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.session import ClientSession
 
@@ -52,7 +52,9 @@ def test_target_starts_at_the_current_pose_and_is_executable(ui: ClientSession, 
     assert not ui.target_panel.move_j.disabled
 
 
-def test_unreachable_drag_target_is_red_says_why_and_cannot_run(ui: ClientSession, sim: SimController) -> None:
+def test_unreachable_drag_target_is_red_says_why_and_cannot_run(
+    ui: ClientSession, sim: SimController
+) -> None:
     T = sim.arm.fk(np.radians(pose_deg(sim)))
     T[:3, 3] = (2.0, 0.0, 0.5)  # two metres out: beyond any PULSE
     check = ui.target_panel.set_flange_target(T)
@@ -71,7 +73,9 @@ def test_colliding_slider_target_is_refused(ui: ClientSession) -> None:
     assert ui.target_panel.move_j.disabled
 
 
-def test_move_j_from_sliders_reaches_the_target(ui: ClientSession, sim: SimController, clock: FakeClock) -> None:
+def test_move_j_from_sliders_reaches_the_target(
+    ui: ClientSession, sim: SimController, clock: FakeClock
+) -> None:
     target_deg = np.array([30.0, -80.0, 60.0, -70.0, -90.0, 15.0])
     assert ui.target_panel.set_joint_target(np.radians(target_deg)).ok
     ui.target_panel.run(MotionType.JOINT).result(timeout=FUTURE_TIMEOUT_S)
@@ -80,7 +84,9 @@ def test_move_j_from_sliders_reaches_the_target(ui: ClientSession, sim: SimContr
     np.testing.assert_allclose(pose_deg(sim), target_deg, atol=1e-6)
 
 
-def test_move_l_from_a_dragged_gizmo_reaches_it(ui: ClientSession, sim: SimController, clock: FakeClock) -> None:
+def test_move_l_from_a_dragged_gizmo_reaches_it(
+    ui: ClientSession, sim: SimController, clock: FakeClock
+) -> None:
     T = sim.arm.fk(np.radians(pose_deg(sim)))
     T[:3, 3] += (0.05, 0.05, -0.05)
     assert ui.target_panel.set_flange_target(T).ok
@@ -92,7 +98,9 @@ def test_move_l_from_a_dragged_gizmo_reaches_it(ui: ClientSession, sim: SimContr
 def test_output_toggle_from_the_page_sets_the_controller_output(
     ui: ClientSession, pendant_ui: PendantUI, sim: SimController
 ) -> None:
-    pendant_ui.runner.submit("DO2", lambda c: c.set_output(2, SignalLevel.HIGH), None).result(FUTURE_TIMEOUT_S)
+    pendant_ui.runner.submit("DO2", lambda c: c.set_output(2, SignalLevel.HIGH), None).result(
+        FUTURE_TIMEOUT_S
+    )
     pendant_ui.refresh()
     assert ui.io.outputs[2].value is True
     assert sim.get_output(2) is SignalLevel.HIGH
