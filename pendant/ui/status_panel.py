@@ -36,8 +36,11 @@ def render_status(snapshot: Snapshot, mode_line: str) -> str:
     label = state.value if state is not None else "OFFLINE"
     colour = STATE_COLOURS.get(state, STATE_COLOURS[None])
     big = "font-size:1.4em;padding:10px" if state in _ALARM_STATES or state is None else "padding:6px"
+    link = "online" if state is not None else "offline"
+    if state is not None and snapshot.latency_s is not None and snapshot.latency_s >= 0.001:
+        link += f" · {snapshot.latency_s * 1000:.0f} ms"  # sub-millisecond (in-process) is not worth a flicker
     parts = [
-        f'<div style="font-size:0.85em;color:#495057">{html.escape(mode_line)}</div>',
+        f'<div style="font-size:0.85em;color:#495057">{html.escape(mode_line)} · {link}</div>',
         f'<div id="motion-state" style="background:{colour};color:white;font-weight:bold;'
         f'text-align:center;border-radius:6px;margin:6px 0;{big}">{label}</div>',
     ]
