@@ -3,10 +3,12 @@
 from pendant.program.export import export_script, program_operations
 from pendant.program.files import (
     DEFAULT_PROGRAMS_DIR,
+    PROGRAMS_DIR_ENV,
     ProgramFileError,
     ProgramStore,
     atomic_write,
     parse_program,
+    programs_dir,
     sanitize_name,
 )
 from pendant.program.models import (
@@ -28,6 +30,7 @@ from pendant.program.workspace import Change, EditError, ProgramWorkspace
 
 __all__ = [
     "DEFAULT_PROGRAMS_DIR",
+    "PROGRAMS_DIR_ENV",
     "SCHEMA_VERSION",
     "Change",
     "EditError",
@@ -55,5 +58,6 @@ __all__ = [
     "parse_program",
     "plan_segments",
     "program_operations",
+    "programs_dir",
     "sanitize_name",
 ]

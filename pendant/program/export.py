@@ -81,7 +81,8 @@ def export_script(program: Program) -> str:
     operations = pprint.pformat(program_operations(program), width=110, sort_dicts=False)
     stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
     return (
-        _TEMPLATE.replace("__NAME__", program.name)
+        # The name lands inside a docstring: no quotes or backslashes that could end or bend it.
+        _TEMPLATE.replace("__NAME__", program.name.replace("\\", "/").replace('"', "'"))
         .replace("__STAMP__", stamp)
         .replace("__DEFAULT_URL__", DEFAULT_URL)
         .replace("__OPERATIONS__", operations)

@@ -18,12 +18,18 @@ from pydantic import ValidationError
 from pendant.program.models import SCHEMA_VERSION, Program
 
 DEFAULT_PROGRAMS_DIR = Path("programs")  # relative to the pendant's working directory
+PROGRAMS_DIR_ENV = "PENDANT_PROGRAMS_DIR"
 SUFFIX = ".json"
 AUTOSAVE_FILE = ".autosave.json"  # a dot file: never listed as a program
 AUTOSAVE_REFUSED_FILE = ".autosave.refused.json"
 NAME_MAX = 64
 _NAME_OK = re.compile(r"[A-Za-z0-9 _.\-]+")
 MAX_FILE_BYTES = 5_000_000  # a program of thousands of steps is ~1 MB; anything bigger is not a program
+
+
+def programs_dir() -> Path:
+    """Where programs are kept: $PENDANT_PROGRAMS_DIR, else ./programs."""
+    return Path(os.environ.get(PROGRAMS_DIR_ENV) or DEFAULT_PROGRAMS_DIR)
 
 
 class ProgramFileError(Exception):
@@ -116,8 +122,8 @@ def _fsync_dir(folder: Path) -> None:
 class ProgramStore:
     """The programs folder: list, load, save, delete by name; the autosave of the program being edited."""
 
-    def __init__(self, folder: Path | str = DEFAULT_PROGRAMS_DIR) -> None:
-        self.folder = Path(folder)
+    def __init__(self, folder: Path | str | None = None) -> None:
+        self.folder = programs_dir() if folder is None else Path(folder)
 
     def path_of(self, name: str) -> Path:
         return self.folder / f"{sanitize_name(name)}{SUFFIX}"

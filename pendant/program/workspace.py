@@ -11,6 +11,7 @@ import re
 import threading
 from collections.abc import Callable
 from enum import StrEnum
+from pathlib import Path
 
 from pendant.controller import Controller, Pose, Position
 from pendant.controller.types import MotionType
@@ -62,10 +63,10 @@ class ProgramWorkspace:
         runner.add_listener(lambda _: self._notify(Change.RUN))
 
     @classmethod
-    def for_controller(cls, controller: Controller, folder: str | None = None) -> ProgramWorkspace:
-        """The workspace a pendant creates once: programs in `folder` (default ./programs), real time."""
-        store = ProgramStore() if folder is None else ProgramStore(folder)
-        return cls(store, ProgramRunner(controller))
+    def for_controller(cls, controller: Controller, folder: str | Path | None = None) -> ProgramWorkspace:
+        """The workspace a pendant creates once: programs in `folder` (default: $PENDANT_PROGRAMS_DIR, else
+        ./programs), runs on the real clock."""
+        return cls(ProgramStore(folder), ProgramRunner(controller))
 
     # --- observing ---------------------------------------------------------------------------------
     @property
@@ -103,9 +104,10 @@ class ProgramWorkspace:
     # --- editing -----------------------------------------------------------------------------------
     def _edit(self, steps: list[Step] | tuple[Step, ...]) -> None:
         with self._lock:
-            self._program = self._program.model_copy(update={"steps": tuple(steps)})
-            self._dirty = True
-            self._autosave()
+            program = self._program.model_copy(update={"steps": tuple(steps)})
+            # On disk before it is applied or shown: if the autosave fails, the edit is refused whole.
+            self.store.autosave(program, self._file_name, True)
+            self._program, self._dirty = program, True
         self._notify(Change.PROGRAM)
 
     def _autosave(self) -> None:

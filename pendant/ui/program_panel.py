@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
+from concurrent.futures import Future
 
 import numpy as np
 import viser
@@ -64,6 +65,7 @@ class ProgramPanel:
         self._runner = runner
         self._arm = arm
         self._selected: int | None = None
+        self.pending: Future[object] | None = None  # the last Record / Re-teach (tests wait on it)
         self._syncing = False
         gui = target.gui
 
@@ -76,6 +78,18 @@ class ProgramPanel:
         )
         self.add = gui.add_button_group("Add", options=ADD_OPTIONS)
         self.order = gui.add_button_group("Edit", options=("Up", "Down", "Duplicate", "Delete"))
+
+        # --- running --------------------------------------------------------------------------------
+        with gui.add_folder("Run"):
+            self.loops = gui.add_number(
+                "Loops", initial_value=1, min=0, max=100_000, step=1, hint="0: until Stop"
+            )
+            self.run = gui.add_button("Run", color="green", icon=viser.Icon.PLAYER_PLAY)
+            self.step = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
+            self.pause = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
+            self.stop = gui.add_button("Stop", color="red", icon=viser.Icon.PLAYER_STOP)
+            self.progress = gui.add_progress_bar(0.0, animated=False)
+            self.run_status = gui.add_markdown("Ready")
 
         # --- the selected step ----------------------------------------------------------------------
         with gui.add_folder("Selected step"):
@@ -98,18 +112,6 @@ class ProgramPanel:
             self.wait_ms = gui.add_number(
                 "Wait ms", initial_value=DEFAULT_WAIT_MS, min=0, max=MAX_WAIT_MS, step=100
             )
-
-        # --- running --------------------------------------------------------------------------------
-        with gui.add_folder("Run"):
-            self.loops = gui.add_number(
-                "Loops", initial_value=1, min=0, max=100_000, step=1, hint="0: until Stop"
-            )
-            self.run = gui.add_button("Run", color="green", icon=viser.Icon.PLAYER_PLAY)
-            self.step = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
-            self.pause = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
-            self.stop = gui.add_button("Stop", color="red", icon=viser.Icon.PLAYER_STOP)
-            self.progress = gui.add_progress_bar(0.0, animated=False)
-            self.run_status = gui.add_markdown("Ready")
 
         # --- files ----------------------------------------------------------------------------------
         with gui.add_folder("Files"):
@@ -194,7 +196,7 @@ class ProgramPanel:
 
     def _with_controller(
         self, label: str, client: viser.ClientHandle | None, action: Callable[[Controller], object]
-    ) -> None:
+    ) -> Future[object]:
         """An edit that reads the arm (Record, Re-teach): off the UI thread, like every controller call."""
 
         def guarded(controller: Controller) -> object:
@@ -204,7 +206,8 @@ class ProgramPanel:
                 notify_refusal(client, f"{label} refused", str(error))
                 return None
 
-        self._runner.submit(label, guarded, client)
+        self.pending = self._runner.submit(label, guarded, client)
+        return self.pending
 
     # --- editing ------------------------------------------------------------------------------------
     def _record(self, controller: Controller) -> None:
@@ -352,8 +355,8 @@ class ProgramPanel:
         self._redraw_program()
 
     def _on_select(self, event: viser.GuiEvent) -> None:
-        if self._syncing:
-            return
+        if self._syncing or event.client is None:
+            return  # viser also calls back (later, on its pool) for values we set: only a browser selects
         value = str(self.select.value)
         self._selected = int(value.split(".", 1)[0]) - 1 if value != NO_STEP else None
         self._redraw_program()

@@ -78,8 +78,9 @@ class ProgramScene:
                 position=(0.0, 0.0, 2.0 * MARKER_RADIUS_M),
                 anchor="bottom-center",
             )
+            del label  # removed with its marker
             self._markers.append(marker)
-            self._nodes.extend([marker, label])
+            self._nodes.append(marker)
             if previous_point is not None:
                 segments[step.motion].extend(self._leg(previous_q, q, previous_point, point, step.motion))
             previous_q, previous_point = q, point

@@ -267,3 +267,12 @@ def test_waits_and_the_gripper_take_their_time(sim, clock) -> None:
     runner.run(program)
     assert clock.now() - started == pytest.approx(1.25, abs=0.06)
     assert sim.gripper_opening() == 0.0
+
+
+def test_loops_zero_repeats_until_stop(sim, clock, waypoints) -> None:
+    program = Program(steps=(move(waypoints["A"]), move(waypoints["B"], speed=80.0)))
+    holder: list[ProgramRunner] = []
+    runner = ProgramRunner(sim, now=clock.now, sleep=sleeping(clock, 30.0, lambda: holder[0].stop()))
+    holder.append(runner)
+    result = runner.run(program, loops=0)
+    assert result.state is RunState.STOPPED and result.loop > 2

@@ -174,3 +174,14 @@ def test_runs_in_the_background_and_reports_progress(sim, clock, make_workspace)
     settle(sim, clock)
     assert workspace.progress.state is RunState.FINISHED
     assert Change.RUN in seen
+
+
+def test_an_edit_that_cannot_be_autosaved_is_refused_whole(sim, runner, tmp_path) -> None:
+    from pendant.program import ProgramStore, ProgramWorkspace
+
+    blocked = tmp_path / "not-a-folder"
+    blocked.write_text("a file where the programs folder should be")
+    workspace = ProgramWorkspace(ProgramStore(blocked), runner)
+    with pytest.raises(OSError):
+        workspace.record_from(sim)
+    assert workspace.program.steps == ()

@@ -1,0 +1,103 @@
+"""Teach and play back in a real browser: record two waypoints (with a DO set between them), run, and check
+the arm passed through both: DO1 went HIGH while the arm was at the first, and it ended at the second."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+
+import numpy as np
+import pytest
+
+from .conftest import ARTIFACTS, START_TIMEOUT_S, Pendant, _free_port, _wait_http
+
+POSE_A_DEG = [25.0, -90.0, 90.0, -90.0, -90.0, 0.0]
+POSE_B_DEG = [-25.0, -80.0, 80.0, -90.0, -90.0, 0.0]
+AWAY_DEG = [0.0, -100.0, 100.0, -90.0, -90.0, 0.0]
+MOVE_SPEED_PERCENT = 60
+ANGLE_TOL_DEG = 0.01
+UI_TIMEOUT_MS = 15_000
+RUN_TIMEOUT_S = 60.0
+POLL_S = 0.02  # a real process on a real clock: the test watches it through the API
+
+
+@pytest.fixture(scope="module")
+def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
+    """This module's own pendant, with its programs in a fresh folder (not the checkout's ./programs)."""
+    programs = tmp_path_factory.mktemp("programs")
+    ui_port, api_port = _free_port(), _free_port()
+    process = subprocess.Popen(
+        [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        env={**os.environ, "PYTHONUNBUFFERED": "1", "PENDANT_PROGRAMS_DIR": str(programs)},
+    )
+    try:
+        deadline = time.monotonic() + START_TIMEOUT_S
+        _wait_http(f"http://127.0.0.1:{api_port}/pose", deadline)
+        _wait_http(f"http://127.0.0.1:{ui_port}/", deadline)
+        served = Pendant(f"http://127.0.0.1:{ui_port}/", f"http://127.0.0.1:{api_port}")
+        served.programs = programs  # type: ignore[attr-defined]
+        yield served
+    finally:
+        process.terminate()
+        try:
+            process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            process.kill()
+
+
+def move_to(pendant: Pendant, angles: list[float]) -> None:
+    """Put the arm somewhere through the API (as jogging would) and wait until it is there."""
+    pendant.api.put("/pose", params={"speed": MOVE_SPEED_PERCENT}, json={"angles": angles}).raise_for_status()
+    deadline = time.monotonic() + RUN_TIMEOUT_S
+    while pendant.status() != "IDLE" or not np.allclose(pendant.pose(), angles, atol=ANGLE_TOL_DEG):
+        assert time.monotonic() < deadline, "the arm did not get there"
+        time.sleep(POLL_S)
+
+
+def output(pendant: Pendant, port: int) -> str:
+    return pendant.api.get(f"/signal/output/{port}").text.strip('"')
+
+
+def test_record_two_waypoints_and_play_them_back(page, pendant: Pendant) -> None:
+    pendant.api.put("/signal/output/1/low").raise_for_status()
+    take_control = page.get_by_role("button", name="Take control")
+    if take_control.is_visible():
+        take_control.click()
+    page.get_by_role("tab", name="Program").click()
+
+    move_to(pendant, POSE_A_DEG)
+    page.get_by_role("button", name="Record", exact=True).click()
+    page.get_by_text("1. Move J to P1 @ 20%").first.wait_for(timeout=UI_TIMEOUT_MS)
+    page.get_by_role("button", name="Set DO", exact=True).click()  # after the selected step: DO1 HIGH
+    page.get_by_text("2. Set DO1 HIGH").first.wait_for(timeout=UI_TIMEOUT_MS)
+    move_to(pendant, POSE_B_DEG)
+    page.get_by_role("button", name="Record", exact=True).click()
+    page.get_by_text("3. Move J to P2 @ 20%").first.wait_for(timeout=UI_TIMEOUT_MS)
+    move_to(pendant, AWAY_DEG)
+    page.screenshot(path=str(ARTIFACTS / "program-recorded.png"))
+
+    page.get_by_role("button", name="Run", exact=True).click()
+    pose_when_do_went_high = None
+    deadline = time.monotonic() + RUN_TIMEOUT_S
+    while True:
+        pose = pendant.pose()
+        if pose_when_do_went_high is None and output(pendant, 1) == "HIGH":
+            pose_when_do_went_high = pose
+        if pose_when_do_went_high is not None and np.allclose(pose, POSE_B_DEG, atol=ANGLE_TOL_DEG):
+            break
+        assert time.monotonic() < deadline, f"the program did not reach P2 (arm at {pose})"
+        time.sleep(POLL_S)
+    page.get_by_text("Finished").first.wait_for(timeout=UI_TIMEOUT_MS)
+    page.screenshot(path=str(ARTIFACTS / "program-finished.png"))
+
+    # DO1 is set between the two moves, so when it went HIGH the arm was at P1.
+    np.testing.assert_allclose(pose_when_do_went_high, POSE_A_DEG, atol=ANGLE_TOL_DEG)
+    np.testing.assert_allclose(pendant.pose(), POSE_B_DEG, atol=ANGLE_TOL_DEG)
+    assert pendant.status() == "IDLE"
+    # Recording autosaved: a kill of the pendant now would lose nothing.
+    assert "P2" in (pendant.programs / ".autosave.json").read_text()  # type: ignore[attr-defined]

@@ -1,0 +1,147 @@
+"""The Program tab headless: a real viser server on loopback, its callbacks fired as a browser would."""
+
+from __future__ import annotations
+
+import json
+import socket
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import viser
+
+from pendant.controller import SignalLevel
+from pendant.program import MoveStep, OutputStep, ProgramRunner, ProgramStore, ProgramWorkspace, RunState
+from pendant.sim import FakeClock, SimController
+from pendant.ui.commands import CommandRunner
+from pendant.ui.program_panel import ProgramPanel
+
+from .conftest import POSE_A_DEG, POSE_B_DEG, teach
+
+ANGLE_TOL_DEG = 1e-6
+WAIT_S = 10.0
+
+
+class FakeClient:
+    """Stands in for a browser: keeps the notifications and downloads it is sent."""
+
+    client_id = 1
+
+    def __init__(self) -> None:
+        self.notifications: list[dict[str, Any]] = []
+        self.downloads: list[tuple[str, bytes]] = []
+
+    def add_notification(self, **kwargs: Any) -> None:
+        self.notifications.append(kwargs)
+
+    def send_file_download(self, filename: str, content: bytes, **_: Any) -> None:
+        self.downloads.append((filename, content))
+
+
+def fire(handle: Any, client: FakeClient, value: Any = None) -> None:
+    """What viser does when a browser clicks or edits `handle`: set the value, call the callbacks once."""
+    if value is not None:
+        handle._impl.value = value  # not `handle.value = ...`: that would also call back, as from Python
+    for callback in list(handle._impl.update_cb):
+        callback(viser.GuiEvent(client=client, client_id=client.client_id, target=handle))  # type: ignore[arg-type]
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def server() -> Iterator[viser.ViserServer]:
+    server = viser.ViserServer(host="127.0.0.1", port=_free_port(), verbose=False)
+    yield server
+    server.stop()
+
+
+@pytest.fixture
+def setup(server, sim: SimController, clock: FakeClock, tmp_path: Path):  # type: ignore[no-untyped-def]
+    runner = CommandRunner(sim)
+    workspace = ProgramWorkspace(
+        ProgramStore(tmp_path / "programs"), ProgramRunner(sim, sleep=clock.advance, now=clock.now)
+    )
+    panel = ProgramPanel(server, workspace, runner, arm=sim.arm)
+    yield panel, workspace
+    panel.close()
+    runner.shutdown()
+
+
+def record(panel: ProgramPanel, client: FakeClient) -> None:
+    fire(panel.record, client)
+    assert panel.pending is not None
+    panel.pending.result(timeout=WAIT_S)
+
+
+def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]
+    panel, workspace = setup
+    browser = FakeClient()
+    for pose in (POSE_A_DEG, POSE_B_DEG):
+        teach(sim, clock, pose, "ignored")
+        record(panel, browser)
+    sim.reset()
+    assert list(panel.select.options) == ["1. Move J to P1 @ 20%", "2. Move J to P2 @ 20%"]
+    assert "P2" in panel.steps_view.content
+    assert len(panel.scene._markers) == 2
+
+    fire(panel.select, browser, "1. Move J to P1 @ 20%")
+    fire(panel.speed, browser, 80.0)
+    fire(panel.add, browser, "Set DO")  # after the selected step
+    steps = workspace.program.steps
+    assert isinstance(steps[0], MoveStep) and steps[0].speed == 80.0
+    assert steps[1] == OutputStep(port=1, level=SignalLevel.HIGH)
+    fire(panel.name, browser, "P1")  # typing alone renames nothing
+    fire(panel.select, browser, "3. Move J to P2 @ 20%")
+    fire(panel.name, browser, "place")
+    fire(panel.rename, browser)
+    assert workspace.program.waypoint_names() == ["P1", "place"]
+
+    fire(panel.file_name, browser, "cell 4")
+    fire(panel.files, browser, "Save as")
+    assert (tmp_path / "programs" / "cell 4.json").is_file()
+    assert browser.notifications[-1]["title"] == "Saved"
+    assert "`cell 4.json`" in panel.title.content
+
+    fire(panel.run, browser)
+    workspace.runner._worker.join(timeout=WAIT_S)
+    assert workspace.progress.state is RunState.FINISHED
+    assert panel.progress.value == 100.0 and panel.run_status.content == "Finished"
+    np.testing.assert_allclose(sim.get_pose().angles, POSE_B_DEG, atol=ANGLE_TOL_DEG)
+    assert sim.get_output(1) is SignalLevel.HIGH
+
+    fire(panel.download, browser)
+    name, content = browser.downloads[-1]
+    assert name == "cell 4.json" and json.loads(content)["steps"][2]["waypoint"]["name"] == "place"
+    fire(panel.export, browser)
+    assert browser.downloads[-1][0] == "cell_4.py"
+
+
+def test_a_refused_upload_is_explained_and_changes_nothing(setup, sim) -> None:  # type: ignore[no-untyped-def]
+    panel, workspace = setup
+    browser = FakeClient()
+    record(panel, browser)
+    before = workspace.program
+    panel.upload._impl.value = viser.UploadedFile(name="future.json", content=b'{"schema_version": 7}')  # type: ignore[attr-defined]
+    fire(panel.upload, browser)
+    assert workspace.program == before
+    assert browser.notifications[-1]["title"] == "Upload refused"
+    assert "newer pendant" in browser.notifications[-1]["body"]
+
+
+# Both panels here draw into the server's one scene (in the pendant each browser has its own): the second
+# panel's redraw removes nodes the first already replaced, which viser reports as a warning.
+@pytest.mark.filterwarnings("ignore:Attempted to remove already removed node")
+def test_two_browsers_see_the_same_program(setup, server, sim) -> None:  # type: ignore[no-untyped-def]
+    panel, workspace = setup
+    other = ProgramPanel(server, workspace, CommandRunner(sim))
+    try:
+        record(panel, FakeClient())
+        assert list(other.select.options) == ["1. Move J to P1 @ 20%"]
+    finally:
+        other.close()
