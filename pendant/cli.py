@@ -4,6 +4,10 @@
 
 serves the pendant's page and the PULSE REST API (the simulator's, or a proxy to the real arm at --robot);
 with --no-ui, the API alone on the controller's own port.
+
+Bound to loopback (the default) nobody else can reach it. Bound to anything else (`--host 0.0.0.0`) it
+has an access token (`--token`, or a fresh one printed at start-up with a ready-to-open URL carrying it):
+taking control in the page needs it, and so does every PUT/POST on the API (header X-Pendant-Token).
 """
 
 from __future__ import annotations
@@ -12,13 +16,16 @@ import argparse
 import sys
 import time
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from starlette.types import ASGIApp
 
 from pendant import __version__
+from pendant.access import TOKEN_HEADER, is_loopback_host, new_token, ui_url
 from pendant.config import Settings
 from pendant.controller.protocol import Controller
+from pendant.eventlog import EventLog
 from pendant.paths import MODEL_NAMES
 
 if TYPE_CHECKING:
@@ -45,7 +52,11 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         "--model", choices=MODEL_NAMES, default=_DEFAULTS.model, help="simulated arm (default %(default)s)"
     )
     parser.add_argument("--robot", metavar="URL", help="a real controller, e.g. http://192.168.0.10:8081")
-    parser.add_argument("--token", help="access token for the pendant's web UI")
+    parser.add_argument(
+        "--token",
+        help=f"access token to take control in the page and for API commands ({TOKEN_HEADER} header); "
+        "generated when --host is not a loopback address",
+    )
     parser.add_argument("--no-ui", action="store_true", help="serve the PULSE REST API only")
     args = parser.parse_args(argv)
     for port in (args.api_port, args.ui_port):
@@ -62,6 +73,13 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
     )
 
 
+def with_access_token(settings: Settings) -> Settings:
+    """An exposed pendant (not bound to loopback) always has a token: --token's, or a fresh random one."""
+    if settings.token is None and not is_loopback_host(settings.host):
+        return replace(settings, token=new_token())
+    return settings
+
+
 def make_controller(settings: Settings) -> Controller:
     """The embedded simulator on the real clock, or a client of the real controller at `--robot`."""
     if settings.robot_url is not None:
@@ -73,26 +91,33 @@ def make_controller(settings: Settings) -> Controller:
     return SimController(model=settings.model, clock=MonotonicClock())
 
 
-def make_api_app(settings: Settings, controller: Controller, started_at: float) -> ASGIApp:
+def make_api_app(
+    settings: Settings, controller: Controller, started_at: float, events: EventLog | None = None
+) -> ASGIApp:
     """The app on the API port: the simulator's PULSE API, or a transparent proxy to the real controller;
-    both also answer GET /pendant/health."""
+    both also answer GET /pendant/health. With a token, commands need it; `events` logs every command."""
     from pendant.remote import health_router
 
     if settings.robot_url is not None:
+        from pendant.access.http_guard import proxy_request_hook
         from pendant.remote import RemoteController, create_proxy_app
 
         assert isinstance(controller, RemoteController)
         return create_proxy_app(
-            settings.robot_url, settings=settings, controller=controller, started_at=started_at
+            settings.robot_url,
+            settings=settings,
+            controller=controller,
+            started_at=started_at,
+            on_request=proxy_request_hook(settings.token, events),
         )
     from pendant.api import create_app
 
-    app = create_app(controller)
+    app = create_app(controller, token=settings.token, events=events)
     app.include_router(health_router(settings, controller, started_at))
     return app
 
 
-def start_ui(settings: Settings, controller: Controller) -> PendantUI:
+def start_ui(settings: Settings, controller: Controller, events: EventLog | None = None) -> PendantUI:
     """The pendant's page on its own port (viser serves it from its own thread)."""
     from pendant.kinematics import ArmModel
     from pendant.ui.app import PendantUI
@@ -104,6 +129,8 @@ def start_ui(settings: Settings, controller: Controller) -> PendantUI:
         host=settings.host,
         port=settings.ui_port,
         mode_line=f"{source} · {settings.model}",
+        token=settings.token,
+        events=events,
     ).start()
 
 
@@ -117,6 +144,12 @@ def announce(settings: Settings) -> None:
         print(f"PULSE pendant: http://{settings.host}:{settings.ui_port}", flush=True)
     source = settings.robot_url or f"simulated {settings.model}"
     print(f"PULSE REST API ({source}): {api_url(settings)}  (docs: {api_url(settings)}/docs)", flush=True)
+    if settings.token is not None:
+        print(f"Access token: {settings.token}", flush=True)
+        if not settings.no_ui:
+            print("Open the pendant (and take control) with this URL:", flush=True)
+            print(f"    {ui_url(settings.host, settings.ui_port, settings.token)}", flush=True)
+        print(f"API commands (PUT/POST) need the header  {TOKEN_HEADER}: {settings.token}", flush=True)
 
 
 def serve_api(settings: Settings, app: ASGIApp) -> None:
@@ -133,11 +166,12 @@ def serve_api(settings: Settings, app: ASGIApp) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    settings = parse_settings(argv)
+    settings = with_access_token(parse_settings(argv))
     started_at = time.monotonic()
     controller = make_controller(settings)
-    api_app = make_api_app(settings, controller, started_at)
-    ui = None if settings.no_ui else start_ui(settings, controller)
+    events = EventLog()  # one log for the page and the API: who sent what
+    api_app = make_api_app(settings, controller, started_at, events)
+    ui = None if settings.no_ui else start_ui(settings, controller, events)
     announce(settings)
     try:
         serve_api(settings, api_app)

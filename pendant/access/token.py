@@ -19,7 +19,9 @@ TOKEN_BYTES = 24  # 32 URL-safe characters
 # Every request that can change the robot; GET, HEAD and OPTIONS only read.
 MUTATING_METHODS = frozenset({"POST", "PUT", "PATCH", "DELETE"})
 
-MSG_TOKEN_MISSING = f"This pendant is exposed on the network: send its access token in the {TOKEN_HEADER} header"
+MSG_TOKEN_MISSING = (
+    f"This pendant is exposed on the network: send its access token in the {TOKEN_HEADER} header"
+)
 MSG_TOKEN_WRONG = f"Wrong access token in {TOKEN_HEADER}"
 UNAUTHORIZED = 401
 FORBIDDEN = 403

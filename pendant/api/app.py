@@ -59,7 +59,9 @@ def _sim_controller_type() -> type | None:
     return SimController
 
 
-def create_app(controller: Controller, *, token: str | None = None, events: EventLog | None = None) -> FastAPI:
+def create_app(
+    controller: Controller, *, token: str | None = None, events: EventLog | None = None
+) -> FastAPI:
     """The API for one controller; the /sim routes are mounted only when it is the simulator.
 
     `token`: when given (the pendant is exposed on a network), every PUT/POST needs it in the

@@ -64,5 +64,7 @@ class CsvRecorder:
         out = io.StringIO()
         writer = csv.writer(out, lineterminator="\n")
         writer.writerow(csv_header())
-        writer.writerows([f"{value:.6f}" if i == 0 else repr(value) for i, value in enumerate(row)] for row in rows)
+        writer.writerows(
+            [f"{value:.6f}" if i == 0 else repr(value) for i, value in enumerate(row)] for row in rows
+        )
         return out.getvalue().encode()

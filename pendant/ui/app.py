@@ -1,19 +1,31 @@
-"""The pendant's web UI: one shared 3D scene, and for every browser its own panels (see session.py)."""
+"""The pendant's web UI: one shared 3D scene, and for every browser its own panels (see session.py).
+
+Many browsers may watch; one of them is the operator (roles.py). The refresh loop reads the controller for
+everybody: the state at 30 Hz, the motors at 10 Hz into one shared history (the dashboard), and logs state
+changes and errors to the event log.
+"""
 
 from __future__ import annotations
 
 import logging
 import threading
 import time
+from concurrent.futures import Future
 from dataclasses import replace
+from urllib.parse import parse_qs, urlsplit
 
 import viser
 
-from pendant.controller import Controller, ControllerError
-from pendant.jog import Jogger
+from pendant.access import TOKEN_QUERY
+from pendant.controller import Controller, ControllerError, MotionStatus
+from pendant.eventlog import EventKind, EventLog
+from pendant.jog import Jogger, JogRequest
 from pendant.kinematics import ArmModel
-from pendant.ui.commands import CommandRunner
+from pendant.telemetry import Telemetry
+from pendant.ui.commands import CommandRefused, CommandRunner
+from pendant.ui.dashboard_panel import EVENTS_SHOWN, PlotData, plot_data, render_events, render_motor_table
 from pendant.ui.gui_target import GuiTarget
+from pendant.ui.roles import ControlDesk
 from pendant.ui.scene import ArmScene
 from pendant.ui.session import ClientSession
 from pendant.ui.snapshot import Snapshot, read_snapshot
@@ -22,30 +34,87 @@ log = logging.getLogger(__name__)
 
 REFRESH_HZ = 30.0
 IO_EVERY_N_TICKS = 6  # IO and tool change rarely: read them at 5 Hz
+MOTORS_EVERY_N_TICKS = 3  # motors at 10 Hz into the shared history
+TABLE_EVERY_N_TICKS = 6  # the motor table and the event log redrawn at 5 Hz
+PLOTS_EVERY_N_TICKS = 15  # the 60 s plots at 2 Hz ...
+PLOT_EVERY_NTH_SAMPLE = 2  # ... with a point every 0.2 s
+_ALARM_STATES = {MotionStatus.ERROR, MotionStatus.EMERGENCY, MotionStatus.MOTION_FAILED}
+
+
+class LoggedJogger(Jogger):
+    """A Jogger that tells the event log when a jog starts (once per press, not per deadman confirmation)."""
+
+    def __init__(self, controller: Controller, arm: ArmModel, *, events: EventLog, desk: ControlDesk) -> None:
+        super().__init__(controller, arm, on_stop=self._stopped)
+        self._events = events
+        self._desk = desk
+
+    def hold(self, request: JogRequest) -> bool:
+        starting = self.active != request
+        moved = super().hold(request)
+        if starting and moved:
+            self._events.record(
+                EventKind.COMMAND, self._desk.name(self._desk.operator), f"Jog {request.label()}"
+            )
+        return moved
+
+    def step(self, request: JogRequest) -> bool:
+        moved = super().step(request)
+        if moved:
+            self._events.record(
+                EventKind.COMMAND, self._desk.name(self._desk.operator), f"Step {request.label()}"
+            )
+        return moved
+
+    def _stopped(self, reason: str) -> None:
+        self._events.record(EventKind.COMMAND, "pendant", f"Jog stopped ({reason})")
 
 
 class PendantUI:
-    """Serves the page on `host:port` and keeps every connected browser in step with `controller`."""
+    """Serves the page on `host:port` and keeps every connected browser in step with `controller`.
 
-    def __init__(self, controller: Controller, arm: ArmModel, *, host: str, port: int, mode_line: str) -> None:
+    `token`: taking control needs it (an exposed pendant); without one, the first browser to connect gets
+    control. `events`: the event log, shared with the API server when both run in one process.
+    """
+
+    def __init__(
+        self,
+        controller: Controller,
+        arm: ArmModel,
+        *,
+        host: str,
+        port: int,
+        mode_line: str,
+        token: str | None = None,
+        events: EventLog | None = None,
+    ) -> None:
         self.controller = controller
         self.arm = arm
         self.mode_line = mode_line
+        self.events = events if events is not None else EventLog()
         self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
         self.server.gui.configure_theme(control_width="large", show_logo=False)
-        self.runner = CommandRunner(controller)
-        self.jogger = Jogger(controller, arm)
+        self.desk = ControlDesk(self.events, token=token)
+        self.runner = CommandRunner(controller, gate=self.desk.gate)
+        self.runner.on_submit = self._log_command
+        self.jogger = LoggedJogger(controller, arm, events=self.events, desk=self.desk)
+        self.telemetry = Telemetry(controller)
         self.scene = ArmScene(self.server, arm.urdf_path)
         self.latest = Snapshot(taken_at=0.0)
         self.sessions: dict[int, ClientSession] = {}
         self._sessions_lock = threading.Lock()
+        self._gone: set[int] = set()  # clients that left before their session was built
         self._robot_id = self._read_quietly(controller.get_robot_id, "")
+        self._events_seq = -1
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._refresh_loop, name="pendant-refresh", daemon=True)
+        self.desk.on_change(self._control_changed)
         self.server.on_client_connect(self._connect)
         self.server.on_client_disconnect(self._disconnect)
 
-    def open_session(self, target: GuiTarget) -> ClientSession:
+    def open_session(
+        self, target: GuiTarget, *, client_id: int | None = None, url_token: str | None = None
+    ) -> ClientSession:
         """Build the panels on `target`: a browser's own GUI, or the server's (headless tests)."""
         return ClientSession(
             target,
@@ -55,6 +124,13 @@ class PendantUI:
             jogger=self.jogger,
             mode_line=self.mode_line,
             current_q=lambda: self.latest.q,
+            desk=self.desk,
+            telemetry=self.telemetry,
+            client_id=client_id,
+            url_token=url_token,
+            on_recording=lambda client, message: self.events.record(
+                EventKind.COMMAND, self._who(client), message
+            ),
         )
 
     def start(self) -> PendantUI:
@@ -76,28 +152,115 @@ class PendantUI:
         tool_name = self.latest.tool_name
         if with_io:
             tool_name = self._read_quietly(lambda: self.controller.get_tool().name, tool_name)
-        snapshot = read_snapshot(self.controller, with_io=with_io, robot_id=self._robot_id, tool_name=tool_name)
+        snapshot = read_snapshot(
+            self.controller, with_io=with_io, robot_id=self._robot_id, tool_name=tool_name
+        )
         if not with_io:
             snapshot = replace(snapshot, outputs=self.latest.outputs, inputs=self.latest.inputs)
         if snapshot.q is not None:
-            self.scene.show(snapshot.q, snapshot.gripper_opening, self.arm.fk(snapshot.q))
+            self.scene.show(snapshot.q, snapshot.gripper_opening, self.arm.fk(snapshot.q), snapshot.taken_at)
+        self._log_state_change(self.latest, snapshot)
         self.latest = snapshot
-        with self._sessions_lock:
-            sessions = list(self.sessions.values())
-        for session in sessions:
+        for session in self._sessions():
             session.show(snapshot, with_io=with_io)
         return snapshot
 
+    def refresh_dashboard(self, *, sample: bool = True, table: bool = True, plots: bool = True) -> None:
+        """Read the motors once for everybody and push the shared renderings to every dashboard."""
+        if sample:
+            self.telemetry.sample()
+        table_html = render_motor_table(self.telemetry.latest) if table else None
+        data: PlotData | None = None
+        if plots:
+            data = plot_data(self.telemetry.history.window(), every=PLOT_EVERY_NTH_SAMPLE)
+        events_html = None
+        if table and self.events.seq != self._events_seq:
+            self._events_seq = self.events.seq
+            events_html = render_events(self.events.recent(EVENTS_SHOWN))
+        for session in self._sessions():
+            session.show_dashboard(table_html=table_html, plots=data, events_html=events_html)
+
+    # --- browsers -----------------------------------------------------------------------------------
     def _connect(self, client: viser.ClientHandle) -> None:
-        session = self.open_session(client)
+        address, url_token = self._handshake(client)
+        self.desk.join(client.client_id, address)
+        session = self.open_session(client, client_id=client.client_id, url_token=url_token)
         session.show(self.latest, with_io=True)
         with self._sessions_lock:
+            if client.client_id in self._gone:  # it left while its panels were being built
+                self._gone.discard(client.client_id)
+                return
             self.sessions[client.client_id] = session
+        session.apply_role(self.desk.operator)  # control may have changed while it was being built
+        self._events_seq = -1  # show the new browser the log at once
 
     def _disconnect(self, client: viser.ClientHandle) -> None:
         with self._sessions_lock:
-            self.sessions.pop(client.client_id, None)
+            if self.sessions.pop(client.client_id, None) is None:
+                self._gone.add(client.client_id)
+        self.desk.leave(client.client_id)  # the operator leaving releases control (and stops a jog)
 
+    def _handshake(self, client: viser.ClientHandle) -> tuple[str | None, str | None]:
+        """The browser's address and the token its page URL carried into the websocket URL (`?token=`).
+
+        viser 1.1.1 keeps each websocket connection (with its opening handshake) in its server's
+        `_live_connections`; not public API, so anything unexpected means "no token from the URL" and the
+        "Access token" field remains the way in.
+        """
+        try:
+            connection = self.server._websock_server._live_connections.get(client.client_id)  # type: ignore[attr-defined]
+            if connection is None:
+                return None, None
+            remote = connection.remote_address
+            address = str(remote[0]) if remote else None
+            query = parse_qs(urlsplit(connection.request.path).query)
+            tokens = query.get(TOKEN_QUERY)
+            return address, tokens[0] if tokens else None
+        except Exception:  # private API of viser: never let it break a connection
+            log.debug("could not read the websocket handshake", exc_info=True)
+            return None, None
+
+    def _control_changed(self, operator: int | None) -> None:
+        if self.jogger.active is not None:
+            self.jogger.release("control changed")  # the operator left or handed over: no jog goes on
+        for session in self._sessions():
+            session.apply_role(operator)
+
+    def _sessions(self) -> list[ClientSession]:
+        with self._sessions_lock:
+            return list(self.sessions.values())
+
+    # --- the event log ------------------------------------------------------------------------------
+    def _who(self, client: viser.ClientHandle | None) -> str:
+        return "pendant" if client is None else self.desk.name(client.client_id)
+
+    def _log_command(
+        self, label: str, client: viser.ClientHandle | None, refusal: str | None, future: Future[object]
+    ) -> None:
+        who = self._who(client)
+        if refusal is not None:
+            self.events.record(EventKind.REFUSED, who, f"{label}: {refusal}")
+            return
+        self.events.record(EventKind.COMMAND, who, label)
+
+        def failed(done: Future[object]) -> None:
+            error = done.exception() if not done.cancelled() else None
+            if isinstance(error, ControllerError):
+                self.events.record(EventKind.ERROR, who, f"{label} failed: {error.message}")
+            elif error is not None and not isinstance(error, CommandRefused):
+                self.events.record(EventKind.ERROR, who, f"{label} failed: {error}")
+
+        future.add_done_callback(failed)
+
+    def _log_state_change(self, before: Snapshot, after: Snapshot) -> None:
+        if after.error != before.error and after.error is not None:
+            self.events.record(EventKind.ERROR, "controller", after.error)
+        if after.motion_status is not None and after.motion_status != before.motion_status:
+            was = before.motion_status.value if before.motion_status is not None else "offline"
+            kind = EventKind.ERROR if after.motion_status in _ALARM_STATES else EventKind.STATE
+            self.events.record(kind, "controller", f"{was} → {after.motion_status.value}")
+
+    # --- the loop -----------------------------------------------------------------------------------
     def _refresh_loop(self) -> None:
         period = 1.0 / REFRESH_HZ
         tick = 0
@@ -105,6 +268,10 @@ class PendantUI:
         while not self._stop.is_set():
             try:
                 self.refresh(with_io=tick % IO_EVERY_N_TICKS == 0)
+                if tick % MOTORS_EVERY_N_TICKS == 1:  # offset: not on the same tick as the IO read
+                    self.refresh_dashboard(
+                        table=tick % TABLE_EVERY_N_TICKS == 1, plots=tick % PLOTS_EVERY_N_TICKS == 1
+                    )
             except Exception:  # a broken browser connection must not stop the live view for the others
                 log.exception("refresh failed")
             tick += 1

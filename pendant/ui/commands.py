@@ -18,7 +18,7 @@ HOME_SPEED_PERCENT = 20.0
 
 
 Gate = Callable[[viser.ClientHandle | None], str | None]
-# Told of every command: its label, who sent it, why it was refused (None: sent) and its future (an event log).
+# Told of every command, for the event log: label, sender, refusal (None: sent) and future.
 OnSubmit = Callable[[str, viser.ClientHandle | None, str | None, Future[object]], None]
 
 
@@ -95,7 +95,9 @@ def add_freeze_button(target: GuiTarget, runner: CommandRunner) -> viser.GuiButt
 def add_robot_commands(target: GuiTarget, runner: CommandRunner) -> dict[str, viser.GuiButtonHandle]:
     """Home, Relax, Recover and Pack."""
     actions: dict[str, Callable[[Controller], object]] = {
-        "Home": lambda c: c.set_pose(Pose(angles=list(HOME_POSE_DEG)), MotionParams(speed=HOME_SPEED_PERCENT)),
+        "Home": lambda c: c.set_pose(
+            Pose(angles=list(HOME_POSE_DEG)), MotionParams(speed=HOME_SPEED_PERCENT)
+        ),
         "Relax": lambda c: c.relax(),
         "Recover": lambda c: c.recover(),
         "Pack": lambda c: c.pack(),

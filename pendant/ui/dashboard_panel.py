@@ -31,13 +31,17 @@ EVENT_COLOURS = {
     EventKind.REFUSED: "#e8590c",
     EventKind.CONTROL: "#9c36b5",
 }
-PLOTS = (("angle", "Joint angles (°)"), ("current", "RMS currents (A)"), ("stator", "Stator temperatures (°C)"))
+PLOTS = (
+    ("angle", "Joint angles (°)"),
+    ("current", "RMS currents (A)"),
+    ("stator", "Stator temperatures (°C)"),
+)
 
 PlotData = dict[str, tuple[np.ndarray, ...]]
 
 
 def render_motor_table(motors: Sequence[MotorStatus] | None) -> str:
-    """Angle, rotor velocity, RMS current, voltage, stator and servo temperature and position error per motor."""
+    """Per motor: angle, rotor speed, RMS current, voltage, stator and servo temperature, position error."""
     if motors is None:
         return '<div style="color:#868e96">No motor readings (controller offline)</div>'
     header = "".join(
@@ -80,14 +84,18 @@ def render_events(events: Sequence[Event]) -> str:
 
 
 def plot_data(window: HistoryWindow, every: int = 1) -> PlotData:
-    """The three plots' uPlot data (x = seconds ago, then one series per joint), thinned to every n-th sample."""
+    """The plots. uPlot data (x = seconds ago, then a series per joint), thinned to every n-th sample."""
     t = window.t[::-1][::every][::-1]  # keep the newest sample whatever the stride
 
     def series(values: np.ndarray) -> tuple[np.ndarray, ...]:
         thinned = values[::-1][::every][::-1]
         return (t, *(thinned[:, j] for j in range(thinned.shape[1])))
 
-    return {"angle": series(window.angle_deg), "current": series(window.current_a), "stator": series(window.stator_c)}
+    return {
+        "angle": series(window.angle_deg),
+        "current": series(window.current_a),
+        "stator": series(window.stator_c),
+    }
 
 
 def _empty_plot_data() -> tuple[np.ndarray, ...]:
@@ -126,7 +134,9 @@ class DashboardPanel:
         with target.gui.add_folder("Recording (CSV)"):
             self.recording_status = target.gui.add_markdown("Not recording.")
             self.record_start = target.gui.add_button("Start recording", icon=viser.Icon.PLAYER_RECORD)
-            self.record_stop = target.gui.add_button("Stop recording", icon=viser.Icon.PLAYER_STOP, disabled=True)
+            self.record_stop = target.gui.add_button(
+                "Stop recording", icon=viser.Icon.PLAYER_STOP, disabled=True
+            )
             self.download = target.gui.add_button("Download CSV", icon=viser.Icon.DOWNLOAD, disabled=True)
         with target.gui.add_folder("Event log"):
             self.event_log = target.gui.add_html(render_events([]))
@@ -190,11 +200,15 @@ class DashboardPanel:
     def send_csv(self, client: viser.ClientHandle | None) -> bytes:
         content = self._telemetry.recorder.to_csv()
         name = f"pendant-telemetry-{dt.datetime.now():%Y%m%d-%H%M%S}.csv"
-        (client if client is not None else self._target).send_file_download(name, content, save_immediately=True)
+        (client if client is not None else self._target).send_file_download(
+            name, content, save_immediately=True
+        )
         return content
 
     def _refused(self, client: viser.ClientHandle | None, label: str) -> bool:
         reason = self._may_record(client)
         if reason is not None and client is not None:
-            client.add_notification(title=f"{label} refused", body=reason, color="red", auto_close_seconds=8.0)
+            client.add_notification(
+                title=f"{label} refused", body=reason, color="red", auto_close_seconds=8.0
+            )
         return reason is not None

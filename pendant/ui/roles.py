@@ -1,7 +1,7 @@
 """One operator, many viewers: who may command the arm from a browser, and the panel to take control.
 
-The `ControlDesk` is the server's record (one per pendant); the `CommandRunner`'s gate and the jog panel ask it
-before anything reaches the controller, so a viewer is refused by the server, not only greyed out in its page.
+The `ControlDesk` is the server's record (one per pendant); the `CommandRunner`'s gate and the jog panel ask
+it before anything reaches the controller, so a viewer is refused by the server, not only greyed out.
 On loopback with no token the first browser gets control as it connects (a single user at the machine drives
 at once); a pendant with an access token (exposed on a network) gives control only to a browser that
 presents the token, from its page URL or typed into the "Access token" field.
@@ -167,7 +167,9 @@ class ControlPanel:
             return "Not a browser"
         reason = self._desk.take(self.client_id, self.offered_token())
         if reason is not None and client is not None:
-            client.add_notification(title="Take control refused", body=reason, color="red", auto_close_seconds=8.0)
+            client.add_notification(
+                title="Take control refused", body=reason, color="red", auto_close_seconds=8.0
+            )
         return reason
 
     def release(self) -> bool:
@@ -181,7 +183,9 @@ class ControlPanel:
             text = "<b>Viewing</b> · nobody has control"
         else:
             text = f"<b>Viewing</b> · {html.escape(self._desk.name(operator))} has control"
-        you = f" · you are {html.escape(self._desk.name(self.client_id))}" if self.client_id is not None else ""
+        you = (
+            f" · you are {html.escape(self._desk.name(self.client_id))}" if self.client_id is not None else ""
+        )
         content = f'<div style="font-size:0.85em">{text}{you}</div>'
         if self.role.content != content:
             self.role.content = content

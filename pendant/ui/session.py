@@ -24,7 +24,6 @@ from pendant.ui.snapshot import Snapshot
 from pendant.ui.status_panel import StatusPanel
 from pendant.ui.target_panel import TargetPanel
 
-
 RecordingListener = Callable[[viser.ClientHandle | None, str], None]
 
 
@@ -100,9 +99,22 @@ class ClientSession:
         yield from (self.io.gripper_open, self.io.gripper_close)
         yield from self.robot_buttons.values()
         s = self.settings
-        yield from (s.tool_name, s.tool_xyz, s.tool_rpy, s.tool_radius, s.set_tool, s.base_xyz, s.base_rpy, s.set_base)
+        yield from (
+            s.tool_name,
+            s.tool_xyz,
+            s.tool_rpy,
+            s.tool_radius,
+            s.set_tool,
+            s.base_xyz,
+            s.base_rpy,
+            s.set_base,
+        )
         if self.sim_panel is not None:
-            yield from (*self.sim_panel.inputs.values(), *self.sim_panel.faults.values(), self.sim_panel.reset)
+            yield from (
+                *self.sim_panel.inputs.values(),
+                *self.sim_panel.faults.values(),
+                self.sim_panel.reset,
+            )
 
     def lock_with(self, *handles: viser.GuiInputHandle) -> None:
         """Add controls that only the operator may use (e.g. a panel wired in later)."""

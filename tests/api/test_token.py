@@ -46,7 +46,9 @@ def test_a_command_without_the_token_is_401_and_nothing_moves(
     assert events.recent()[-1].kind is EventKind.REFUSED
 
 
-def test_a_wrong_token_is_403_and_logged_with_the_client(api: TestClient, sim: SimController, events: EventLog) -> None:
+def test_a_wrong_token_is_403_and_logged_with_the_client(
+    api: TestClient, sim: SimController, events: EventLog
+) -> None:
     response = api.put("/freeze", headers={TOKEN_HEADER: "guess", "User-Agent": "curl/8.5"})
     assert response.status_code == 403
     assert "Wrong access token" in response.text
@@ -66,7 +68,9 @@ def test_the_right_token_moves_the_arm_and_the_command_is_logged(
     assert "PUT /pose -> 200" in events.recent()[-1].message
 
 
-@pytest.mark.parametrize("path", ["/pose", "/position", "/status/motion", "/status/motors", "/tool", "/signal/input/1"])
+@pytest.mark.parametrize(
+    "path", ["/pose", "/position", "/status/motion", "/status/motors", "/tool", "/signal/input/1"]
+)
 def test_reads_need_no_token(api: TestClient, path: str) -> None:
     assert api.get(path).status_code == 200
 
@@ -97,8 +101,16 @@ def test_the_proxy_hook_checks_the_same_token(events: EventLog) -> None:
 
     def request(method: str, headers: dict[str, str]) -> Request:
         raw = [(k.lower().encode(), v.encode()) for k, v in headers.items()]
-        return Request({"type": "http", "method": method, "path": "/pose", "headers": raw, "query_string": b"",
-                        "client": ("10.0.0.9", 5000)})
+        return Request(
+            {
+                "type": "http",
+                "method": method,
+                "path": "/pose",
+                "headers": raw,
+                "query_string": b"",
+                "client": ("10.0.0.9", 5000),
+            }
+        )
 
     assert hook(request("GET", {})) is None
     assert hook(request("PUT", {})).status_code == 401

@@ -55,7 +55,9 @@ def test_a_new_recording_starts_empty(telemetry: Telemetry, clock: FakeClock) ->
     assert telemetry.recorder.recording
 
 
-def test_history_keeps_the_last_minute_in_order(telemetry: Telemetry, sim: SimController, clock: FakeClock) -> None:
+def test_history_keeps_the_last_minute_in_order(
+    telemetry: Telemetry, sim: SimController, clock: FakeClock
+) -> None:
     sim.set_pose(Pose(angles=[90.0, -90.0, 0.0, -90.0, -90.0, 0.0]), MotionParams(speed=5.0))
     for _ in range(int(2 * HISTORY_S / SAMPLE_PERIOD_S)):
         clock.advance(SAMPLE_PERIOD_S)

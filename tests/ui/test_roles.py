@@ -1,0 +1,189 @@
+"""One operator, many viewers: the server refuses a viewer's commands, the token guards control on an exposed
+pendant, and the operator leaving stops a jog. Headless: sessions on the server's GUI, stand-in clients."""
+
+from __future__ import annotations
+
+import socket
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+import numpy as np
+import pytest
+
+from pendant.controller import MotionParams, MotionStatus, Pose
+from pendant.eventlog import EventKind
+from pendant.jog import JogFrame, JogRequest
+from pendant.sim import FakeClock, SimController
+from pendant.ui.app import PendantUI
+from pendant.ui.commands import CommandRefused
+from pendant.ui.roles import MSG_NO_TOKEN, MSG_WRONG_TOKEN
+
+TOKEN = "s3cret-token"
+ANGLE_TOL_DEG = 1e-9
+FUTURE_TIMEOUT_S = 5.0
+HOME_MOVE = Pose(angles=[20.0, -90.0, 0.0, -90.0, -90.0, 0.0])
+
+
+@dataclass
+class StandInClient:
+    """What the pendant uses of a viser ClientHandle: its id, and notifications (recorded)."""
+
+    client_id: int
+    notifications: list[str] = field(default_factory=list)
+
+    def add_notification(self, *, title: str, body: str, **_: object) -> None:
+        self.notifications.append(f"{title}: {body}")
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _ui(sim: SimController, token: str | None) -> PendantUI:
+    page = PendantUI(
+        sim, sim.arm, host="127.0.0.1", port=_free_port(), mode_line="Simulator · pulse75", token=token
+    )
+    page.refresh()
+    return page
+
+
+@pytest.fixture
+def local_ui(sim: SimController) -> Iterator[PendantUI]:
+    page = _ui(sim, token=None)
+    yield page
+    page.stop()
+
+
+@pytest.fixture
+def exposed_ui(sim: SimController) -> Iterator[PendantUI]:
+    page = _ui(sim, token=TOKEN)
+    yield page
+    page.stop()
+
+
+def angles(sim: SimController) -> np.ndarray:
+    return np.asarray(sim.get_pose().angles)
+
+
+def move(ui: PendantUI, client: StandInClient):  # type: ignore[no-untyped-def]
+    return ui.runner.submit("Move J", lambda c: c.set_pose(HOME_MOVE, MotionParams(speed=50.0)), client)
+
+
+def test_first_local_browser_operates_and_a_second_one_only_watches(
+    local_ui: PendantUI, sim: SimController, clock: FakeClock
+) -> None:
+    operator, viewer = StandInClient(1), StandInClient(2)
+    local_ui.desk.join(1)
+    local_ui.desk.join(2)
+    assert local_ui.desk.operator == 1
+
+    before = angles(sim)
+    with pytest.raises(CommandRefused):
+        move(local_ui, viewer).result(FUTURE_TIMEOUT_S)
+    assert local_ui.runner.refusal(viewer, "J1+") is not None  # the jog panel asks the same question
+    clock.advance(10.0)
+    np.testing.assert_allclose(angles(sim), before, atol=ANGLE_TOL_DEG)
+    assert viewer.notifications and "viewer" in viewer.notifications[0]
+    assert any(e.kind is EventKind.REFUSED and "browser #2" in e.source for e in local_ui.events.recent())
+
+    move(local_ui, operator).result(FUTURE_TIMEOUT_S)
+    clock.advance(30.0)
+    np.testing.assert_allclose(angles(sim), HOME_MOVE.angles, atol=1e-6)
+    assert any(e.message == "Move J" and "browser #1" in e.source for e in local_ui.events.recent())
+
+
+def test_freeze_is_never_refused(local_ui: PendantUI, sim: SimController, clock: FakeClock) -> None:
+    local_ui.desk.join(1)
+    local_ui.desk.join(2)
+    move(local_ui, StandInClient(1)).result(FUTURE_TIMEOUT_S)
+    clock.advance(0.5)
+    local_ui.runner.submit("Freeze", lambda c: c.freeze(), StandInClient(2), urgent=True).result(
+        FUTURE_TIMEOUT_S
+    )
+    stopped = angles(sim)
+    clock.advance(5.0)
+    np.testing.assert_allclose(angles(sim), stopped, atol=ANGLE_TOL_DEG)
+
+
+def test_a_viewers_page_has_its_controls_disabled_except_freeze(local_ui: PendantUI) -> None:
+    local_ui.desk.join(1)
+    local_ui.desk.join(2)
+    viewer = local_ui.open_session(local_ui.server, client_id=2)
+    assert viewer.locked
+    assert viewer.jog.buttons[(0, 1)].disabled and viewer.target_panel.move_j.disabled
+    assert viewer.io.outputs[1].disabled and viewer.robot_buttons["Home"].disabled
+    assert (
+        viewer.settings.set_tool.disabled and viewer.sim_panel is not None and viewer.sim_panel.reset.disabled
+    )
+    assert viewer.dashboard.record_start.disabled
+    assert not viewer.freeze.disabled
+    assert not viewer.control.take_button.disabled and viewer.control.release_button.disabled
+
+    assert local_ui.desk.release(1)
+    with local_ui._sessions_lock:
+        local_ui.sessions[2] = viewer
+    assert viewer.control.take() is None  # no token on loopback
+    assert not viewer.locked
+    assert not viewer.jog.buttons[(0, 1)].disabled and not viewer.target_panel.move_j.disabled
+    assert not viewer.dashboard.record_start.disabled
+    assert viewer.control.take_button.disabled and not viewer.control.release_button.disabled
+
+
+def test_control_cannot_be_taken_from_the_operator(local_ui: PendantUI) -> None:
+    local_ui.desk.join(1)
+    local_ui.desk.join(2)
+    reason = local_ui.desk.take(2)
+    assert reason is not None and "browser #1 has control" in reason
+    assert local_ui.desk.operator == 1
+
+
+def test_exposed_pendant_gives_control_only_for_the_right_token(exposed_ui: PendantUI) -> None:
+    desk = exposed_ui.desk
+    desk.join(1, "10.0.0.7")
+    assert desk.operator is None, "no browser gets control by connecting to an exposed pendant"
+    assert desk.take(1) == MSG_NO_TOKEN
+    assert desk.take(1, "guess") == MSG_WRONG_TOKEN
+    refused = [e for e in exposed_ui.events.recent() if e.kind is EventKind.REFUSED]
+    assert len(refused) == 2 and refused[-1].source == "browser #1 (10.0.0.7)"
+    assert MSG_WRONG_TOKEN in refused[-1].message
+    assert desk.take(1, TOKEN) is None
+    assert desk.operator == 1
+
+
+def test_the_access_token_field_and_the_url_token_both_work(exposed_ui: PendantUI) -> None:
+    exposed_ui.desk.join(3)
+    typed = exposed_ui.open_session(exposed_ui.server, client_id=3)
+    assert typed.control.token is not None
+    typed.control.token.value = "wrong"
+    assert typed.control.take() == MSG_WRONG_TOKEN
+    typed.control.token.value = TOKEN
+    assert typed.control.take() is None
+    assert typed.control.release()
+
+    exposed_ui.desk.join(4)
+    from_url = exposed_ui.open_session(exposed_ui.server, client_id=4, url_token=TOKEN)
+    assert from_url.control.take() is None
+    assert exposed_ui.desk.operator == 4
+
+
+def test_operator_leaving_releases_control_and_stops_the_jog(
+    local_ui: PendantUI, sim: SimController, clock: FakeClock
+) -> None:
+    local_ui.desk.join(1)
+    local_ui.desk.join(2)
+    assert local_ui.jogger.hold(JogRequest(JogFrame.JOINT, 0, +1, 20.0))
+    clock.advance(0.5)
+    assert sim.get_motion_status() is MotionStatus.RUNNING
+
+    local_ui._disconnect(StandInClient(1))  # the operator's browser closes
+    assert local_ui.desk.operator is None
+    assert local_ui.jogger.active is None
+    stopped = angles(sim)
+    clock.advance(5.0)
+    np.testing.assert_allclose(angles(sim), stopped, atol=1e-6)
+    assert sim.get_motion_status() is MotionStatus.IDLE
+    messages = [e.message for e in local_ui.events.recent()]
+    assert any("left: control released" in m for m in messages)
+    assert any("Jog J1+" in m for m in messages) and any("Jog stopped" in m for m in messages)

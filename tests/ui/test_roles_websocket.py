@@ -1,0 +1,106 @@
+"""The token in the page's URL reaches the server: viser's page opens its websocket at the URL given in its
+`?websocket=` parameter, so `ws://HOST:PORT/?token=...` carries it. Real websocket clients on loopback."""
+
+from __future__ import annotations
+
+import asyncio
+import socket
+import time
+from collections.abc import Iterator
+from urllib.parse import parse_qs, urlsplit
+
+import msgspec
+import pytest
+import viser
+import websockets
+
+from pendant.access import ui_url
+from pendant.controller import MotionStatus
+from pendant.jog import JogFrame, JogRequest
+from pendant.sim import MonotonicClock, SimController
+from pendant.ui.app import PendantUI
+from pendant.ui.roles import MSG_NO_TOKEN
+
+TOKEN = "url-token-123"
+CONNECT_TIMEOUT_S = 20.0
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def exposed() -> Iterator[tuple[PendantUI, int]]:
+    port = _free_port()
+    sim = SimController("pulse75", MonotonicClock())
+    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=port, mode_line="Simulator · pulse75", token=TOKEN)
+    page.start()
+    yield page, port
+    page.stop()
+
+
+# viser counts a browser as connected once it reports its camera: a headless client does the same.
+CAMERA_HELLO = msgspec.msgpack.encode(
+    {
+        "type": "ViewerCameraMessage",
+        "wxyz": (1.0, 0.0, 0.0, 0.0),
+        "position": (1.0, -1.0, 1.0),
+        "fov": 1.0,
+        "near": 0.01,
+        "far": 100.0,
+        "image_height": 600,
+        "image_width": 800,
+        "look_at": (0.0, 0.0, 0.3),
+        "up_direction": (0.0, 0.0, 1.0),
+    }
+)
+
+
+async def _wait_for(condition, timeout_s: float = CONNECT_TIMEOUT_S) -> None:  # type: ignore[no-untyped-def]
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        assert time.monotonic() < deadline, "the pendant did not see the browser in time"
+        await asyncio.sleep(0.05)
+
+
+def test_printed_url_puts_the_token_in_the_websocket_url() -> None:
+    url = ui_url("192.168.1.20", 8080, TOKEN)
+    websocket = parse_qs(urlsplit(url).query)["websocket"][0]
+    assert url.startswith("http://192.168.1.20:8080/?websocket=")
+    assert websocket == f"ws://192.168.1.20:8080/?token={TOKEN}"
+
+
+def test_a_browser_whose_url_carries_the_token_can_take_control(exposed: tuple[PendantUI, int]) -> None:
+    page, port = exposed
+    protocol = [websockets.Subprotocol(f"viser-v{viser.__version__}")]
+
+    async def scenario() -> None:
+        async with (
+            websockets.connect(
+                f"ws://127.0.0.1:{port}/?token={TOKEN}", subprotocols=protocol, max_queue=None
+            ) as with_token,
+            websockets.connect(f"ws://127.0.0.1:{port}/", subprotocols=protocol, max_queue=None) as without,
+        ):
+            await with_token.send(CAMERA_HELLO)
+            await without.send(CAMERA_HELLO)
+            await _wait_for(lambda: len(page.sessions) == 2)
+            sessions = sorted(page.sessions.values(), key=lambda s: s.client_id)
+            assert sessions[0].control.url_token == TOKEN and sessions[1].control.url_token is None
+            assert "127.0.0.1" in page.desk.name(sessions[0].client_id)
+            assert sessions[1].control.take() == MSG_NO_TOKEN
+            assert sessions[0].control.take() is None
+            operator = sessions[0].client_id
+            assert page.desk.operator == operator
+
+            # The operator jogs, then its browser goes away: the jog stops and control is released.
+            assert page.jogger.hold(JogRequest(JogFrame.JOINT, 0, +1, 10.0))
+            assert page.controller.get_motion_status() is MotionStatus.RUNNING
+            await with_token.close()
+            await _wait_for(lambda: page.desk.operator is None)
+            await _wait_for(lambda: page.controller.get_motion_status() is MotionStatus.IDLE, 5.0)
+            assert page.jogger.active is None
+            del without
+
+    asyncio.run(scenario())
