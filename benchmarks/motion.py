@@ -23,8 +23,8 @@ from pendant.controller.types import (
     Rotation,
     Tool,
 )
-from pendant.sim import FakeClock, MonotonicClock, SimController
 from pendant.kinematics.transforms import position_to_matrix
+from pendant.sim import FakeClock, MonotonicClock, SimController
 
 JOINT_MOVES = [
     ("JOINT 100% long", Pose(angles=[170.0, -100.0, 100.0, -30.0, -150.0, 120.0]), MotionParams(speed=100)),

@@ -1,10 +1,10 @@
 """Many viewers: N headless browsers watch a moving arm; how often does each see the state, at what CPU cost.
 
-A real `pendant` process (simulator, UI and API on loopback) and N websocket clients speaking viser's protocol
-(msgpack over websockets, zstd-compressed windows): each announces a camera, as a browser does on connecting,
-then counts the state updates it receives, i.e. the TCP frame's pose (one per refresh tick while the arm moves)
-and the GUI updates (status, dashboard). The arm moves the whole time: slow PUT /pose back and forth through
-the API. The pendant's CPU is read from /proc over the measurement window (all its threads).
+A real `pendant` process (simulator, UI and API on loopback) and N websocket clients speaking viser's
+protocol (msgpack over websockets, zstd-compressed windows): each announces a camera, as a browser does on
+connecting, then counts the state updates it receives, i.e. the TCP frame's pose (one per refresh tick while
+the arm moves) and the GUI updates (status, dashboard). The arm moves the whole time: slow PUT /pose back and
+forth through the API. The pendant's CPU is read from /proc over the measurement window (all its threads).
 
 Targets: state to every viewer at >= 30 Hz (no viewer below 25 Hz), the pendant within one core.
 
@@ -191,7 +191,8 @@ def main() -> int:
     gui = [c.gui_updates / (window + WARM_UP_S) for c in counts]
     kib = [c.bytes_received / 1024 / (window + WARM_UP_S) for c in counts]
     print(
-        f"GUI updates per viewer: ~{statistics.median(gui):.0f}/s; traffic ~{statistics.median(kib):.0f} KiB/s each"
+        f"GUI updates per viewer: ~{statistics.median(gui):.0f}/s; "
+        f"traffic ~{statistics.median(kib):.0f} KiB/s each"
     )
     verdict = max(cpu_cores, 0) <= 1.0 and min(rates) >= 25.0
     print("PASS" if verdict else "MISS")

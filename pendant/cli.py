@@ -57,6 +57,11 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         help=f"access token to take control in the page and for API commands ({TOKEN_HEADER} header); "
         "generated when --host is not a loopback address",
     )
+    parser.add_argument(
+        "--programs",
+        metavar="DIR",
+        help="folder of taught programs (default: $PENDANT_PROGRAMS_DIR, else ./programs)",
+    )
     parser.add_argument("--no-ui", action="store_true", help="serve the PULSE REST API only")
     args = parser.parse_args(argv)
     for port in (args.api_port, args.ui_port):
@@ -70,6 +75,7 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         robot_url=args.robot,
         no_ui=args.no_ui,
         token=args.token,
+        programs_dir=args.programs,
     )
 
 
@@ -131,6 +137,7 @@ def start_ui(settings: Settings, controller: Controller, events: EventLog | None
         mode_line=f"{source} · {settings.model}",
         token=settings.token,
         events=events,
+        programs_dir=settings.programs_dir,
     ).start()
 
 

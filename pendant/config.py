@@ -14,3 +14,4 @@ class Settings:
     robot_url: str | None = None  # None: the embedded simulator
     no_ui: bool = False
     token: str | None = None
+    programs_dir: str | None = None  # None: $PENDANT_PROGRAMS_DIR, else ./programs

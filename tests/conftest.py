@@ -4,7 +4,16 @@ from __future__ import annotations
 
 import pytest
 
+from pendant.program import PROGRAMS_DIR_ENV
 from pendant.sim import FakeClock, SimController
+
+
+@pytest.fixture(autouse=True)
+def programs_folder(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch):  # type: ignore[no-untyped-def]
+    """Every test's pendant keeps its programs (and autosave) in a fresh folder, never the checkout's."""
+    folder = tmp_path_factory.mktemp("programs")
+    monkeypatch.setenv(PROGRAMS_DIR_ENV, str(folder))
+    return folder
 
 
 @pytest.fixture

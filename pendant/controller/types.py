@@ -1,4 +1,4 @@
-"""The PULSE API's data types. Units as the controller's: metres and radians for positions, degrees for poses."""
+"""The PULSE API's data types, in the controller's units: metres and radians (positions), degrees (poses)."""
 
 from __future__ import annotations
 

@@ -23,10 +23,10 @@ from pendant.controller.types import (
 )
 from pendant.kinematics import ArmModel
 from pendant.kinematics.limits import JOINT_MAX_ACCEL_RAD_S2, JOINT_MAX_SPEED_RAD_S
+from pendant.kinematics.transforms import inverse
 from pendant.sim import profile
 from pendant.sim.paths import CartesianPath, JointPath, SampledJointPath, SplineJointPath
 from pendant.sim.profile import TimeScaling
-from pendant.kinematics.transforms import inverse
 
 # Collision checks along a path: at least every 2 degrees of the leading joint and every 5 mm of TCP travel.
 CHECK_JOINT_STEP_RAD = math.radians(2.0)

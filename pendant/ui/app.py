@@ -21,6 +21,7 @@ from pendant.controller import Controller, ControllerError, MotionStatus
 from pendant.eventlog import EventKind, EventLog
 from pendant.jog import Jogger, JogRequest
 from pendant.kinematics import ArmModel
+from pendant.program import ProgramWorkspace
 from pendant.telemetry import Telemetry
 from pendant.ui.commands import CommandRefused, CommandRunner
 from pendant.ui.dashboard_panel import EVENTS_SHOWN, PlotData, plot_data, render_events, render_motor_table
@@ -87,6 +88,7 @@ class PendantUI:
         mode_line: str,
         token: str | None = None,
         events: EventLog | None = None,
+        programs_dir: str | None = None,
     ) -> None:
         self.controller = controller
         self.arm = arm
@@ -99,6 +101,7 @@ class PendantUI:
         self.runner.on_submit = self._log_command
         self.jogger = LoggedJogger(controller, arm, events=self.events, desk=self.desk)
         self.telemetry = Telemetry(controller)
+        self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
         self.scene = ArmScene(self.server, arm.urdf_path)
         self.latest = Snapshot(taken_at=0.0)
         self.sessions: dict[int, ClientSession] = {}
@@ -126,6 +129,7 @@ class PendantUI:
             current_q=lambda: self.latest.q,
             desk=self.desk,
             telemetry=self.telemetry,
+            programs=self.programs,
             client_id=client_id,
             url_token=url_token,
             on_recording=lambda client, message: self.events.record(
@@ -189,6 +193,7 @@ class PendantUI:
         with self._sessions_lock:
             if client.client_id in self._gone:  # it left while its panels were being built
                 self._gone.discard(client.client_id)
+                session.close()
                 return
             self.sessions[client.client_id] = session
         session.apply_role(self.desk.operator)  # control may have changed while it was being built
@@ -196,8 +201,11 @@ class PendantUI:
 
     def _disconnect(self, client: viser.ClientHandle) -> None:
         with self._sessions_lock:
-            if self.sessions.pop(client.client_id, None) is None:
+            session = self.sessions.pop(client.client_id, None)
+            if session is None:
                 self._gone.add(client.client_id)
+        if session is not None:
+            session.close()
         self.desk.leave(client.client_id)  # the operator leaving releases control (and stops a jog)
 
     def _handshake(self, client: viser.ClientHandle) -> tuple[str | None, str | None]:

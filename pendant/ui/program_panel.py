@@ -65,6 +65,7 @@ class ProgramPanel:
         self._runner = runner
         self._arm = arm
         self._selected: int | None = None
+        self._locked = False  # a viewer's panel: Run and Step stay disabled whatever the run state
         self.pending: Future[object] | None = None  # the last Record / Re-teach (tests wait on it)
         self._syncing = False
         gui = target.gui
@@ -136,6 +137,15 @@ class ProgramPanel:
         shared.on_change(self._listener)
         self._redraw_program()
         self._redraw_files()
+        self._redraw_run()
+
+    @property
+    def locked(self) -> bool:
+        return self._locked
+
+    @locked.setter
+    def locked(self, locked: bool) -> None:
+        self._locked = locked
         self._redraw_run()
 
     def close(self) -> None:
@@ -479,6 +489,6 @@ class ProgramPanel:
         self.run_status.content = f"**{text}**" if progress.state is RunState.FAILED else text
         self.run.label = "Resume" if progress.state is RunState.PAUSED else "Run"
         running = progress.state is RunState.RUNNING
-        self.run.disabled = self.step.disabled = running
+        self.run.disabled = self.step.disabled = running or self._locked
         self.pause.disabled = not running
         self._redraw_steps_view()

@@ -10,6 +10,7 @@ import viser
 from pendant.controller import Controller
 from pendant.jog import Jogger
 from pendant.kinematics import ArmModel
+from pendant.program import ProgramWorkspace
 from pendant.sim import SimController
 from pendant.telemetry import Telemetry
 from pendant.ui.commands import CommandRunner, add_freeze_button, add_robot_commands
@@ -17,6 +18,7 @@ from pendant.ui.dashboard_panel import DashboardPanel, PlotData
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.io_panel import IoPanel
 from pendant.ui.jog_panel import JogPanel
+from pendant.ui.program_panel import ProgramPanel
 from pendant.ui.roles import ControlDesk, ControlPanel
 from pendant.ui.settings_panel import SettingsPanel
 from pendant.ui.sim_panel import SimPanel
@@ -28,13 +30,16 @@ RecordingListener = Callable[[viser.ClientHandle | None, str], None]
 
 
 def _set_disabled(handle: viser.GuiInputHandle, disabled: bool) -> None:
-    if handle.disabled != disabled:  # each assignment is a message to the browser
+    if isinstance(handle, viser.GuiButtonGroupHandle):  # viser cannot disable these: hide them instead
+        if handle.visible == disabled:
+            handle.visible = not disabled
+    elif handle.disabled != disabled:  # each assignment is a message to the browser
         handle.disabled = disabled
 
 
 class ClientSession:
-    """Freeze on top, the status and the control line, then tabs: Jog, Target, IO, Robot (and Simulator in
-    simulator mode), Dashboard.
+    """Freeze on top, the status and the control line, then tabs: Jog, Target, Program, IO, Robot (and
+    Simulator in simulator mode), Dashboard.
 
     A viewer's session has every motion, IO and settings control disabled (Freeze never is); the server
     refuses their commands anyway (see roles.ControlDesk). `client_id` None: panels built on the server's
@@ -53,6 +58,7 @@ class ClientSession:
         current_q: Callable[[], np.ndarray | None],
         desk: ControlDesk,
         telemetry: Telemetry,
+        programs: ProgramWorkspace,
         client_id: int | None = None,
         url_token: str | None = None,
         on_recording: RecordingListener | None = None,
@@ -68,6 +74,8 @@ class ClientSession:
             self.jog = JogPanel(target, jogger, runner)
         with self.tabs.add_tab("Target", viser.Icon.TARGET):
             self.target_panel = TargetPanel(target, arm, runner, current_q)
+        with self.tabs.add_tab("Program", viser.Icon.LIST_NUMBERS):
+            self.program = ProgramPanel(target, programs, runner, arm=arm)
         with self.tabs.add_tab("IO", viser.Icon.PLUG):
             self.io = IoPanel(target, runner)
         with self.tabs.add_tab("Robot", viser.Icon.ROBOT):
@@ -95,6 +103,10 @@ class ClientSession:
         yield from (jog.frame, jog.step, jog.speed, *jog.buttons.values())
         target = self.target_panel
         yield from (*target.sliders, target.speed, target.from_current)
+        p = self.program
+        yield from (p.record, p.add, p.order, p.name, p.rename, p.motion, p.speed, p.go_to, p.reteach)
+        yield from (p.gripper, p.do_port, p.di_port, p.level, p.timeout, p.wait_ms, p.loops)
+        yield from (p.file_name, p.files, p.upload)
         yield from self.io.outputs.values()
         yield from (self.io.gripper_open, self.io.gripper_close)
         yield from self.robot_buttons.values()
@@ -128,11 +140,16 @@ class ClientSession:
         for handle in self._operator_only:
             _set_disabled(handle, self.locked)
         self.target_panel.locked = self.locked
+        self.program.locked = self.locked
         ok = self.target_panel.check.ok
         _set_disabled(self.target_panel.move_j, self.locked or not ok)
         _set_disabled(self.target_panel.move_l, self.locked or not ok)
         self.control.show(operator)
         self.dashboard.show_recording(locked=self.locked)
+
+    def close(self) -> None:
+        """The browser left: stop following the shared program."""
+        self.program.close()
 
     def show(self, snapshot: Snapshot, *, with_io: bool) -> None:
         self.status.show(snapshot)

@@ -38,7 +38,9 @@ def render_status(snapshot: Snapshot, mode_line: str) -> str:
     big = "font-size:1.4em;padding:10px" if state in _ALARM_STATES or state is None else "padding:6px"
     link = "online" if state is not None else "offline"
     if state is not None and snapshot.latency_s is not None and snapshot.latency_s >= 0.001:
-        link += f" · {snapshot.latency_s * 1000:.0f} ms"  # sub-millisecond (in-process) is not worth a flicker
+        link += (
+            f" · {snapshot.latency_s * 1000:.0f} ms"  # sub-millisecond (in-process) is not worth a flicker
+        )
     parts = [
         f'<div style="font-size:0.85em;color:#495057">{html.escape(mode_line)} · {link}</div>',
         f'<div id="motion-state" style="background:{colour};color:white;font-weight:bold;'

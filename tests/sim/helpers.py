@@ -7,8 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from pendant.controller.types import MotionStatus, Point, Position, Rotation
-from pendant.sim import FakeClock, SimController
 from pendant.kinematics.transforms import position_to_matrix
+from pendant.sim import FakeClock, SimController
 
 POS_TOL_M = 1e-6
 ANGLE_TOL_DEG = 1e-6

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from pendant.controller.types import MotionParams, MotionType, Point, Position, Rotation, Tool
-from pendant.sim import DEFAULT_BASE, DEFAULT_TOOL, FakeClock, SimController
 from pendant.kinematics.transforms import position_to_matrix
+from pendant.sim import DEFAULT_BASE, DEFAULT_TOOL, FakeClock, SimController
 
 from .helpers import POS_TOL_M, finish, position, record, shifted
 

@@ -7,9 +7,9 @@ import pytest
 
 from pendant.controller.types import MotionParams, MotionStatus, MotionType, Pose
 from pendant.kinematics.limits import JOINT_MAX_ACCEL_RAD_S2, JOINT_MAX_SPEED_RAD_S
+from pendant.kinematics.transforms import matrix_to_rotvec, rotation_angle, rotvec_to_matrix
 from pendant.sim import FakeClock, SimController
 from pendant.sim.paths import CARTESIAN_BLEND_TOL_M
-from pendant.kinematics.transforms import matrix_to_rotvec, rotation_angle, rotvec_to_matrix
 
 from .helpers import ANGLE_TOL_DEG, DT, POS_TOL_M, finish, record, shifted
 

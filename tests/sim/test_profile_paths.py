@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from pendant.kinematics.transforms import rotvec_to_matrix
 from pendant.sim import profile
 from pendant.sim.paths import (
     CARTESIAN_BLEND_TOL_M,
@@ -14,7 +15,6 @@ from pendant.sim.paths import (
     CartesianPath,
     JointPath,
 )
-from pendant.kinematics.transforms import rotvec_to_matrix
 
 TOL = 1e-9
 
