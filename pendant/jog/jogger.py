@@ -34,6 +34,9 @@ class Jogger:
 
     `hold(request)` is called on press and then repeatedly while the button is held (viser's on_hold);
     each call confirms the deadman. The watchdog freezes the arm `timeout_s` after the last confirmation.
+
+    A slow controller must never delay a stop: `release` takes no lock that a controller call holds, and a
+    confirmation that arrives while an earlier one is still talking to the controller only confirms.
     """
 
     def __init__(
@@ -48,7 +51,9 @@ class Jogger:
         self._arm = arm
         self.deadman = Deadman(clock, timeout_s)
         self._active: JogRequest | None = None
-        self._lock = threading.RLock()
+        self._released = 0  # counts releases: a motion sent across one must be frozen again
+        self._lock = threading.RLock()  # one controller conversation at a time (holds and steps)
+        self._state = threading.Lock()  # `_active` and `_released` only: never held during a controller call
         self._on_stop = on_stop
         self._watchdog: threading.Thread | None = None
         self._stop_watchdog = threading.Event()
@@ -60,18 +65,29 @@ class Jogger:
     def hold(self, request: JogRequest) -> bool:
         """Confirm the deadman and keep `request` moving; False when the arm cannot go further that way."""
         self.deadman.confirm()
-        with self._lock:
+        if not self._lock.acquire(blocking=False):
+            return True  # an earlier confirmation is still sending: this one has confirmed, that is enough
+        try:
             running = self._controller.get_motion_status() is MotionStatus.RUNNING
             if self._active == request and running:
                 return True
             if running:  # another jog or motion is under way: stop it rather than queue behind it
                 self._controller.freeze()
-            self._active = request
+            with self._state:
+                self._active = request
+                releases = self._released
             moved = self._send(request)
-            if not moved:
-                self._active = None
-                self.deadman.disarm()
+            with self._state:
+                released_meanwhile = self._released != releases
+                if not moved and not released_meanwhile:
+                    self._active = None
+                    self.deadman.disarm()
+            if released_meanwhile:  # the stop went out before this motion reached the controller
+                self._controller.freeze()
+                return False
             return moved
+        finally:
+            self._lock.release()
 
     def step(self, request: JogRequest) -> bool:
         """One increment (`request.step`), no hold needed: the arm stops at its end."""
@@ -80,16 +96,17 @@ class Jogger:
 
     def release(self, reason: str = "released") -> None:
         """Stop the jog now (button released, operator left, or the deadman fired)."""
-        with self._lock:
+        with self._state:
             if self._active is None:
                 return
             self._active = None
+            self._released += 1
             self.deadman.disarm()
-            try:
-                self._controller.freeze()
-            finally:
-                if self._on_stop is not None:
-                    self._on_stop(reason)
+        try:
+            self._controller.freeze()
+        finally:
+            if self._on_stop is not None:
+                self._on_stop(reason)
 
     def check_deadman(self) -> bool:
         """Freeze if the operator stopped confirming; True when it fired."""

@@ -10,6 +10,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from pendant.controller import Controller, ControllerError, MotionStatus, Position, SignalLevel
+from pendant.controller.errors import ControllerOffline, Emergency
 from pendant.controller.types import INPUT_PORTS, OUTPUT_PORTS
 
 
@@ -33,6 +34,7 @@ class Snapshot:
     gripper_opening: float = 0.0
     error: str | None = None  # the controller's message when the last reading failed
     latency_s: float | None = None
+    online: bool = False  # the controller answered (an emergency 503 or a 500 is an answer too)
 
 
 def read_snapshot(controller: Controller, *, with_io: bool, robot_id: str, tool_name: str) -> Snapshot:
@@ -45,7 +47,16 @@ def read_snapshot(controller: Controller, *, with_io: bool, robot_id: str, tool_
         outputs = {p: controller.get_output(p) for p in OUTPUT_PORTS} if with_io else {}
         inputs = {p: controller.get_input(p) for p in INPUT_PORTS} if with_io else {}
     except ControllerError as error:
-        return Snapshot(taken_at=started, error=error.message, robot_id=robot_id, tool_name=tool_name)
+        # In an emergency the controller refuses every call with 503: that is its state, not a lost link.
+        return Snapshot(
+            taken_at=started,
+            motion_status=MotionStatus.EMERGENCY if isinstance(error, Emergency) else None,
+            error=error.message,
+            robot_id=robot_id,
+            tool_name=tool_name,
+            online=not isinstance(error, ControllerOffline),
+            latency_s=time.monotonic() - started,
+        )
     opening = controller.gripper_opening() if isinstance(controller, ReportsGripper) else 0.0
     return Snapshot(
         taken_at=started,
@@ -58,6 +69,7 @@ def read_snapshot(controller: Controller, *, with_io: bool, robot_id: str, tool_
         inputs=inputs,
         gripper_opening=opening,
         latency_s=time.monotonic() - started,
+        online=True,
     )
 
 

@@ -33,11 +33,15 @@ def _led(level: SignalLevel | None, label: str) -> str:
 def render_status(snapshot: Snapshot, mode_line: str) -> str:
     """The status block as HTML; ERROR and EMERGENCY fill a red banner that cannot be missed."""
     state = snapshot.motion_status
-    label = state.value if state is not None else "OFFLINE"
-    colour = STATE_COLOURS.get(state, STATE_COLOURS[None])
+    if state is not None:
+        label, colour = state.value, STATE_COLOURS[state]
+    elif snapshot.online:  # it answered, but with an error (500 "Robot does not respond")
+        label, colour = "NO RESPONSE", STATE_COLOURS[MotionStatus.ERROR]
+    else:
+        label, colour = "OFFLINE", STATE_COLOURS[None]
     big = "font-size:1.4em;padding:10px" if state in _ALARM_STATES or state is None else "padding:6px"
-    link = "online" if state is not None else "offline"
-    if state is not None and snapshot.latency_s is not None and snapshot.latency_s >= 0.001:
+    link = "online" if snapshot.online else "offline"
+    if snapshot.online and snapshot.latency_s is not None and snapshot.latency_s >= 0.001:
         link += (
             f" · {snapshot.latency_s * 1000:.0f} ms"  # sub-millisecond (in-process) is not worth a flicker
         )

@@ -50,6 +50,8 @@ class TargetPanel:
         self._syncing = False
         self.locked = False  # a viewer's page: Move J / Move L stay disabled whatever the target
         self.check = TargetCheck(None, "No target yet")
+        self._ghost_q: np.ndarray | None = None  # where the ghost stands: the last target IK could solve
+        self.ghost_shown: bool | None = None  # True: the blue (executable) ghost, False: the red one
 
         self.reason = target.gui.add_markdown("Drag the gizmo or the sliders to set a target.")
         self.sliders = [
@@ -150,12 +152,18 @@ class TargetPanel:
             self._syncing = False
 
     def _show_ghost(self, check: TargetCheck | None) -> None:
+        """Blue at an executable target; red otherwise, at the target or, when IK has no solution (out of
+        reach), where the last solvable one was, so the operator sees which drag went too far."""
+        if check is not None and check.q is not None:
+            self._ghost_q = check.q
+        q = self._ghost_q
+        self.ghost_shown = None if check is None or q is None else check.ok
         for ok, ghost in self._ghosts.items():
-            visible = check is not None and check.q is not None and check.ok == ok
+            visible = self.ghost_shown == ok
             ghost.show_visual = visible
-            if visible:
+            if visible and q is not None:
                 cfg = np.zeros(len(ghost.get_actuated_joint_names()))
-                cfg[:6] = check.q
+                cfg[:6] = q
                 ghost.update_cfg(cfg)
 
     def _slider_q(self) -> np.ndarray:

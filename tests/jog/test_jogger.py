@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import threading
 
 import numpy as np
 import pytest
@@ -14,6 +15,7 @@ from pendant.sim import FakeClock, SimController
 CONFIRM_PERIOD_S = 0.05  # the page confirms at 20 Hz while the button is held
 ANGLE_TOL_DEG = 1e-6
 POS_TOL_M = 1e-6
+THREAD_TIMEOUT_S = 10.0
 
 
 def pose_deg(sim: SimController) -> np.ndarray:
@@ -120,3 +122,48 @@ def test_jog_into_the_floor_stops_short_and_reports_no_progress(sim, clock, jogg
         pytest.fail("jogging down never stopped")
     assert not sim.arm.in_collision(np.radians(pose_deg(sim)))
     assert sim.get_motion_status() is MotionStatus.IDLE
+
+
+class SlowController:
+    """The simulator behind a link that holds every motion command until the test lets it through."""
+
+    def __init__(self, sim: SimController) -> None:
+        self._sim = sim
+        self.let_through = threading.Event()
+        self.sending = threading.Event()
+        self.freezes = 0
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(self._sim, name)
+
+    def set_pose(self, *args: object, **kwargs: object) -> None:
+        self.sending.set()
+        assert self.let_through.wait(THREAD_TIMEOUT_S)
+        self._sim.set_pose(*args, **kwargs)
+
+    def freeze(self) -> None:
+        self.freezes += 1
+        self._sim.freeze()
+
+
+def test_a_slow_controller_never_delays_the_deadman_and_a_late_motion_is_frozen(sim, clock):
+    slow = SlowController(sim)
+    jogger = Jogger(slow, sim.arm, clock=clock.now)  # type: ignore[arg-type]
+    request = JogRequest(JogFrame.JOINT, 0, +1, speed_percent=10)
+    pressing = threading.Thread(target=jogger.hold, args=(request,))
+    pressing.start()
+    assert slow.sending.wait(THREAD_TIMEOUT_S)  # the press is stuck on its way to the controller
+    assert jogger.hold(request)  # a confirmation meanwhile does not queue behind it
+
+    clock.advance(DEADMAN_TIMEOUT_S * 1.1)  # the operator let go
+    assert jogger.check_deadman()  # fires at once, although the press still holds the link
+    assert slow.freezes == 1
+
+    slow.let_through.set()  # the press's motion reaches the controller only now ...
+    pressing.join(THREAD_TIMEOUT_S)
+    assert not pressing.is_alive()
+    assert slow.freezes == 2  # ... and is frozen again at once
+    assert sim.get_motion_status() is MotionStatus.IDLE
+    stopped_at = pose_deg(sim)
+    clock.advance(1.0)
+    np.testing.assert_allclose(pose_deg(sim), stopped_at, atol=ANGLE_TOL_DEG)

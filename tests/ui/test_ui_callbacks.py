@@ -9,7 +9,12 @@ import numpy as np
 import pytest
 
 from pendant.controller import MotionStatus, SignalLevel
-from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSITION
+from pendant.controller.errors import (
+    MSG_COLLISION,
+    MSG_EMERGENCY,
+    MSG_NOT_RESPONDING,
+    MSG_UNREACHABLE_POSITION,
+)
 from pendant.controller.types import MotionType
 from pendant.sim import FakeClock, Fault, SimController
 from pendant.ui.app import PendantUI
@@ -47,7 +52,7 @@ def pose_deg(sim: SimController) -> np.ndarray:
 
 
 def test_target_starts_at_the_current_pose_and_is_executable(ui: ClientSession, sim: SimController) -> None:
-    assert ui.target_panel.check.ok
+    assert ui.target_panel.check.ok and ui.target_panel.ghost_shown is True
     np.testing.assert_allclose(np.degrees(ui.target_panel.check.q), pose_deg(sim), atol=ANGLE_TOL_DEG)
     assert not ui.target_panel.move_j.disabled
 
@@ -59,6 +64,7 @@ def test_unreachable_drag_target_is_red_says_why_and_cannot_run(
     T[:3, 3] = (2.0, 0.0, 0.5)  # two metres out: beyond any PULSE
     check = ui.target_panel.set_flange_target(T)
     assert check.reason == MSG_UNREACHABLE_POSITION
+    assert ui.target_panel.ghost_shown is False  # the red ghost, not the blue one
     assert ui.target_panel.move_j.disabled and ui.target_panel.move_l.disabled
     assert MSG_UNREACHABLE_POSITION in ui.target_panel.reason.content
     before = pose_deg(sim)
@@ -70,6 +76,7 @@ def test_colliding_slider_target_is_refused(ui: ClientSession) -> None:
     q = np.radians([0.0, -90.0, 170.0, -90.0, -90.0, 0.0])  # forearm folded into the upper arm
     check = ui.target_panel.set_joint_target(q)
     assert check.reason == MSG_COLLISION
+    assert ui.target_panel.ghost_shown is False
     assert ui.target_panel.move_j.disabled
 
 
@@ -114,6 +121,26 @@ def test_error_state_is_shown_as_a_red_banner_and_recover_clears_it(
     assert "ERROR" in ui.status.content and "#e03131" in ui.status.content
     pendant_ui.runner.submit("Recover", lambda c: c.recover(), None).result(FUTURE_TIMEOUT_S)
     assert pendant_ui.refresh().motion_status is MotionStatus.IDLE
+
+
+def test_emergency_is_a_red_emergency_banner_not_offline(
+    ui: ClientSession, pendant_ui: PendantUI, sim: SimController
+) -> None:
+    sim.inject_fault(Fault.EMERGENCY)
+    snapshot = pendant_ui.refresh()
+    assert snapshot.motion_status is MotionStatus.EMERGENCY and snapshot.online
+    assert ">EMERGENCY<" in ui.status.content and "#c92a2a" in ui.status.content
+    assert "OFFLINE" not in ui.status.content and "online" in ui.status.content
+    assert MSG_EMERGENCY in ui.status.content
+
+
+def test_a_controller_that_does_not_respond_is_online_with_a_red_banner(
+    ui: ClientSession, pendant_ui: PendantUI, sim: SimController
+) -> None:
+    sim.inject_fault(Fault.NO_RESPONSE)
+    pendant_ui.refresh()
+    assert ">NO RESPONSE<" in ui.status.content and "#e03131" in ui.status.content
+    assert MSG_NOT_RESPONDING in ui.status.content and "offline" not in ui.status.content
 
 
 def test_invalid_tool_form_is_refused_before_anything_is_sent(ui: ClientSession, sim: SimController) -> None:
