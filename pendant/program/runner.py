@@ -88,9 +88,12 @@ class _Interrupted(Exception):
 
 
 class _StepFailed(Exception):
-    def __init__(self, index: int, reason: str) -> None:
+    """Step `index` failed; `last` > index when a blended group was refused whole (any of its targets)."""
+
+    def __init__(self, index: int, reason: str, last: int | None = None) -> None:
         self.index = index
         self.reason = reason
+        self.last = last if last is not None else index
 
 
 @dataclass
@@ -272,11 +275,20 @@ class ProgramRunner:
             with self._lock:
                 self._cursor = None
             step = steps[failure.index]
+            if failure.last > failure.index:  # the controller refuses a blended run whole
+                names = ", ".join(
+                    s.waypoint.name
+                    for s in steps[failure.index : failure.last + 1]
+                    if isinstance(s, MoveStep)
+                )
+                what = f"Steps {failure.index + 1}-{failure.last + 1} (blended moves to {names})"
+            else:
+                what = f"Step {failure.index + 1} ({describe_step(step)})"
             return self._finish(
                 state=RunState.FAILED,
                 step_index=failure.index,
                 failed_step=failure.index,
-                message=f"Step {failure.index + 1} ({describe_step(step)}) failed: {failure.reason}",
+                message=f"{what} failed: {failure.reason}",
             )
         with self._lock:
             self._cursor = None
@@ -386,7 +398,7 @@ class ProgramRunner:
                 positions = [move.waypoint.position for move in moves]
                 self._command(group.first, lambda: controller.run_positions(positions, group.params))
         except ControllerError as error:
-            raise _StepFailed(group.first, error.message) from error
+            raise _StepFailed(group.first, error.message, last=group.indices[-1]) from error
 
         tol = ARRIVAL_TOL_DEG if joint else ARRIVAL_TOL_M
         issued_at = self._now()

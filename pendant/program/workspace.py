@@ -13,6 +13,8 @@ from collections.abc import Callable
 from enum import StrEnum
 from pathlib import Path
 
+from pydantic import ValidationError
+
 from pendant.controller import Controller, Pose, Position
 from pendant.controller.types import MotionType
 from pendant.program.export import export_script
@@ -43,6 +45,12 @@ class EditError(Exception):
 
 
 ChangeListener = Callable[[Change], None]
+
+
+def _first_problem(error: ValidationError) -> str:
+    problem = error.errors()[0]
+    where = ".".join(str(part) for part in problem["loc"])
+    return f"{where}: {problem['msg']}" if where else problem["msg"]
 
 
 class ProgramWorkspace:
@@ -104,7 +112,10 @@ class ProgramWorkspace:
     # --- editing -----------------------------------------------------------------------------------
     def _edit(self, steps: list[Step] | tuple[Step, ...]) -> None:
         with self._lock:
-            program = self._program.model_copy(update={"steps": tuple(steps)})
+            try:  # validated whole, as a load would: an edit never saves what could not be read back
+                program = Program.model_validate({**dict(self._program), "steps": tuple(steps)})
+            except ValidationError as error:
+                raise EditError(_first_problem(error)) from error
             # On disk before it is applied or shown: if the autosave fails, the edit is refused whole.
             self.store.autosave(program, self._file_name, True)
             self._program, self._dirty = program, True
@@ -176,7 +187,9 @@ class ProgramWorkspace:
             move = self._move(index)
             if name.strip() == move.waypoint.name:
                 return
-            waypoint = move.waypoint.model_copy(update={"name": self._unique_name(name)})
+            waypoint = Waypoint(
+                name=self._unique_name(name), pose=move.waypoint.pose, position=move.waypoint.position
+            )
             self.replace_step(index, move.model_copy(update={"waypoint": waypoint}))
 
     def set_motion(self, index: int, motion: MotionType, speed: float) -> None:
@@ -217,7 +230,8 @@ class ProgramWorkspace:
             step = self._program.steps[self._index(index)]
             if isinstance(step, MoveStep):
                 names = set(self._program.waypoint_names())
-                base = f"{step.waypoint.name} copy"[:WAYPOINT_NAME_MAX]
+                room = WAYPOINT_NAME_MAX - len(f" {len(names) + 1}")  # for the " k" that keeps it unique
+                base = f"{step.waypoint.name} copy"[:room].rstrip()
                 name = next(
                     n
                     for k in range(1, len(names) + 2)
@@ -230,6 +244,8 @@ class ProgramWorkspace:
         clean = name.strip()
         if not clean:
             raise EditError("A waypoint needs a name")
+        if len(clean) > WAYPOINT_NAME_MAX:
+            raise EditError(f"A waypoint name has at most {WAYPOINT_NAME_MAX} characters")
         names = set(self._program.waypoint_names())
         if clean not in names:
             return clean

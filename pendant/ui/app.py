@@ -21,7 +21,7 @@ from pendant.controller import Controller, ControllerError, MotionStatus
 from pendant.eventlog import EventKind, EventLog
 from pendant.jog import Jogger, JogRequest
 from pendant.kinematics import ArmModel
-from pendant.program import ProgramWorkspace
+from pendant.program import Change, ProgramWorkspace, RunState
 from pendant.telemetry import Telemetry
 from pendant.ui.commands import CommandRefused, CommandRunner
 from pendant.ui.dashboard_panel import EVENTS_SHOWN, PlotData, plot_data, render_events, render_motor_table
@@ -102,6 +102,8 @@ class PendantUI:
         self.jogger = LoggedJogger(controller, arm, events=self.events, desk=self.desk)
         self.telemetry = Telemetry(controller)
         self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
+        self.programs.on_change(self._log_program_failure)
+        self._failure_logged: str | None = None
         self.scene = ArmScene(self.server, arm.urdf_path)
         self.latest = Snapshot(taken_at=0.0)
         self.sessions: dict[int, ClientSession] = {}
@@ -243,13 +245,19 @@ class PendantUI:
         return "pendant" if client is None else self.desk.name(client.client_id)
 
     def _log_command(
-        self, label: str, client: viser.ClientHandle | None, refusal: str | None, future: Future[object]
+        self,
+        label: str,
+        client: viser.ClientHandle | None,
+        refusal: str | None,
+        future: Future[object] | None,
     ) -> None:
         who = self._who(client)
         if refusal is not None:
             self.events.record(EventKind.REFUSED, who, f"{label}: {refusal}")
             return
         self.events.record(EventKind.COMMAND, who, label)
+        if future is None:
+            return
 
         def failed(done: Future[object]) -> None:
             error = done.exception() if not done.cancelled() else None
@@ -259,6 +267,17 @@ class PendantUI:
                 self.events.record(EventKind.ERROR, who, f"{label} failed: {error}")
 
         future.add_done_callback(failed)
+
+    def _log_program_failure(self, change: Change) -> None:
+        if change is not Change.RUN:
+            return
+        progress = self.programs.progress
+        if progress.state is not RunState.FAILED:
+            self._failure_logged = None
+            return
+        if progress.message != self._failure_logged:  # RUN changes repeat while the failure is shown
+            self._failure_logged = progress.message
+            self.events.record(EventKind.ERROR, "program", progress.message)
 
     def _log_state_change(self, before: Snapshot, after: Snapshot) -> None:
         if after.error != before.error and after.error is not None:

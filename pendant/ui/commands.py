@@ -18,8 +18,9 @@ HOME_SPEED_PERCENT = 20.0
 
 
 Gate = Callable[[viser.ClientHandle | None], str | None]
-# Told of every command, for the event log: label, sender, refusal (None: sent) and future.
-OnSubmit = Callable[[str, viser.ClientHandle | None, str | None, Future[object]], None]
+# Told of every command, for the event log: label, sender, refusal (None: accepted) and, for a controller
+# call, its future (None: an action of the pendant's own, such as a program edit or run).
+OnSubmit = Callable[[str, viser.ClientHandle | None, str | None, Future[object] | None], None]
 
 
 class CommandRefused(Exception):
@@ -52,7 +53,14 @@ class CommandRunner:
         reason = self.gate(client) if client is not None else None
         if reason is not None:
             notify_refusal(client, f"{label} refused", reason)
+            if self.on_submit is not None:
+                self.on_submit(label, client, reason, None)
         return reason
+
+    def record(self, label: str, client: viser.ClientHandle | None) -> None:
+        """Tell the event log of an accepted action that is not a controller call (a program edit, Run)."""
+        if self.on_submit is not None:
+            self.on_submit(label, client, None, None)
 
     def submit(
         self,
@@ -63,21 +71,21 @@ class CommandRunner:
         urgent: bool = False,
     ) -> Future[object]:
         reason = None if urgent else self.refusal(client, label)
-        if reason is not None:
-            future: Future[object] = Future()
-            future.set_exception(CommandRefused(reason))
-        else:
+        if reason is not None:  # refusal() has told the page and the event log
+            refused: Future[object] = Future()
+            refused.set_exception(CommandRefused(reason))
+            return refused
 
-            def run() -> object:
-                try:
-                    return action(self._controller)
-                except ControllerError as error:
-                    notify_refusal(client, f"{label} refused", error.message)
-                    raise
+        def run() -> object:
+            try:
+                return action(self._controller)
+            except ControllerError as error:
+                notify_refusal(client, f"{label} refused", error.message)
+                raise
 
-            future = (self._urgent if urgent else self._pool).submit(run)
+        future = (self._urgent if urgent else self._pool).submit(run)
         if self.on_submit is not None:
-            self.on_submit(label, client, reason, future)
+            self.on_submit(label, client, None, future)
         return future
 
     def shutdown(self) -> None:

@@ -203,6 +203,8 @@ class ProgramPanel:
             action()
         except _USER_ERRORS as error:
             notify_refusal(client, f"{label} refused", str(error))
+        else:
+            self._runner.record(f"Program: {label}", client)
 
     def _with_controller(
         self, label: str, client: viser.ClientHandle | None, action: Callable[[Controller], object]
@@ -317,6 +319,8 @@ class ProgramPanel:
                 self._shared.start_run(loops=int(self.loops.value))
         except _USER_ERRORS as error:
             notify_refusal(client, f"{label} refused", str(error))
+        else:
+            self._runner.record(f"Program: {label} {self._shared.program.name!r}", client)
 
     # --- files --------------------------------------------------------------------------------------
     def _file_action(self, option: str, client: viser.ClientHandle | None) -> None:

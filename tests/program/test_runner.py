@@ -217,6 +217,19 @@ def test_a_refused_move_stops_the_program_naming_the_step_and_the_reason(sim, cl
     assert sim.get_output(1) is SignalLevel.HIGH and sim.get_output(2) is SignalLevel.LOW
 
 
+def test_a_refused_blended_run_names_every_step_it_covers_and_moves_nothing(sim, clock, waypoints) -> None:
+    a, b = waypoints["A"], waypoints["B"]
+    far = Waypoint(name="Far", pose=Pose(angles=[0.0, -90.0, 400.0, -90.0, -90.0, 0.0]), position=a.position)
+    runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
+    before = angles(sim)
+
+    result = runner.run(Program(steps=(move(a), move(b), move(far))))
+
+    assert result.state is RunState.FAILED and result.failed_step == 0
+    assert result.message == "Steps 1-3 (blended moves to A, B, Far) failed: Unreachable Pose"
+    np.testing.assert_allclose(angles(sim), before, atol=ANGLE_TOL_DEG)
+
+
 def test_a_fault_during_a_motion_names_the_step_it_interrupted(sim, clock, waypoints) -> None:
     from pendant.sim.controller import Fault
 

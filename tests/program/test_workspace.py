@@ -19,6 +19,7 @@ from pendant.program import (
     RunState,
     WaitStep,
 )
+from pendant.program.models import WAYPOINT_NAME_MAX
 
 from .conftest import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, settle, teach
 
@@ -105,6 +106,21 @@ def test_edits_that_make_no_sense_are_refused_and_change_nothing(sim, make_works
     with pytest.raises(EditError, match="not a move"):
         workspace.rename(2, "x")
     assert workspace.program.steps[:2] == before.steps
+
+
+def test_long_names_are_refused_and_duplicates_stay_loadable_after_a_restart(sim, make_workspace) -> None:
+    workspace = make_workspace()
+    workspace.record_from(sim)
+    with pytest.raises(EditError, match=f"at most {WAYPOINT_NAME_MAX}"):
+        workspace.rename(0, "x" * (WAYPOINT_NAME_MAX + 1))
+    longest = "y" * WAYPOINT_NAME_MAX
+    workspace.rename(0, longest)
+    workspace.duplicate_step(0)
+    workspace.duplicate_step(0)
+    names = workspace.program.waypoint_names()
+    assert len(set(names)) == 3 and all(len(n) <= WAYPOINT_NAME_MAX for n in names)
+    restarted = make_workspace()  # the autosave reads back whole: nothing recorded is lost
+    assert restarted.program.waypoint_names() == names
 
 
 def test_loading_a_refused_file_keeps_the_program_on_screen_and_the_file(

@@ -9,10 +9,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pytest
+import viser
 
 from pendant.controller import MotionParams, MotionStatus, Pose
 from pendant.eventlog import EventKind
 from pendant.jog import JogFrame, JogRequest
+from pendant.program import RunState
 from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.commands import CommandRefused
@@ -187,3 +189,39 @@ def test_operator_leaving_releases_control_and_stops_the_jog(
     messages = [e.message for e in local_ui.events.recent()]
     assert any("left: control released" in m for m in messages)
     assert any("Jog J1+" in m for m in messages) and any("Jog stopped" in m for m in messages)
+
+
+def click(handle: viser.GuiButtonHandle, client: StandInClient) -> None:
+    """What viser does when that browser clicks `handle`."""
+    for callback in list(handle._impl.update_cb):
+        callback(viser.GuiEvent(client=client, client_id=client.client_id, target=handle))  # type: ignore[arg-type]
+
+
+def test_a_viewer_cannot_record_or_run_a_program_and_the_log_says_who_did_what(
+    local_ui: PendantUI, sim: SimController
+) -> None:
+    local_ui.desk.join(1)
+    local_ui.desk.join(2)
+    viewer_page = local_ui.open_session(local_ui.server, client_id=2)
+    program = viewer_page.program
+    assert program.record.disabled and program.run.disabled and not program.add.visible
+
+    viewer = StandInClient(2)
+    click(program.record, viewer)  # a page with the lock removed: the server refuses all the same
+    click(program.run, viewer)
+    assert local_ui.programs.program.steps == ()
+    assert local_ui.programs.progress.state is RunState.IDLE
+    refused = [e for e in local_ui.events.recent() if e.kind is EventKind.REFUSED]
+    assert [e.message.split(":")[0] for e in refused] == ["Record", "Run"]
+    assert all(e.source == "browser #2" for e in refused)
+
+    viewer_page.close()  # both pages live on the server's one scene here: one at a time
+    operator_page = local_ui.open_session(local_ui.server, client_id=1)
+    assert not operator_page.program.record.disabled and not operator_page.program.run.disabled
+    operator = StandInClient(1)
+    click(operator_page.program.record, operator)
+    assert operator_page.program.pending is not None
+    operator_page.program.pending.result(FUTURE_TIMEOUT_S)
+    assert len(local_ui.programs.program.steps) == 1
+    commands = [(e.source, e.message) for e in local_ui.events.recent() if e.kind is EventKind.COMMAND]
+    assert ("browser #1", "Record") in commands
