@@ -10,6 +10,7 @@ from fastapi.openapi.utils import get_openapi
 from pendant import __version__
 from pendant.access.http_guard import TokenGuard
 from pendant.api import docs
+from pendant.api.availability import UnavailableFirst
 from pendant.api.errors import install_error_handlers
 from pendant.api.routers.base import base_router
 from pendant.api.routers.gripper import gripper_router
@@ -93,6 +94,8 @@ def create_app(
 
     install_error_handlers(app)
     app.add_middleware(DirectDispatch, table=direct_endpoints(routers))
+    if sim_type is not None and isinstance(controller, sim_type):
+        app.add_middleware(UnavailableFirst, check_alive=controller.check_alive)
     if token is not None or events is not None:
         app.add_middleware(TokenGuard, token=token, events=events)  # added last: runs first
     app.openapi = lambda: _openapi(app)  # type: ignore[method-assign]

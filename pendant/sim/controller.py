@@ -188,14 +188,15 @@ class SimController:
             return last.t_end, last.q_end, last.gripper_end
         return now, self._rest_q, self._rest_gripper
 
-    def _check_alive(self) -> None:
+    def check_alive(self) -> None:
+        """Raise what every call answers in EMERGENCY (503) or when not responding (500)."""
         if self._mode is _Mode.EMERGENCY:
             raise Emergency()
         if self._mode is _Mode.NO_RESPONSE:
             raise NotResponding()
 
     def _check_can_move(self) -> None:
-        self._check_alive()
+        self.check_alive()
         if self._mode is _Mode.ERROR:
             raise NotResponding()  # the reference's 500 text; GET /status/motion says ERROR
 
@@ -257,13 +258,13 @@ class SimController:
 
     def get_position(self) -> Position:
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             q = self._q_now(self._clock.now())
             return matrix_to_position(self._T_zero_origbase @ self.arm.fk(q) @ self._T_flange_tool)
 
     def get_pose(self) -> Pose:
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             now = self._clock.now()
             motion = self._settle(now)
             if motion is not None:
@@ -274,7 +275,7 @@ class SimController:
 
     def get_motion_status(self) -> MotionStatus:
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             if self._mode is _Mode.ACTIVE:
                 running = self._settle(self._clock.now()) is not None
                 return MotionStatus.RUNNING if running else MotionStatus.IDLE
@@ -282,7 +283,7 @@ class SimController:
 
     def get_motors(self) -> list[MotorStatus]:
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             now = self._clock.now()
             motion = self._settle(now)
             self._integrate_thermal(now)
@@ -293,27 +294,27 @@ class SimController:
 
     def get_tool(self) -> Tool:
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             return self._tool
 
     def get_base(self) -> Position:
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             return self._base
 
     def get_robot_id(self) -> str:
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             return self._robot_id
 
     def get_output(self, port: int) -> SignalLevel:
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             return self._outputs[_check_port(port, OUTPUT_PORTS, "output")]
 
     def get_input(self, port: int) -> SignalLevel:
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             return self._inputs[_check_port(port, INPUT_PORTS, "input")]
 
     # --- motion --------------------------------------------------------------------------------------------
@@ -432,7 +433,7 @@ class SimController:
     def freeze(self) -> None:
         """Stop where the arm is, drop the queue and hold the position (IDLE). In ERROR it stays in ERROR."""
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             if self._mode is _Mode.ERROR:
                 return
             self._stop(self._clock.now())
@@ -442,7 +443,7 @@ class SimController:
         """ERROR or MOTION_FAILED -> IDLE (SUCCESS); IDLE stays IDLE (SUCCESS); RUNNING and ZERO_GRAVITY:
         nothing to recover from (FAILED, nothing changes)."""
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             if self._mode in (_Mode.ERROR, _Mode.MOTION_FAILED):
                 self._stop(self._clock.now())
                 self._mode = _Mode.ACTIVE
@@ -455,13 +456,13 @@ class SimController:
 
     def set_output(self, port: int, level: SignalLevel) -> None:
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             self._outputs[_check_port(port, OUTPUT_PORTS, "output")] = SignalLevel(level)
 
     def set_tool(self, tool: Tool) -> Tool:
         """Attach a tool: its point and rotation are the TCP pose relative to the flange (see module doc)."""
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             offset = max(abs(tool.point.x), abs(tool.point.y), abs(tool.point.z))
             if offset > MAX_TOOL_OFFSET_M or tool.radius > MAX_TOOL_OFFSET_M:
                 raise PreconditionFailed(MSG_TOOL_TOO_BIG)
@@ -471,7 +472,7 @@ class SimController:
     def set_base(self, base: Position) -> Position:
         """Move the zero point: `base` is its pose in the physical base frame."""
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             if max(abs(base.point.x), abs(base.point.y), abs(base.point.z)) > MAX_BASE_OFFSET_M:
                 raise PreconditionFailed(MSG_BASE_TOO_FAR)
             self._apply_base(base)
@@ -487,7 +488,7 @@ class SimController:
     def move_by_hand(self, pose: Pose) -> None:
         """Put the relaxed arm in `pose` as a hand would. Only in ZERO_GRAVITY; limits and collisions hold."""
         with self._lock:
-            self._check_alive()
+            self.check_alive()
             if self._mode is not _Mode.ZERO_GRAVITY:
                 raise PreconditionFailed(MSG_HAND_NEEDS_RELAX)
             q = np.radians(pose.angles)

@@ -252,6 +252,28 @@ def test_an_emergency_answers_503_everywhere(
     assert_error(client.request(method, path, json=body), 503, MSG_EMERGENCY)
 
 
+MALFORMED_CALLS = [
+    ("PUT", "/pose?speed=10", None),  # no body
+    ("PUT", "/pose?speed=500", {"angles": GOOD_ANGLES}),  # speed out of range
+    ("PUT", "/position", GOOD_POSITION),  # no speed
+    ("POST", "/base", {"point": GOOD_POINT}),  # no rotation
+    ("GET", "/signal/output/9", None),  # no such port
+]
+
+
+@pytest.mark.parametrize("method, path, body", MALFORMED_CALLS)
+def test_a_faulted_robot_answers_its_fault_even_to_a_malformed_request(
+    client: TestClient, sim: Any, method: str, path: str, body: Any
+) -> None:
+    from pendant.sim import Fault
+
+    sim.inject_fault(Fault.EMERGENCY)
+    assert_error(client.request(method, path, json=body), 503, MSG_EMERGENCY)
+    sim.reset()
+    sim.inject_fault(Fault.NO_RESPONSE)
+    assert_error(client.request(method, path, json=body), 500, MSG_NOT_RESPONDING)
+
+
 def test_unknown_paths_and_methods_answer_in_plain_text(client: TestClient) -> None:
     assert_error(client.get("/no/such/thing"), 404, "Not Found")
     response = client.delete("/pose")
