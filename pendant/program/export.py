@@ -2,7 +2,8 @@
 
 The script executes the runner's grouping (pendant.program.plan): consecutive moves of one type and speed
 are one PUT /poses/run or /positions/run, and it waits for each motion the way the runner does (polling
-GET /status/motion and the pose). It needs only Python and httpx.
+GET /status/motion and the pose). It needs only Python and httpx. In front of a teach pendant exposed on the
+network it sends the pendant's access token (--token or $PULSE_PENDANT_TOKEN) with every request.
 """
 
 from __future__ import annotations
@@ -10,6 +11,7 @@ from __future__ import annotations
 import pprint
 from datetime import UTC, datetime
 
+from pendant.access.token import TOKEN_HEADER
 from pendant.controller.types import MotionType
 from pendant.program.models import (
     GripperStep,
@@ -23,6 +25,7 @@ from pendant.program.plan import MoveGroup, plan_segments
 from pendant.program.runner import ARRIVAL_TOL_DEG, ARRIVAL_TOL_M, POLL_S, START_GRACE_S
 
 DEFAULT_URL = "http://127.0.0.1:8081"
+TOKEN_ENV = "PULSE_PENDANT_TOKEN"
 
 
 def program_operations(program: Program) -> list[dict[str, object]]:
@@ -85,6 +88,8 @@ def export_script(program: Program) -> str:
         _TEMPLATE.replace("__NAME__", program.name.replace("\\", "/").replace('"', "'"))
         .replace("__STAMP__", stamp)
         .replace("__DEFAULT_URL__", DEFAULT_URL)
+        .replace("__TOKEN_HEADER__", TOKEN_HEADER)
+        .replace("__TOKEN_ENV__", TOKEN_ENV)
         .replace("__OPERATIONS__", operations)
         .replace("__POLL_S__", repr(POLL_S))
         .replace("__START_GRACE_S__", repr(START_GRACE_S))
@@ -98,11 +103,16 @@ _TEMPLATE = '''#!/usr/bin/env python3
 
 Runs the taught motion on a PULSE controller through its REST API:
 
-    python this_script.py [CONTROLLER_URL] [--loops N]
+    python this_script.py [CONTROLLER_URL] [--loops N] [--token TOKEN]
 
 CONTROLLER_URL defaults to $PULSE_URL, else __DEFAULT_URL__. --loops 0 repeats until Ctrl-C (which freezes
-the arm). Exit status 0 when the program ran to the end, 1 when a step failed (the controller's message is
-printed), 2 on bad arguments.
+the arm). Exit status 0 when the program ran to the end, 1 when a step failed or a request was refused (the
+HTTP status and the controller's message are printed), 2 on bad arguments.
+
+A PULSE controller needs no token. A teach pendant exposed on the network (`pendant --host 0.0.0.0`) refuses
+commands without its access token (401, or 403 for a wrong one): give it with --token or, better, in
+$__TOKEN_ENV__, since a command line is visible to every user of the machine (ps). It is sent in the
+__TOKEN_HEADER__ header of every request.
 
 Why plain httpx and not Rozum's official SDK (pulse-api): httpx is what the pendant itself speaks with, so
 the script runs wherever the pendant is installed, with no second SDK and its own pinned dependencies
@@ -130,6 +140,9 @@ START_GRACE_S = __START_GRACE_S__  # a controller may still say IDLE just after 
 ARRIVAL_TOL_DEG = __TOL_DEG__
 ARRIVAL_TOL_M = __TOL_M__
 FAILED_STATES = ("MOTION_FAILED", "ERROR", "EMERGENCY", "ZERO_GRAVITY")
+TOKEN_HEADER = "__TOKEN_HEADER__"
+TOKEN_ENV = "__TOKEN_ENV__"
+REFUSED = (401, 403)  # an exposed teach pendant without (401) or with a wrong (403) access token
 
 
 class StepFailed(Exception):
@@ -139,7 +152,10 @@ class StepFailed(Exception):
 def call(client: httpx.Client, method: str, path: str, **kwargs) -> httpx.Response:
     response = client.request(method, path, **kwargs)
     if response.status_code >= 400:
-        raise StepFailed(f"{method} {path} answered {response.status_code}: {message(response)}")
+        hint = ""
+        if response.status_code in REFUSED:
+            hint = f" (give the pendant's access token with --token or ${TOKEN_ENV})"
+        raise StepFailed(f"{method} {path} answered {response.status_code}: {message(response)}{hint}")
     return response
 
 
@@ -215,10 +231,17 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("url", nargs="?", default=os.environ.get("PULSE_URL", "__DEFAULT_URL__"))
     parser.add_argument("--loops", type=int, default=1, help="how many times to run (0: until Ctrl-C)")
+    parser.add_argument(
+        "--token",
+        default=os.environ.get(TOKEN_ENV),
+        help=f"access token of a teach pendant exposed on the network (default: ${TOKEN_ENV})",
+    )
     args = parser.parse_args(argv)
     if args.loops < 0:
         parser.error("--loops must be >= 0")
-    with httpx.Client(base_url=args.url.rstrip("/"), timeout=10.0) as client:
+    token = (args.token or "").strip()  # an empty variable means no token, as for a real controller
+    headers = {TOKEN_HEADER: token} if token else {}
+    with httpx.Client(base_url=args.url.rstrip("/"), headers=headers, timeout=10.0) as client:
         loop = 0
         try:
             while args.loops == 0 or loop < args.loops:
@@ -232,7 +255,11 @@ def main(argv: list[str] | None = None) -> int:
                         print(f"Step {steps} ({operation['what']}) failed: {error}", file=sys.stderr)
                         return 1
         except KeyboardInterrupt:
-            call(client, "PUT", "/freeze")
+            try:
+                call(client, "PUT", "/freeze")
+            except (StepFailed, httpx.HTTPError) as error:
+                print(f"Interrupted, but the arm could not be frozen: {error}", file=sys.stderr)
+                return 1
             print("Interrupted: the arm is frozen", file=sys.stderr)
             return 1
     print(f"Done: {loop} loop(s) of {len(OPERATIONS)} operation(s)")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ast
+import os
 import subprocess
 import sys
 from collections.abc import Iterator
@@ -12,6 +13,7 @@ import httpx
 import numpy as np
 import pytest
 
+from pendant.api import create_app
 from pendant.controller import MotionType, Pose, SignalLevel
 from pendant.controller.types import OUTPUT_PORTS
 from pendant.program import (
@@ -27,10 +29,14 @@ from pendant.program import (
     export_script,
     program_operations,
 )
+from pendant.program.export import TOKEN_ENV
+from pendant.sim import MonotonicClock, SimController
 from tests.api.server import running_pendant
+from tests.remote.uvicorn_thread import serve_in_thread
 
 ANGLE_TOL_DEG = 1e-6
 SCRIPT_TIMEOUT_S = 60.0
+TOKEN = "test-access-token"
 
 
 @pytest.fixture(scope="module")
@@ -131,3 +137,57 @@ def test_a_refused_step_exits_1_with_the_step_and_the_controller_message(
     assert (
         "Step 2 (Move J to Far @ 100%) failed: PUT /poses/run answered 412: Unreachable Pose" in done.stderr
     )
+
+
+@pytest.fixture
+def guarded_api() -> Iterator[tuple[SimController, str]]:
+    """A simulator on real time behind an exposed pendant's API (token required), on a loopback port."""
+    sim = SimController("pulse75", MonotonicClock())
+    with serve_in_thread(create_app(sim, token=TOKEN)) as url:
+        yield sim, url
+
+
+def run_script(script: Path, *args: str, token_env: str | None = None) -> subprocess.CompletedProcess[str]:
+    env = {name: value for name, value in os.environ.items() if name != TOKEN_ENV}  # none inherited
+    if token_env is not None:
+        env[TOKEN_ENV] = token_env
+    return subprocess.run(
+        [sys.executable, str(script), *args],
+        capture_output=True,
+        text=True,
+        timeout=SCRIPT_TIMEOUT_S,
+        check=False,
+        env=env,
+    )
+
+
+def test_the_exported_script_sends_an_exposed_pendants_token(
+    tmp_path: Path, waypoints, guarded_api: tuple[SimController, str]
+) -> None:
+    sim, url = guarded_api
+    a, b = waypoints["A"], waypoints["B"]
+    program = Program(
+        steps=(
+            MoveStep(waypoint=a, speed=100.0),
+            OutputStep(port=1, level=SignalLevel.HIGH),
+            MoveStep(waypoint=b, speed=100.0),
+        )
+    )
+    script = tmp_path / "guarded.py"
+    script.write_text(export_script(program))
+    start = sim.get_pose().angles
+
+    without = run_script(script, url)
+    assert without.returncode == 1
+    assert "PUT /poses/run answered 401: This pendant is exposed on the network" in without.stderr
+    assert "--token" in without.stderr  # says how to give it
+    wrong = run_script(script, url, token_env="not-the-token")  # the variable is sent too
+    assert wrong.returncode == 1
+    assert "answered 403: Wrong access token" in wrong.stderr
+    np.testing.assert_allclose(sim.get_pose().angles, start, atol=ANGLE_TOL_DEG)
+    assert sim.get_output(1) is SignalLevel.LOW
+
+    right = run_script(script, url, "--token", TOKEN)
+    assert right.returncode == 0, right.stderr
+    np.testing.assert_allclose(sim.get_pose().angles, b.pose.angles, atol=ANGLE_TOL_DEG)
+    assert sim.get_output(1) is SignalLevel.HIGH
