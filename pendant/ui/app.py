@@ -10,10 +10,12 @@ from __future__ import annotations
 import logging
 import threading
 import time
+from collections.abc import Callable
 from concurrent.futures import Future
 from dataclasses import replace
 from urllib.parse import parse_qs, urlsplit
 
+import numpy as np
 import viser
 
 from pendant.access import TOKEN_QUERY
@@ -21,6 +23,7 @@ from pendant.controller import Controller, ControllerError, MotionStatus
 from pendant.eventlog import EventKind, EventLog
 from pendant.jog import Jogger, JogRequest
 from pendant.kinematics import ArmModel
+from pendant.kinematics.transforms import position_to_matrix
 from pendant.program import Change, ProgramWorkspace, RunState
 from pendant.telemetry import Telemetry
 from pendant.ui.commands import CommandRefused, CommandRunner
@@ -45,15 +48,25 @@ _ALARM_STATES = {MotionStatus.ERROR, MotionStatus.EMERGENCY, MotionStatus.MOTION
 class LoggedJogger(Jogger):
     """A Jogger that tells the event log when a jog starts (once per press, not per deadman confirmation)."""
 
-    def __init__(self, controller: Controller, arm: ArmModel, *, events: EventLog, desk: ControlDesk) -> None:
+    def __init__(
+        self,
+        controller: Controller,
+        arm: ArmModel,
+        *,
+        events: EventLog,
+        desk: ControlDesk,
+        on_start: Callable[[], None] = lambda: None,
+    ) -> None:
         super().__init__(controller, arm, on_stop=self._stopped)
         self._events = events
         self._desk = desk
+        self._on_start = on_start
 
     def hold(self, request: JogRequest) -> bool:
         starting = self.active != request
         moved = super().hold(request)
         if starting and moved:
+            self._on_start()
             self._events.record(
                 EventKind.COMMAND, self._desk.name(self._desk.operator), f"Jog {request.label()}"
             )
@@ -99,19 +112,23 @@ class PendantUI:
         self.desk = ControlDesk(self.events, token=token)
         self.runner = CommandRunner(controller, gate=self.desk.gate)
         self.runner.on_submit = self._log_command
-        self.jogger = LoggedJogger(controller, arm, events=self.events, desk=self.desk)
+        self._stop = threading.Event()
+        self._wake = threading.Event()  # a jog started: show its first motion now, not at the next tick
+        self.jogger = LoggedJogger(
+            controller, arm, events=self.events, desk=self.desk, on_start=self._wake.set
+        )
         self.telemetry = Telemetry(controller)
         self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
         self.programs.on_change(self._log_program_failure)
         self._failure_logged: str | None = None
         self.scene = ArmScene(self.server, arm.urdf_path)
         self.latest = Snapshot(taken_at=0.0)
+        self.T_flange_tool = np.eye(4)  # the tool's TCP on the flange: the scene's TCP frame and the gizmo
         self.sessions: dict[int, ClientSession] = {}
         self._sessions_lock = threading.Lock()
         self._gone: set[int] = set()  # clients that left before their session was built
         self._robot_id = self._read_quietly(controller.get_robot_id, "")
         self._events_seq = -1
-        self._stop = threading.Event()
         self._thread = threading.Thread(target=self._refresh_loop, name="pendant-refresh", daemon=True)
         self.desk.on_change(self._control_changed)
         self.server.on_client_connect(self._connect)
@@ -129,6 +146,7 @@ class PendantUI:
             jogger=self.jogger,
             mode_line=self.mode_line,
             current_q=lambda: self.latest.q,
+            current_tool=lambda: self.T_flange_tool,
             desk=self.desk,
             telemetry=self.telemetry,
             programs=self.programs,
@@ -147,6 +165,7 @@ class PendantUI:
 
     def stop(self) -> None:
         self._stop.set()
+        self._wake.set()
         if self._thread.is_alive():
             self._thread.join(timeout=2.0)
         self.jogger.stop_watchdog()
@@ -157,14 +176,17 @@ class PendantUI:
         """Read the controller once and show what it says (IO and tool only when `with_io`)."""
         tool_name = self.latest.tool_name
         if with_io:
-            tool_name = self._read_quietly(lambda: self.controller.get_tool().name, tool_name)
+            tool = self._read_quietly(self.controller.get_tool, None)
+            if tool is not None:
+                tool_name, self.T_flange_tool = tool.name, position_to_matrix(tool.position)
         snapshot = read_snapshot(
             self.controller, with_io=with_io, robot_id=self._robot_id, tool_name=tool_name
         )
         if not with_io:
             snapshot = replace(snapshot, outputs=self.latest.outputs, inputs=self.latest.inputs)
         if snapshot.q is not None:
-            self.scene.show(snapshot.q, snapshot.gripper_opening, self.arm.fk(snapshot.q), snapshot.taken_at)
+            T_base_tcp = self.arm.fk(snapshot.q) @ self.T_flange_tool
+            self.scene.show(snapshot.q, snapshot.gripper_opening, T_base_tcp, snapshot.taken_at)
         self._log_state_change(self.latest, snapshot)
         self.latest = snapshot
         for session in self._sessions():
@@ -303,7 +325,9 @@ class PendantUI:
                 log.exception("refresh failed")
             tick += 1
             next_at += period
-            self._stop.wait(max(0.0, next_at - time.monotonic()))
+            if self._wake.wait(max(0.0, next_at - time.monotonic())):
+                self._wake.clear()
+                next_at = time.monotonic()  # the ticks go on from now
             next_at = max(next_at, time.monotonic() - period)  # after a stall, do not race to catch up
 
     @staticmethod

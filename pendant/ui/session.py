@@ -56,6 +56,7 @@ class ClientSession:
         jogger: Jogger,
         mode_line: str,
         current_q: Callable[[], np.ndarray | None],
+        current_tool: Callable[[], np.ndarray] = lambda: np.eye(4),
         desk: ControlDesk,
         telemetry: Telemetry,
         programs: ProgramWorkspace,
@@ -73,7 +74,7 @@ class ClientSession:
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
             self.jog = JogPanel(target, jogger, runner)
         with self.tabs.add_tab("Target", viser.Icon.TARGET):
-            self.target_panel = TargetPanel(target, arm, runner, current_q)
+            self.target_panel = TargetPanel(target, arm, runner, current_q, current_tool)
         with self.tabs.add_tab("Program", viser.Icon.LIST_NUMBERS):
             self.program = ProgramPanel(target, programs, runner, arm=arm)
         with self.tabs.add_tab("IO", viser.Icon.PLUG):

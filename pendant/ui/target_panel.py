@@ -33,10 +33,12 @@ class TargetPanel:
         arm: ArmModel,
         runner: CommandRunner,
         current_q: Callable[[], np.ndarray | None],
+        current_tool: Callable[[], np.ndarray] = lambda: np.eye(4),
     ) -> None:
         self._arm = arm
         self._runner = runner
         self._current_q = current_q
+        self._current_tool = current_tool  # T_flange_tcp: the gizmo holds the tool's TCP, as /position does
         self._ghosts = {
             ok: ViserUrdf(
                 target,
@@ -76,10 +78,10 @@ class TargetPanel:
         def _(_: viser.TransformControlsEvent) -> None:
             if self._syncing:
                 return
-            T = vtf.SE3.from_rotation_and_translation(
+            T_base_tcp = vtf.SE3.from_rotation_and_translation(
                 vtf.SO3(np.asarray(self._gizmo.wxyz)), np.asarray(self._gizmo.position)
             ).as_matrix()
-            self.set_flange_target(T)
+            self.set_tcp_target(T_base_tcp)
 
         for slider in self.sliders:
             slider.on_update(lambda _: None if self._syncing else self.set_joint_target(self._slider_q()))
@@ -99,6 +101,10 @@ class TargetPanel:
         self.check = check_flange_target(self._arm, T_base_flange, near)
         self._show(move_gizmo=False)
         return self.check
+
+    def set_tcp_target(self, T_base_tcp: np.ndarray) -> TargetCheck:
+        """Where the gizmo was dragged: the tool's TCP (the flange when no tool is set)."""
+        return self.set_flange_target(T_base_tcp @ inverse(self._current_tool()))
 
     def set_joint_target(self, q: np.ndarray) -> TargetCheck:
         self.check = check_joint_target(self._arm, np.asarray(q, dtype=float))
@@ -144,7 +150,7 @@ class TargetPanel:
             for slider, value in zip(self.sliders, np.degrees(check.q), strict=True):
                 slider.value = float(np.clip(value, slider.min, slider.max))
             if move_gizmo:
-                T = self._arm.fk(check.q)
+                T = self._arm.fk(check.q) @ self._current_tool()
                 self._gizmo.position = T[:3, 3]
                 self._gizmo.wxyz = vtf.SO3.from_matrix(T[:3, :3]).wxyz
             self._gizmo.visible = True
@@ -165,6 +171,11 @@ class TargetPanel:
                 cfg = np.zeros(len(ghost.get_actuated_joint_names()))
                 cfg[:6] = q
                 ghost.update_cfg(cfg)
+
+    @property
+    def gizmo_position(self) -> np.ndarray:
+        """Where the gizmo stands (base frame, metres): the target's TCP."""
+        return np.asarray(self._gizmo.position, dtype=float)
 
     def _slider_q(self) -> np.ndarray:
         return np.radians([float(s.value) for s in self.sliders])

@@ -15,11 +15,13 @@ from pendant.controller.errors import (
     MSG_NOT_RESPONDING,
     MSG_UNREACHABLE_POSITION,
 )
-from pendant.controller.types import MotionType
+from pendant.controller.types import MotionType, Point, Rotation, Tool
+from pendant.kinematics.transforms import position_to_matrix
 from pendant.sim import FakeClock, Fault, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.session import ClientSession
 
+TOOL_LENGTH_M = 0.12
 ANGLE_TOL_DEG = 1e-6
 FUTURE_TIMEOUT_S = 5.0
 
@@ -100,6 +102,31 @@ def test_move_l_from_a_dragged_gizmo_reaches_it(
     ui.target_panel.run(MotionType.LINEAR).result(timeout=FUTURE_TIMEOUT_S)
     clock.advance(30.0)
     np.testing.assert_allclose(sim.arm.fk(np.radians(pose_deg(sim)))[:3, 3], T[:3, 3], atol=1e-6)
+
+
+def test_with_a_tool_the_gizmo_holds_its_tcp_and_a_drag_moves_the_tcp_there(
+    ui: ClientSession, pendant_ui: PendantUI, sim: SimController, clock: FakeClock
+) -> None:
+    sim.set_tool(
+        Tool(
+            name="probe",
+            point=Point(x=0.0, y=0.0, z=TOOL_LENGTH_M),
+            rotation=Rotation(roll=0.0, pitch=0.0, yaw=0.0),
+            radius=0.01,
+        )
+    )
+    pendant_ui.refresh(with_io=True)  # the page reads the tool with the IO
+    ui.target_panel.reset_to_current()
+    tcp = sim.get_position().point  # the zero point is the base by default
+    np.testing.assert_allclose(ui.target_panel.gizmo_position, (tcp.x, tcp.y, tcp.z), atol=1e-9)
+
+    T_base_tcp = position_to_matrix(sim.get_position())
+    T_base_tcp[:3, 3] += (0.05, 0.0, -0.05)
+    assert ui.target_panel.set_tcp_target(T_base_tcp).ok
+    ui.target_panel.run(MotionType.LINEAR).result(timeout=FUTURE_TIMEOUT_S)
+    clock.advance(30.0)
+    moved = sim.get_position().point
+    np.testing.assert_allclose((moved.x, moved.y, moved.z), T_base_tcp[:3, 3], atol=1e-6)
 
 
 def test_output_toggle_from_the_page_sets_the_controller_output(
