@@ -54,7 +54,7 @@ from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import inverse, matrix_to_position, position_to_matrix
 from pendant.sim.clock import Clock, MonotonicClock
 from pendant.sim.motors import ServoModel, servo_ids
-from pendant.sim.planner import Plan, Planner, check_params
+from pendant.sim.planner import FLOOR_Z_M, Plan, Planner, check_params
 from pendant.sim.timeline import Motion
 
 # Power-on pose: upper arm up, forearm forward, tool pointing straight down (degrees, base first). Chosen
@@ -460,14 +460,32 @@ class SimController:
             self._outputs[_check_port(port, OUTPUT_PORTS, "output")] = SignalLevel(level)
 
     def set_tool(self, tool: Tool) -> Tool:
-        """Attach a tool: its point and rotation are the TCP pose relative to the flange (see module doc)."""
+        """Attach a tool: its point and rotation are the TCP pose relative to the flange (see module doc).
+        Collision (412) when its sphere would reach below the floor now or where the queue ends."""
         with self._lock:
             self.check_alive()
             offset = max(abs(tool.point.x), abs(tool.point.y), abs(tool.point.z))
             if offset > MAX_TOOL_OFFSET_M or tool.radius > MAX_TOOL_OFFSET_M:
                 raise PreconditionFailed(MSG_TOOL_TOO_BIG)
+            # A tool already in the floor would make every later move fail its first collision check, so it
+            # is refused where the arm is now and where the queued commands leave it.
+            T_flange_tool = position_to_matrix(tool.position)
+            now = self._clock.now()
+            for q in (self._q_now(now), self._queue_end(now)[1]):
+                if not self._tool_clears_floor(q, T_flange_tool, tool.radius):
+                    raise Collision()
             self._apply_tool(tool)
             return self._tool
+
+    def _tool_clears_floor(self, q: np.ndarray, T_flange_tool: np.ndarray, radius: float) -> bool:
+        """The planner's floor rule for one configuration: the tool sphere stays at or above the floor."""
+        # The JOINT planner places the TCP with tcp_points, the LINEAR one with fk @ tool; both must pass,
+        # so that rounding cannot make the first sample of a later move fail where set_tool saw none.
+        heights = (
+            float(self._planner.tcp_points(q[None, :], T_flange_tool)[0, 2]),
+            float((self.arm.fk(q) @ T_flange_tool)[2, 3]),
+        )
+        return all(z - radius >= FLOOR_Z_M for z in heights)
 
     def set_base(self, base: Position) -> Position:
         """Move the zero point: `base` is its pose in the physical base frame."""

@@ -114,7 +114,7 @@ class Planner:
         if np.any(qs < self.arm.lower) or np.any(qs > self.arm.upper):
             raise Unreachable(unreachable_message)
         qs[-1] = q_end
-        tcp = self._tcp_points(qs, T_flange_tool)
+        tcp = self.tcp_points(qs, T_flange_tool)
         # Refine cells where the TCP travels more than the check step.
         chords = np.linalg.norm(np.diff(tcp, axis=0), axis=1)
         if np.any(chords > CHECK_TCP_STEP_M):
@@ -126,7 +126,7 @@ class Planner:
             s_grid = np.concatenate(pieces)
             qs = np.array([path.q(s) for s in s_grid])
             qs[-1] = q_end
-            tcp = self._tcp_points(qs, T_flange_tool)
+            tcp = self.tcp_points(qs, T_flange_tool)
         self._check_collisions(qs, tcp, tool_radius)
         # Derivatives at the cells' ends and middles: exact for straight moves (constant dq/ds, no curvature),
         # and close for the spline, whose dq/ds is quadratic and d2q/ds2 linear inside a cell.
@@ -212,7 +212,7 @@ class Planner:
 
     # --- shared --------------------------------------------------------------------------------------------
 
-    def _tcp_points(self, qs: np.ndarray, T_flange_tool: np.ndarray) -> np.ndarray:
+    def tcp_points(self, qs: np.ndarray, T_flange_tool: np.ndarray) -> np.ndarray:
         offset = T_flange_tool[:3, 3]
         out = np.empty((len(qs), 3))
         for k, q in enumerate(qs):
