@@ -3,8 +3,9 @@
 A real `pendant` process (simulator, UI and API on loopback) and N websocket clients speaking viser's
 protocol (msgpack over websockets, zstd-compressed windows): each announces a camera, as a browser does on
 connecting, then counts the state updates it receives, i.e. the TCP frame's pose (one per refresh tick while
-the arm moves) and the GUI updates (status, dashboard). The arm moves the whole time: slow PUT /pose back and
-forth through the API. The pendant's CPU is read from /proc over the measurement window (all its threads).
+the arm moves) and the GUI updates (status, dashboard). The arm moves the whole time: one slow blended
+PUT /poses/run back and forth through the API. The pendant's CPU is read from /proc over the measurement
+window (all its threads).
 
 Targets: state to every viewer at >= 30 Hz (no viewer below 25 Hz), the pendant within one core.
 
@@ -38,6 +39,7 @@ START_TIMEOUT_S = 60.0
 WARM_UP_S = 3.0
 POSES = ([60.0, -70.0, 40.0, -90.0, -90.0, 30.0], [-60.0, -100.0, -30.0, -80.0, -90.0, -30.0])
 SPEED_PERCENT = 4.0  # slow: one leg takes several seconds
+LEGS_PER_RUN = 10  # longer than any measurement window
 CAMERA_HELLO = msgspec.msgpack.encode(
     {
         "type": "ViewerCameraMessage",
@@ -97,13 +99,13 @@ def cpu_seconds(pid: int) -> float:
 
 
 def keep_moving(api: str, stop: threading.Event) -> None:
-    """Slow joint moves back and forth, each sent when the previous one is done."""
+    """Slow joint motion back and forth without a stop: one blended /poses/run through many legs (the
+    pendant sends nothing while the arm is at rest, so a pause between moves would count as lost updates)."""
+    legs = [{"angles": POSES[leg % 2]} for leg in range(LEGS_PER_RUN)]
     with httpx.Client(base_url=api, timeout=5.0) as client:
-        leg = 0
         while not stop.is_set():
             if client.get("/status/motion").text.strip('"') != "RUNNING":
-                client.put("/pose", params={"speed": SPEED_PERCENT}, json={"angles": POSES[leg % 2]})
-                leg += 1
+                client.put("/poses/run", params={"speed": SPEED_PERCENT}, json=legs)
             stop.wait(0.1)
 
 
