@@ -18,6 +18,7 @@ import viser
 from pendant.access import tokens_match
 from pendant.eventlog import EventKind, EventLog
 from pendant.ui.gui_target import GuiTarget
+from pendant.ui.html import inset
 
 MSG_VIEWER = "This browser is a viewer: press Take control first"
 MSG_NO_TOKEN = "This pendant needs its access token to take control"
@@ -186,7 +187,7 @@ class ControlPanel:
         you = (
             f" · you are {html.escape(self._desk.name(self.client_id))}" if self.client_id is not None else ""
         )
-        content = f'<div style="font-size:0.85em">{text}{you}</div>'
+        content = inset(f'<div style="font-size:0.85em">{text}{you}</div>')
         if self.role.content != content:
             self.role.content = content
         if self.take_button.disabled != mine:

@@ -27,6 +27,9 @@ class ArmScene:
     def __init__(self, server: viser.ViserServer, urdf_path: Path) -> None:
         self._server = server
         server.scene.set_up_direction("+z")
+        # Shadow maps double the rendering work; on a pendant without a GPU (software WebGL) that is the
+        # difference between the arm keeping up with a jog and lagging behind it.
+        server.scene.configure_default_lights(cast_shadow=False)
         server.initial_camera.position = CAMERA_POSITION_M
         server.initial_camera.look_at = CAMERA_LOOK_AT_M
         server.scene.add_grid(

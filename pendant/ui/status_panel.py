@@ -7,6 +7,7 @@ import math
 
 from pendant.controller import MotionStatus, SignalLevel
 from pendant.ui.gui_target import GuiTarget
+from pendant.ui.html import inset
 from pendant.ui.snapshot import Snapshot
 
 STATE_COLOURS: dict[MotionStatus | None, str] = {
@@ -75,7 +76,7 @@ def render_status(snapshot: Snapshot, mode_line: str) -> str:
         leds = "".join(_led(level, f"DO{p}") for p, level in snapshot.outputs.items())
         leds += "".join(_led(level, f"DI{p}") for p, level in snapshot.inputs.items())
         parts.append(f'<div style="font-size:0.85em">{leds}</div>')
-    return "".join(parts)
+    return inset("".join(parts))
 
 
 class StatusPanel:
