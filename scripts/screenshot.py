@@ -1,4 +1,4 @@
-"""Regenerate docs/pendant.png: a real pendant (simulator) in Debian's chromium, mid-program, Program tab open.
+"""Regenerate docs/pendant.png: a real pendant (simulator) in Debian's chromium, running a taught program.
 
 Run: .venv/bin/python scripts/screenshot.py [--out docs/pendant.png]
 """
@@ -45,8 +45,17 @@ def main() -> None:
     ui_port, api_port = free_port(), free_port()
     programs = tempfile.mkdtemp(prefix="pendant-programs-")
     process = subprocess.Popen(
-        [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)]
-        + ["--programs", programs],
+        [
+            sys.executable,
+            "-m",
+            "pendant",
+            "--ui-port",
+            str(ui_port),
+            "--api-port",
+            str(api_port),
+            "--programs",
+            programs,
+        ],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
     )
