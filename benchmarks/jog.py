@@ -7,6 +7,7 @@
    timestamps the pointerdown on "J1+" and the arrival on the page of the first message after it that moves
    one of the arm's links (status and dashboard updates do not count). Target: p50 <= 100 ms. (Painting it
    adds one frame: Chromium renders WebGL in software here, at about 15-20 frames/s on 2 loaded cores.)
+   For comparison, the server's own part: jog request -> the moved arm handed to viser, in-process.
 
 Run: .venv/bin/python benchmarks/jog.py [--trials 20]
 """
@@ -17,6 +18,7 @@ import argparse
 import statistics
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -52,6 +54,41 @@ def deadman_latencies(trials: int) -> list[float]:
             latencies.append(time.monotonic() - last_confirm)
     finally:
         jogger.stop_watchdog()
+    return latencies
+
+
+def server_latencies(trials: int) -> list[float]:
+    """The pendant's own part of a press: from the jog request to the moved arm handed to viser (which then
+    batches messages for up to 1/60 s before they leave), in-process on the real clock."""
+    from pendant.ui.app import PendantUI
+
+    sim = SimController("pulse75", MonotonicClock())
+    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=free_port(), mode_line="benchmark")
+    moved = threading.Event()
+    show = page.scene.show
+
+    def show_and_tell(q, *args, **kwargs):  # type: ignore[no-untyped-def]
+        before = page.scene.last_shown
+        show(q, *args, **kwargs)
+        if before is not None and page.scene.last_shown is not before:
+            moved.set()
+
+    page.scene.show = show_and_tell  # type: ignore[method-assign]
+    page.start()
+    latencies = []
+    try:
+        time.sleep(1.0)
+        for i in range(trials):
+            moved.clear()
+            pressed = time.perf_counter()
+            page.jogger.hold(JogRequest(JogFrame.JOINT, 0, +1 if i % 2 == 0 else -1, speed_percent=10))
+            if moved.wait(1.0):
+                latencies.append(time.perf_counter() - pressed)
+            time.sleep(0.1)
+            page.jogger.release()
+            time.sleep(0.2)
+    finally:
+        page.stop()
     return latencies
 
 
@@ -139,6 +176,7 @@ def main() -> None:
     parser.add_argument("--trials", type=int, default=20)
     args = parser.parse_args()
     _report("deadman: last confirmation -> arm frozen", deadman_latencies(args.trials))
+    _report("server: jog request -> moved arm handed to viser", server_latencies(args.trials))
     _report("browser: J1+ pressed -> first pose change on the page", browser_latencies(args.trials))
 
 

@@ -52,6 +52,11 @@ class ArmScene:
         self.trail = TcpTrail(server)
         self._last: tuple[np.ndarray, float] | None = None
 
+    @property
+    def last_shown(self) -> tuple[np.ndarray, float] | None:
+        """The joint angles and gripper opening last sent to the browsers (a new object on every change)."""
+        return self._last
+
     def show(
         self, q: np.ndarray, gripper_opening: float, T_base_tcp: np.ndarray, now: float | None = None
     ) -> None:
