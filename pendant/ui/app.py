@@ -179,6 +179,8 @@ class PendantUI:
             tool = self._read_quietly(self.controller.get_tool, None)
             if tool is not None:
                 tool_name, self.T_flange_tool = tool.name, position_to_matrix(tool.position)
+        if not self._robot_id and with_io:  # the controller was unreachable when the pendant started
+            self._robot_id = self._read_quietly(self.controller.get_robot_id, "")
         snapshot = read_snapshot(
             self.controller, with_io=with_io, robot_id=self._robot_id, tool_name=tool_name
         )

@@ -170,6 +170,17 @@ def test_a_controller_that_does_not_respond_is_online_with_a_red_banner(
     assert MSG_NOT_RESPONDING in ui.status.content and "offline" not in ui.status.content
 
 
+def test_the_robot_id_appears_once_a_controller_that_was_down_at_start_answers(sim: SimController) -> None:
+    sim.inject_fault(Fault.NO_RESPONSE)
+    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=_free_port(), mode_line="Simulator · pulse75")
+    try:
+        assert page.refresh().robot_id == ""
+        sim.reset()
+        assert page.refresh(with_io=True).robot_id == sim.get_robot_id() != ""
+    finally:
+        page.stop()
+
+
 def test_invalid_tool_form_is_refused_before_anything_is_sent(ui: ClientSession, sim: SimController) -> None:
     before = sim.get_tool()
     ui.settings.tool_name.value = "   "
