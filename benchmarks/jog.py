@@ -28,7 +28,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from pendant.controller import MotionStatus
 from pendant.jog import JogFrame, Jogger, JogRequest
 from pendant.sim import MonotonicClock, SimController
-from tests.api.server import free_port
+from tests.api.server import free_port, wait_until
 
 CONFIRM_PERIOD_S = 0.05
 # Small, because Chromium paints WebGL in software here: a bigger canvas only measures the painting.
@@ -126,7 +126,7 @@ def browser_latencies(trials: int) -> list[float]:
     api = httpx.Client(base_url=f"http://127.0.0.1:{api_port}", timeout=5.0)
     latencies = []
     try:
-        _wait(lambda: api.get("/pose").status_code == 200)
+        wait_until(lambda: api.get("/pose").status_code == 200, what="the pendant answering")
         with sync_playwright() as playwright:
             browser = playwright.chromium.launch(executable_path="/usr/bin/chromium", args=CHROMIUM_ARGS)
             page = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
@@ -144,25 +144,13 @@ def browser_latencies(trials: int) -> list[float]:
                 latencies.append((first - page.evaluate("window.__pressedAt")) / 1000.0)
                 time.sleep(0.2)
                 page.mouse.up()
-                _wait(lambda: api.get("/status/motion").text.strip('"') == "IDLE")
+                wait_until(lambda: api.get("/status/motion").text.strip('"') == "IDLE", what="IDLE")
                 time.sleep(0.3)
             browser.close()
     finally:
         process.terminate()
         process.wait(10)
     return latencies
-
-
-def _wait(ready, timeout_s: float = 60.0) -> None:  # type: ignore[no-untyped-def]
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        try:
-            if ready():
-                return
-        except httpx.HTTPError:
-            pass
-        time.sleep(0.1)
-    raise TimeoutError("pendant did not come up")
 
 
 def _report(name: str, values: list[float]) -> None:

@@ -32,7 +32,8 @@ import websockets
 import zstandard
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from tests.api.server import free_port
+from tests.api.server import answers, free_port, wait_until
+from tests.ui.headless_viewer import CAMERA_HELLO
 
 STATE_NODE = "/tcp_frame"  # its position is set on every refresh tick while the arm moves
 START_TIMEOUT_S = 60.0
@@ -40,20 +41,6 @@ WARM_UP_S = 3.0
 POSES = ([60.0, -70.0, 40.0, -90.0, -90.0, 30.0], [-60.0, -100.0, -30.0, -80.0, -90.0, -30.0])
 SPEED_PERCENT = 4.0  # slow: one leg takes several seconds
 LEGS_PER_RUN = 10  # longer than any measurement window
-CAMERA_HELLO = msgspec.msgpack.encode(
-    {
-        "type": "ViewerCameraMessage",
-        "wxyz": (1.0, 0.0, 0.0, 0.0),
-        "position": (1.1, -1.3, 0.9),
-        "fov": 1.0,
-        "near": 0.01,
-        "far": 100.0,
-        "image_height": 900,
-        "image_width": 1400,
-        "look_at": (0.0, 0.0, 0.35),
-        "up_direction": (0.0, 0.0, 1.0),
-    }
-)
 
 
 @dataclass
@@ -109,16 +96,6 @@ def keep_moving(api: str, stop: threading.Event) -> None:
             stop.wait(0.1)
 
 
-def wait_http(url: str, deadline: float) -> None:
-    while time.monotonic() < deadline:
-        try:
-            httpx.get(url, timeout=1.0)
-            return
-        except httpx.HTTPError:
-            time.sleep(0.2)
-    raise TimeoutError(f"{url} did not answer")
-
-
 async def measure(
     ui_port: int, n_viewers: int, seconds: float, pid: int
 ) -> tuple[list[ViewerCounts], float, float, float]:
@@ -155,9 +132,10 @@ def main() -> int:
     )
     stop_moving = threading.Event()
     try:
-        deadline = time.monotonic() + START_TIMEOUT_S
-        wait_http(f"{api}/pose", deadline)
-        wait_http(f"http://127.0.0.1:{ui_port}/", deadline)
+        wait_until(lambda: answers(f"{api}/pose"), START_TIMEOUT_S, what="the API answering")
+        wait_until(
+            lambda: answers(f"http://127.0.0.1:{ui_port}/"), START_TIMEOUT_S, what="the page answering"
+        )
         mover = threading.Thread(target=keep_moving, args=(api, stop_moving), daemon=True)
         mover.start()
         idle_cpu0, idle_t0 = cpu_seconds(process.pid), time.monotonic()

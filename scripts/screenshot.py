@@ -15,25 +15,13 @@ from pathlib import Path
 import httpx
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from tests.api.server import free_port
+from tests.api.server import free_port, wait_until
 
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking"]
 VIEWPORT = {"width": 1400, "height": 860}
 # A short pick-and-place taught through the API, as an operator would jog there and press Record.
 TEACH_DEG = ([20.0, -80.0, 100.0, -110.0, -90.0, 0.0], [-30.0, -70.0, 80.0, -100.0, -90.0, 0.0])
 SPEED_PERCENT = 40
-
-
-def wait_until(ready, timeout_s: float = 60.0) -> None:  # type: ignore[no-untyped-def]
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        try:
-            if ready():
-                return
-        except httpx.HTTPError:
-            pass
-        time.sleep(0.1)
-    raise TimeoutError("the pendant did not get there")
 
 
 def main() -> None:

@@ -7,7 +7,7 @@ import socket
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import httpx
@@ -16,6 +16,25 @@ REPO_ROOT = Path(__file__).resolve().parents[2]
 START_TIMEOUT_S = 60.0
 STOP_TIMEOUT_S = 10.0
 LOOPBACK = "127.0.0.1"
+
+
+def wait_until(ready: Callable[[], bool], timeout_s: float = START_TIMEOUT_S, what: str = "it") -> None:
+    """Poll `ready` until it holds (an HTTP error counts as "not yet"): a real process on a real clock."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        try:
+            if ready():
+                return
+        except httpx.HTTPError:
+            pass
+        time.sleep(0.05)
+    raise TimeoutError(f"{what} did not happen within {timeout_s} s")
+
+
+def answers(url: str) -> bool:
+    """Anything at `url` answers HTTP at all."""
+    httpx.get(url, timeout=1.0)
+    return True
 
 
 def free_port() -> int:

@@ -4,36 +4,20 @@ from __future__ import annotations
 
 import os
 import shutil
-import socket
 import subprocess
 import sys
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
 import httpx
 import pytest
 
+from tests.api.server import answers, free_port, wait_until
+
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking"]
 ARTIFACTS = Path(__file__).resolve().parents[2] / "test-artifacts"
 START_TIMEOUT_S = 60.0
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def _wait_http(url: str, deadline: float) -> None:
-    while time.monotonic() < deadline:
-        try:
-            httpx.get(url, timeout=1.0)
-            return
-        except httpx.HTTPError:
-            time.sleep(0.2)
-    raise TimeoutError(f"{url} did not answer within {START_TIMEOUT_S} s")
 
 
 class Pendant:
@@ -50,7 +34,7 @@ class Pendant:
 
 @pytest.fixture(scope="module")
 def pendant() -> Iterator[Pendant]:
-    ui_port, api_port = _free_port(), _free_port()
+    ui_port, api_port = free_port(), free_port()
     process = subprocess.Popen(
         [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
         stdout=subprocess.PIPE,
@@ -58,9 +42,8 @@ def pendant() -> Iterator[Pendant]:
         env={**os.environ, "PYTHONUNBUFFERED": "1"},
     )
     try:
-        deadline = time.monotonic() + START_TIMEOUT_S
-        _wait_http(f"http://127.0.0.1:{api_port}/pose", deadline)
-        _wait_http(f"http://127.0.0.1:{ui_port}/", deadline)
+        wait_until(lambda: answers(f"http://127.0.0.1:{api_port}/pose"), START_TIMEOUT_S, "the API")
+        wait_until(lambda: answers(f"http://127.0.0.1:{ui_port}/"), START_TIMEOUT_S, "the page")
         yield Pendant(f"http://127.0.0.1:{ui_port}/", f"http://127.0.0.1:{api_port}")
     finally:
         process.terminate()

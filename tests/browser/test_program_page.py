@@ -12,7 +12,9 @@ from collections.abc import Iterator
 import numpy as np
 import pytest
 
-from .conftest import ARTIFACTS, START_TIMEOUT_S, Pendant, _free_port, _wait_http
+from tests.api.server import answers, free_port, wait_until
+
+from .conftest import ARTIFACTS, START_TIMEOUT_S, Pendant
 
 POSE_A_DEG = [25.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 POSE_B_DEG = [-25.0, -80.0, 80.0, -90.0, -90.0, 0.0]
@@ -28,7 +30,7 @@ POLL_S = 0.02  # a real process on a real clock: the test watches it through the
 def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
     """This module's own pendant, with its programs in a fresh folder (not the checkout's ./programs)."""
     programs = tmp_path_factory.mktemp("programs")
-    ui_port, api_port = _free_port(), _free_port()
+    ui_port, api_port = free_port(), free_port()
     process = subprocess.Popen(
         [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
         stdout=subprocess.PIPE,
@@ -36,9 +38,8 @@ def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
         env={**os.environ, "PYTHONUNBUFFERED": "1", "PENDANT_PROGRAMS_DIR": str(programs)},
     )
     try:
-        deadline = time.monotonic() + START_TIMEOUT_S
-        _wait_http(f"http://127.0.0.1:{api_port}/pose", deadline)
-        _wait_http(f"http://127.0.0.1:{ui_port}/", deadline)
+        wait_until(lambda: answers(f"http://127.0.0.1:{api_port}/pose"), START_TIMEOUT_S, "the API")
+        wait_until(lambda: answers(f"http://127.0.0.1:{ui_port}/"), START_TIMEOUT_S, "the page")
         served = Pendant(f"http://127.0.0.1:{ui_port}/", f"http://127.0.0.1:{api_port}")
         served.programs = programs  # type: ignore[attr-defined]
         yield served

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import socket
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -17,6 +16,7 @@ from pendant.program import MoveStep, OutputStep, ProgramRunner, ProgramStore, P
 from pendant.sim import FakeClock, SimController
 from pendant.ui.commands import CommandRunner
 from pendant.ui.program_panel import ProgramPanel
+from tests.api.server import free_port
 
 from .conftest import POSE_A_DEG, POSE_B_DEG, teach
 
@@ -48,15 +48,9 @@ def fire(handle: Any, client: FakeClient, value: Any = None) -> None:
         callback(viser.GuiEvent(client=client, client_id=client.client_id, target=handle))  # type: ignore[arg-type]
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 @pytest.fixture
 def server() -> Iterator[viser.ViserServer]:
-    server = viser.ViserServer(host="127.0.0.1", port=_free_port(), verbose=False)
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
     yield server
     server.stop()
 

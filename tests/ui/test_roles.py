@@ -3,7 +3,6 @@ pendant, and the operator leaving stops a jog. Headless: sessions on the server'
 
 from __future__ import annotations
 
-import socket
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
@@ -19,6 +18,7 @@ from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.commands import CommandRefused
 from pendant.ui.roles import MSG_NO_TOKEN, MSG_WRONG_TOKEN
+from tests.api.server import free_port
 
 TOKEN = "s3cret-token"
 ANGLE_TOL_DEG = 1e-9
@@ -37,15 +37,9 @@ class StandInClient:
         self.notifications.append(f"{title}: {body}")
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def _ui(sim: SimController, token: str | None) -> PendantUI:
     page = PendantUI(
-        sim, sim.arm, host="127.0.0.1", port=_free_port(), mode_line="Simulator · pulse75", token=token
+        sim, sim.arm, host="127.0.0.1", port=free_port(), mode_line="Simulator · pulse75", token=token
     )
     page.refresh()
     return page

@@ -4,12 +4,10 @@
 from __future__ import annotations
 
 import asyncio
-import socket
 import time
 from collections.abc import Iterator
 from urllib.parse import parse_qs, urlsplit
 
-import msgspec
 import pytest
 import viser
 import websockets
@@ -20,42 +18,21 @@ from pendant.jog import JogFrame, JogRequest
 from pendant.sim import MonotonicClock, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.roles import MSG_NO_TOKEN
+from tests.api.server import free_port
+from tests.ui.headless_viewer import CAMERA_HELLO
 
 TOKEN = "url-token-123"
 CONNECT_TIMEOUT_S = 20.0
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 @pytest.fixture
 def exposed() -> Iterator[tuple[PendantUI, int]]:
-    port = _free_port()
+    port = free_port()
     sim = SimController("pulse75", MonotonicClock())
     page = PendantUI(sim, sim.arm, host="127.0.0.1", port=port, mode_line="Simulator · pulse75", token=TOKEN)
     page.start()
     yield page, port
     page.stop()
-
-
-# viser counts a browser as connected once it reports its camera: a headless client does the same.
-CAMERA_HELLO = msgspec.msgpack.encode(
-    {
-        "type": "ViewerCameraMessage",
-        "wxyz": (1.0, 0.0, 0.0, 0.0),
-        "position": (1.0, -1.0, 1.0),
-        "fov": 1.0,
-        "near": 0.01,
-        "far": 100.0,
-        "image_height": 600,
-        "image_width": 800,
-        "look_at": (0.0, 0.0, 0.3),
-        "up_direction": (0.0, 0.0, 1.0),
-    }
-)
 
 
 async def _wait_for(condition, timeout_s: float = CONNECT_TIMEOUT_S) -> None:  # type: ignore[no-untyped-def]

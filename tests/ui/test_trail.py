@@ -7,13 +7,12 @@ import pytest
 import viser
 
 from pendant.ui.trail import MIN_STEP_M, TRAIL_SECONDS, TcpTrail
-
-from .test_ui_callbacks import _free_port
+from tests.api.server import free_port
 
 
 @pytest.fixture
 def server():
-    server = viser.ViserServer(host="127.0.0.1", port=_free_port(), verbose=False)
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
     yield server
     server.stop()
 

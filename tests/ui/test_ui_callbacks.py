@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import socket
 from collections.abc import Iterator
 
 import numpy as np
@@ -20,21 +19,16 @@ from pendant.kinematics.transforms import position_to_matrix
 from pendant.sim import FakeClock, Fault, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.session import ClientSession
+from tests.api.server import free_port
 
 TOOL_LENGTH_M = 0.12
 ANGLE_TOL_DEG = 1e-6
 FUTURE_TIMEOUT_S = 5.0
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 @pytest.fixture
 def pendant_ui(sim: SimController) -> Iterator[PendantUI]:
-    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=_free_port(), mode_line="Simulator · pulse75")
+    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=free_port(), mode_line="Simulator · pulse75")
     page.refresh()
     yield page
     page.stop()
@@ -172,7 +166,7 @@ def test_a_controller_that_does_not_respond_is_online_with_a_red_banner(
 
 def test_the_robot_id_appears_once_a_controller_that_was_down_at_start_answers(sim: SimController) -> None:
     sim.inject_fault(Fault.NO_RESPONSE)
-    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=_free_port(), mode_line="Simulator · pulse75")
+    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=free_port(), mode_line="Simulator · pulse75")
     try:
         assert page.refresh().robot_id == ""
         sim.reset()
