@@ -8,9 +8,11 @@ from __future__ import annotations
 
 import contextlib
 import json
+import logging
 import os
 import re
 import tempfile
+from datetime import UTC, datetime
 from pathlib import Path
 
 from pydantic import ValidationError
@@ -21,10 +23,12 @@ DEFAULT_PROGRAMS_DIR = Path("programs")  # relative to the pendant's working dir
 PROGRAMS_DIR_ENV = "PENDANT_PROGRAMS_DIR"
 SUFFIX = ".json"
 AUTOSAVE_FILE = ".autosave.json"  # a dot file: never listed as a program
-AUTOSAVE_REFUSED_FILE = ".autosave.refused.json"
+AUTOSAVE_REFUSED_PREFIX = ".autosave.refused."  # + UTC time + ".json": every refused autosave is kept
 NAME_MAX = 64
 _NAME_OK = re.compile(r"[A-Za-z0-9 _.\-]+")
 MAX_FILE_BYTES = 5_000_000  # a program of thousands of steps is ~1 MB; anything bigger is not a program
+
+log = logging.getLogger(__name__)
 
 
 def programs_dir() -> Path:
@@ -69,6 +73,11 @@ def parse_program(data: bytes, source: str) -> Program:
     version = document.get("schema_version")
     if not isinstance(version, int) or isinstance(version, bool):
         raise ProgramFileError(f"{source} is not a program file (no schema_version)")
+    if version < 1:
+        raise ProgramFileError(
+            f"{source} has schema version {version}, which no pendant writes (versions start at 1): "
+            "the file is damaged or not a program file"
+        )
     if version > SCHEMA_VERSION:
         raise ProgramFileError(
             f"{source} was written by a newer pendant (schema version {version}; this pendant reads up to "
@@ -124,6 +133,8 @@ class ProgramStore:
 
     def __init__(self, folder: Path | str | None = None) -> None:
         self.folder = programs_dir() if folder is None else Path(folder)
+        # Set by restore(): why the autosave was refused, for the page to show (None: nothing to say).
+        self.restore_problem: str | None = None
 
     def path_of(self, name: str) -> Path:
         return self.folder / f"{sanitize_name(name)}{SUFFIX}"
@@ -176,17 +187,74 @@ class ProgramStore:
     def restore(self) -> tuple[Program, str | None, bool] | None:
         """The autosaved (program, file name, unsaved changes), or None when there is none to restore.
 
-        An unreadable autosave is moved aside to AUTOSAVE_REFUSED_FILE, never silently overwritten."""
+        An unreadable autosave is moved aside under a new timestamped name (never overwriting an earlier
+        one) and `restore_problem` says what happened, for the page to show; it is None after a clean restore.
+        """
+        self.restore_problem = None
         try:
             data = self.autosave_path.read_bytes()
-        except OSError:
+        except FileNotFoundError:
+            return None
+        except OSError as error:
+            self.restore_problem = (
+                f"The autosaved program could not be read ({error}); "
+                "the pendant started with an empty program."
+            )
+            log.warning("%s", self.restore_problem)
             return None
         try:
-            document = json.loads(data)
-            program = parse_program(json.dumps(document["program"]).encode(), AUTOSAVE_FILE)
-            file_name = document.get("file_name")
-            return program, file_name if isinstance(file_name, str) else None, bool(document.get("dirty"))
-        except (ValueError, KeyError, TypeError, ProgramFileError):
-            with contextlib.suppress(OSError):
-                os.replace(self.autosave_path, self.folder / AUTOSAVE_REFUSED_FILE)
-            return None
+            return _parse_autosave(data)
+        except ProgramFileError as error:
+            reason = str(error)
+        try:
+            kept = self._keep_refused_autosave()
+        except OSError as error:
+            # Left in place, so the first edit replaces it: say so, the operator may want to copy it first.
+            self.restore_problem = (
+                f"The autosaved program could not be restored: {reason}. "
+                f"It could not be moved aside ({error}) and will be overwritten by the next edit: "
+                f"copy {self.autosave_path} now to keep it. "
+                "The pendant started with an empty program."
+            )
+        else:
+            self.restore_problem = (
+                f"The autosaved program could not be restored: {reason}. The file was kept as {kept}; "
+                "the pendant started with an empty program."
+            )
+        log.warning("%s", self.restore_problem)
+        return None
+
+    def _keep_refused_autosave(self) -> Path:
+        """Move the autosave to a free `.autosave.refused.<UTC time>[-n].json`; returns where it went."""
+        stamp = datetime.now(UTC).strftime("%Y%m%dT%H%M%SZ")
+        for n in range(1, 1000):
+            suffix = "" if n == 1 else f"-{n}"
+            kept = self.folder / f"{AUTOSAVE_REFUSED_PREFIX}{stamp}{suffix}{SUFFIX}"
+            try:
+                # A hard link fails if the name is taken, so an earlier refused autosave is never replaced.
+                os.link(self.autosave_path, kept)
+            except FileExistsError:
+                continue
+            except OSError:
+                # No hard links on this filesystem: a checked rename (racy only against another pendant).
+                if kept.exists():
+                    continue
+                os.rename(self.autosave_path, kept)
+            else:
+                os.unlink(self.autosave_path)
+            _fsync_dir(self.folder)
+            return kept
+        raise OSError(f"too many refused autosaves named {AUTOSAVE_REFUSED_PREFIX}{stamp}*")
+
+
+def _parse_autosave(data: bytes) -> tuple[Program, str | None, bool]:
+    """(program, file name, dirty) from an autosave document, or ProgramFileError saying why not."""
+    try:
+        document = json.loads(data)
+    except (UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise ProgramFileError(f"{AUTOSAVE_FILE} is not a JSON document: {error}") from error
+    if not isinstance(document, dict) or not isinstance(document.get("program"), dict):
+        raise ProgramFileError(f"{AUTOSAVE_FILE} is not an autosave (no program in it)")
+    program = parse_program(json.dumps(document["program"]).encode(), AUTOSAVE_FILE)
+    file_name = document.get("file_name")
+    return program, file_name if isinstance(file_name, str) else None, bool(document.get("dirty"))

@@ -92,7 +92,7 @@ Step = Annotated[MoveStep | GripperStep | OutputStep | WaitInputStep | WaitStep,
 class Program(_Frozen):
     """What a program file holds. `schema_version` lets a newer pendant's files be refused, not misread."""
 
-    schema_version: int = SCHEMA_VERSION
+    schema_version: int = Field(default=SCHEMA_VERSION, ge=1)  # files start at version 1
     name: str = "untitled"
     steps: tuple[Step, ...] = ()
 

@@ -120,6 +120,8 @@ class PendantUI:
         self.telemetry = Telemetry(controller)
         self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
         self.programs.on_change(self._log_program_failure)
+        if self.programs.store.restore_problem is not None:
+            self.events.record(EventKind.ERROR, "program", self.programs.store.restore_problem)
         self._failure_logged: str | None = None
         self.scene = ArmScene(self.server, arm.urdf_path)
         self.latest = Snapshot(taken_at=0.0)

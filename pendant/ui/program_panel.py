@@ -481,7 +481,11 @@ class ProgramPanel:
         finally:
             self._syncing = False
         folder = self._shared.store.folder
-        self.file_status.content = f"Programs folder: `{folder}` ({len(self._shared.saved_programs())} saved)"
+        status = f"Programs folder: `{folder}` ({len(self._shared.saved_programs())} saved)"
+        problem = self._shared.store.restore_problem
+        if problem is not None:  # said until the pendant restarts: the refused file waits in the folder
+            status += f"  \n**{problem}**"
+        self.file_status.content = status
         self._redraw_title()
 
     def _redraw_run(self) -> None:

@@ -10,6 +10,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
+from pydantic import ValidationError
 
 from pendant.controller import Point, Pose, Position, Rotation
 from pendant.program import (
@@ -86,6 +87,14 @@ def test_atomic_write_replaces_the_whole_content(tmp_path: Path) -> None:
             "is not a valid program",
         ),
         (json.dumps({"schema_version": 1, "steps": [{"kind": "wait", "ms": -5}]}).encode(), "is not a valid"),
+        (
+            json.dumps({"schema_version": 0, "steps": []}).encode(),
+            "schema version 0, which no pendant writes",
+        ),
+        (
+            json.dumps({"schema_version": -3, "steps": []}).encode(),
+            "schema version -3, which no pendant writes",
+        ),
     ],
 )
 def test_a_bad_file_is_refused_with_a_clear_message_and_nothing_is_overwritten(
@@ -105,19 +114,103 @@ def test_names_that_would_leave_the_folder_or_hide_are_refused(tmp_path: Path, n
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize("version", [0, -1])
+def test_a_program_below_schema_version_1_cannot_be_made(version: int) -> None:
+    with pytest.raises(ValidationError, match="greater than or equal to 1"):
+        Program(schema_version=version)
+    with pytest.raises(ValidationError):
+        Program.model_validate({"schema_version": version, "steps": []})
+
+
 def test_names_are_trimmed_and_lose_their_json_suffix() -> None:
     assert sanitize_name("  pick-place_2.json ") == "pick-place_2"
 
 
-def test_the_autosave_is_not_listed_and_an_unreadable_one_is_kept_aside(tmp_path: Path) -> None:
+def test_the_autosave_is_not_listed_and_restores_the_program(tmp_path: Path) -> None:
     store = ProgramStore(tmp_path)
     store.autosave(program_of("P1"), None, True)
     assert store.names() == []
     program, file_name, dirty = store.restore()  # type: ignore[misc]
     assert program.waypoint_names() == ["P1"] and file_name is None and dirty
-    store.autosave_path.write_text("{garbage")
+    assert store.restore_problem is None
+
+
+def refused_autosaves(folder: Path) -> list[Path]:
+    return sorted(folder.glob(".autosave.refused.*.json"))
+
+
+def test_a_corrupt_autosave_starts_an_empty_program_and_every_refused_one_is_kept_and_explained(
+    tmp_path: Path, runner
+) -> None:  # type: ignore[no-untyped-def]
+    from pendant.program import ProgramWorkspace
+
+    folder = tmp_path / "programs"
+    folder.mkdir()
+    (folder / ".autosave.json").write_text("{garbage")
+    store = ProgramStore(folder)
+    workspace = ProgramWorkspace(store, runner)
+    assert workspace.program.steps == () and not workspace.dirty
+    [first] = refused_autosaves(folder)
+    assert first.read_text() == "{garbage"
+    assert not (folder / ".autosave.json").exists()
+    problem = store.restore_problem
+    assert problem is not None
+    assert "could not be restored" in problem and "not a JSON document" in problem
+    assert first.name in problem and "empty program" in problem
+    assert store.names() == []  # kept aside, not offered as a program
+
+    # A second refusal, in the same second, keeps both.
+    newer = {"file_name": "job", "dirty": True, "program": {"schema_version": SCHEMA_VERSION + 1}}
+    (folder / ".autosave.json").write_text(json.dumps(newer))
+    restarted = ProgramStore(folder)
+    assert ProgramWorkspace(restarted, runner).program.steps == ()
+    assert first.read_text() == "{garbage"
+    kept = refused_autosaves(folder)
+    assert len(kept) == 2
+    [second] = [p for p in kept if p != first]
+    assert json.loads(second.read_text()) == newer
+    assert restarted.restore_problem is not None and "newer pendant" in restarted.restore_problem
+    assert second.name in restarted.restore_problem
+
+
+@pytest.mark.parametrize(
+    ("content", "reason"),
+    [
+        (b"[1, 2]", "not an autosave"),
+        (b'{"file_name": null, "dirty": true}', "not an autosave"),
+        (json.dumps({"program": {"schema_version": 0}}).encode(), "schema version 0"),
+    ],
+)
+def test_an_autosave_that_is_not_one_is_refused_with_the_reason(
+    tmp_path: Path, content: bytes, reason: str
+) -> None:
+    (tmp_path / ".autosave.json").write_bytes(content)
+    store = ProgramStore(tmp_path)
     assert store.restore() is None
-    assert (tmp_path / ".autosave.refused.json").read_text() == "{garbage"
+    assert store.restore_problem is not None and reason in store.restore_problem
+    assert [p.read_bytes() for p in refused_autosaves(tmp_path)] == [content]
+
+
+def test_an_autosave_that_cannot_be_moved_aside_is_left_and_the_message_says_to_copy_it(
+    tmp_path: Path, monkeypatch
+) -> None:  # type: ignore[no-untyped-def]
+    (tmp_path / ".autosave.json").write_text("{garbage")
+
+    def read_only(*_: object) -> None:
+        raise PermissionError("read-only folder")
+
+    monkeypatch.setattr(os, "link", read_only)
+    monkeypatch.setattr(os, "rename", read_only)
+    store = ProgramStore(tmp_path)
+    assert store.restore() is None
+    assert (tmp_path / ".autosave.json").read_text() == "{garbage"
+    assert store.restore_problem is not None
+    assert "read-only folder" in store.restore_problem and "copy" in store.restore_problem
+
+
+def test_no_autosave_is_no_problem(tmp_path: Path) -> None:
+    store = ProgramStore(tmp_path)
+    assert store.restore() is None and store.restore_problem is None
 
 
 def test_a_recorded_waypoint_survives_the_process_being_killed(tmp_path: Path) -> None:

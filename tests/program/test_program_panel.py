@@ -139,3 +139,20 @@ def test_two_browsers_see_the_same_program(setup, server, sim) -> None:  # type:
         assert list(other.select.options) == ["1. Move J to P1 @ 20%"]
     finally:
         other.close()
+
+
+def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]
+    folder = tmp_path / "programs"
+    folder.mkdir()
+    (folder / ".autosave.json").write_text("{ half a program")  # the pendant was killed mid-write by hand
+    workspace = ProgramWorkspace(ProgramStore(folder), ProgramRunner(sim, sleep=clock.advance, now=clock.now))
+    runner = CommandRunner(sim)
+    panel = ProgramPanel(server, workspace, runner, arm=sim.arm)
+    try:
+        assert workspace.program.steps == ()
+        assert "could not be restored" in panel.file_status.content
+        kept = list(folder.glob(".autosave.refused.*.json"))
+        assert len(kept) == 1 and kept[0].read_text() == "{ half a program"
+    finally:
+        panel.close()
+        runner.shutdown()
