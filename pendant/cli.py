@@ -1,6 +1,7 @@
 """The `pendant` command: flags -> Settings -> controller -> the web UI and the API server.
 
     pendant [--host 127.0.0.1] [--ui-port 8080] [--api-port 8081] [--model pulse75|pulse90] [--robot URL]
+            [--connect-timeout 1] [--read-timeout 3]
 
 serves the pendant's page and the PULSE REST API (the simulator's, or a proxy to the real arm at --robot);
 with --no-ui, the API alone on the controller's own port.
@@ -13,6 +14,7 @@ taking control in the page needs it, and so does every PUT/POST on the API (head
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from collections.abc import Sequence
@@ -34,6 +36,17 @@ if TYPE_CHECKING:
 _DEFAULTS = Settings()
 
 
+def _seconds(text: str) -> float:
+    """A timeout flag: a finite number of seconds above zero (zero or inf would mean "wait forever")."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"{text!r} must be a number of seconds above 0")
+    return value
+
+
 def parse_settings(argv: Sequence[str] | None = None) -> Settings:
     """The command line as Settings (argparse exits with a usage message on bad flags)."""
     parser = argparse.ArgumentParser(
@@ -52,6 +65,20 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         "--model", choices=MODEL_NAMES, default=_DEFAULTS.model, help="simulated arm (default %(default)s)"
     )
     parser.add_argument("--robot", metavar="URL", help="a real controller, e.g. http://192.168.0.10:8081")
+    parser.add_argument(
+        "--connect-timeout",
+        type=_seconds,
+        default=_DEFAULTS.connect_timeout,
+        metavar="S",
+        help="with --robot: seconds to wait for a connection to the controller (default %(default)g)",
+    )
+    parser.add_argument(
+        "--read-timeout",
+        type=_seconds,
+        default=_DEFAULTS.read_timeout,
+        metavar="S",
+        help="with --robot: seconds to wait for the controller's answer (default %(default)g)",
+    )
     parser.add_argument(
         "--token",
         help=f"access token to take control in the page and for API commands ({TOKEN_HEADER} header); "
@@ -76,6 +103,8 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         no_ui=args.no_ui,
         token=args.token,
         programs_dir=args.programs,
+        connect_timeout=args.connect_timeout,
+        read_timeout=args.read_timeout,
     )
 
 
@@ -91,7 +120,9 @@ def make_controller(settings: Settings) -> Controller:
     if settings.robot_url is not None:
         from pendant.remote import RemoteController
 
-        return RemoteController(settings.robot_url)
+        return RemoteController(
+            settings.robot_url, connect_timeout=settings.connect_timeout, read_timeout=settings.read_timeout
+        )
     from pendant.sim import MonotonicClock, SimController
 
     return SimController(model=settings.model, clock=MonotonicClock())

@@ -4,7 +4,10 @@ Every request outside /pendant/ (the pendant's own namespace, e.g. GET /pendant/
 controller with its method, path, query string, body and headers (minus hop-by-hop ones); the controller's
 status, headers (content type included) and body come back byte for byte. If the controller cannot be
 reached, or does not answer within the read timeout, the proxy answers 502 Bad Gateway with a `text/plain`
-message saying why.
+message saying why. The timeouts are the pendant's own (Settings, `--connect-timeout`/`--read-timeout`), the
+same as its client's. No longer read timeout for commands: the controller queues a motion and answers at
+once. Only a gripper command may hold its answer for its `timeout` (ms, default 500); a script that asks for
+waits longer than the read timeout needs a longer `--read-timeout`.
 Nothing is queued or re-sent later: a command that could not be delivered is lost, and the caller is told.
 A GET (idempotent) is retried once on a fresh connection when a kept-alive one turns out to be dead.
 
@@ -26,7 +29,7 @@ from starlette.responses import PlainTextResponse, Response
 from starlette.types import ASGIApp, Receive, Scope, Send
 
 from pendant.config import Settings
-from pendant.remote.client import DEFAULT_CONNECT_TIMEOUT_S, RemoteController
+from pendant.remote.client import RemoteController
 from pendant.remote.health import health_router
 from pendant.remote.upstream import (
     UpstreamConnectError,
@@ -36,7 +39,6 @@ from pendant.remote.upstream import (
     UpstreamTimeout,
 )
 
-DEFAULT_PROXY_READ_TIMEOUT_S = 10.0
 PENDANT_PREFIX = "/pendant/"  # served by the pendant itself, never forwarded
 BAD_GATEWAY = 502
 
@@ -136,8 +138,8 @@ def create_proxy_app(
     settings: Settings | None = None,
     controller: RemoteController | None = None,
     on_request: RequestHook | None = None,
-    connect_timeout: float = DEFAULT_CONNECT_TIMEOUT_S,
-    read_timeout: float = DEFAULT_PROXY_READ_TIMEOUT_S,
+    connect_timeout: float | None = None,
+    read_timeout: float | None = None,
     started_at: float | None = None,
 ) -> FastAPI:
     """An ASGI app serving the PULSE API by forwarding to the controller at `robot_url` (plain HTTP), plus
@@ -145,17 +147,22 @@ def create_proxy_app(
 
     `controller`: the RemoteController the rest of the pendant (UI, programs) uses, so that the health route
     probes and reports that very link; by default the app makes its own (closed with the app).
+    `connect_timeout`, `read_timeout`: seconds, by default the settings'.
     """
     robot_url = robot_url.rstrip("/")
     parts = urlsplit(robot_url)
     if parts.scheme != "http" or not parts.hostname:
         raise ValueError(f"robot URL must look like http://HOST:8081, not {robot_url!r}")
     settings = settings if settings is not None else Settings(robot_url=robot_url)
+    connect_timeout = connect_timeout if connect_timeout is not None else settings.connect_timeout
+    read_timeout = read_timeout if read_timeout is not None else settings.read_timeout
     started_at = started_at if started_at is not None else time.monotonic()
     pool = UpstreamPool(parts.hostname, parts.port or 80, connect_timeout, read_timeout)
     # The health probe is a blocking client: the health route runs in the thread pool.
     owns_probe = controller is None
-    health_probe = controller or RemoteController(robot_url, connect_timeout=connect_timeout, get_retries=0)
+    health_probe = controller or RemoteController(
+        robot_url, connect_timeout=connect_timeout, read_timeout=read_timeout, get_retries=0
+    )
 
     @contextlib.asynccontextmanager
     async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
@@ -177,6 +184,7 @@ def create_proxy_app(
     app.add_middleware(_Forwarder, robot_url=robot_url, pool=pool, on_request=on_request)
     app.state.robot_url = robot_url
     app.state.health_probe = health_probe
+    app.state.upstream = pool  # its timeouts are the ones in force
     return app
 
 
@@ -192,8 +200,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--robot", required=True, help="the controller's URL, e.g. http://192.168.1.50:8081")
     parser.add_argument("--host", default="127.0.0.1")
     parser.add_argument("--port", type=int, default=8081)
+    parser.add_argument("--connect-timeout", type=float, default=Settings.connect_timeout, metavar="S")
+    parser.add_argument("--read-timeout", type=float, default=Settings.read_timeout, metavar="S")
     args = parser.parse_args(argv)
-    settings = Settings(host=args.host, api_port=args.port, robot_url=args.robot, no_ui=True)
+    settings = Settings(
+        host=args.host,
+        api_port=args.port,
+        robot_url=args.robot,
+        no_ui=True,
+        connect_timeout=args.connect_timeout,
+        read_timeout=args.read_timeout,
+    )
     app = create_proxy_app(args.robot, settings=settings)
     uvicorn.run(app, host=args.host, port=args.port, log_level="warning", access_log=False)
     return 0

@@ -1,0 +1,117 @@
+"""`pendant --robot URL` with its UI, as a user runs it: a simulator started separately plays the real arm.
+
+Two processes on 127.0.0.1: `pendant --no-ui` (the "controller") and `pendant --robot ...` (page and proxy).
+The pendant must serve its page, report the link in GET /pendant/health, pass a motion through its proxy, and
+survive the controller's death: offline within a few seconds, still running, its page still served.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+
+from pendant.sim import HOME_POSE_DEG
+
+from .servers import free_port, wait_for_port
+
+ROOT = Path(__file__).resolve().parents[2]
+START_TIMEOUT_S = 60.0  # the UI loads the arm model and meshes before it serves
+OFFLINE_WITHIN_S = 5.0
+MOTION_DEADLINE_S = 10.0
+STOP_TIMEOUT_S = 10.0
+POLL_INTERVAL_S = 0.1
+CLIENT_TIMEOUT_S = 5.0
+ANGLE_TOL_DEG = 1e-6
+TARGET_DEG = [HOME_POSE_DEG[0] + 10.0, *HOME_POSE_DEG[1:]]
+
+Launch = Callable[[str, list[str]], subprocess.Popen[bytes]]
+
+
+@pytest.fixture
+def launch(tmp_path: Path) -> Iterator[Launch]:
+    """Start `python -m pendant ARGS...`, its output in a file under tmp_path; all killed at teardown."""
+    processes: list[subprocess.Popen[bytes]] = []
+    env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+
+    def start(name: str, args: list[str]) -> subprocess.Popen[bytes]:
+        with open(tmp_path / f"{name}.log", "wb") as log:
+            process = subprocess.Popen(
+                [sys.executable, "-m", "pendant", "--host", "127.0.0.1", *args],
+                cwd=ROOT,
+                env=env,
+                stdout=log,
+                stderr=subprocess.STDOUT,
+            )
+        processes.append(process)
+        return process
+
+    yield start
+    for process in processes:
+        if process.poll() is None:
+            process.kill()
+        process.wait(STOP_TIMEOUT_S)
+
+
+def wait_until(condition: Callable[[], bool], timeout_s: float, what: str) -> None:
+    """Poll `condition` (an HTTP transport error counts as "not yet") until it holds or time runs out."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        try:
+            if condition():
+                return
+        except httpx.TransportError:
+            pass
+        time.sleep(POLL_INTERVAL_S)  # real processes on the real clock: no fake clock reaches them
+    raise TimeoutError(f"{what} did not happen within {timeout_s} s")
+
+
+def page_served(url: str) -> bool:
+    page = httpx.get(url, timeout=CLIENT_TIMEOUT_S)
+    return page.status_code == 200 and "text/html" in page.headers["content-type"]
+
+
+def test_the_pendant_drives_a_separate_simulator_and_outlives_it(launch: Launch, tmp_path: Path) -> None:
+    robot_port, ui_port, api_port = free_port(), free_port(), free_port()
+    robot_url = f"http://127.0.0.1:{robot_port}"
+    ui_url, api_url = f"http://127.0.0.1:{ui_port}/", f"http://127.0.0.1:{api_port}"
+    simulator = launch("simulator", ["--no-ui", "--api-port", str(robot_port)])
+    wait_for_port(robot_port, START_TIMEOUT_S)
+    pendant_args = ["--robot", robot_url, "--ui-port", str(ui_port), "--api-port", str(api_port)]
+    pendant = launch("pendant", [*pendant_args, "--programs", str(tmp_path / "programs")])
+
+    with (
+        httpx.Client(base_url=api_url, timeout=CLIENT_TIMEOUT_S) as through_pendant,
+        httpx.Client(base_url=robot_url, timeout=CLIENT_TIMEOUT_S) as robot,
+    ):
+        wait_until(lambda: through_pendant.get("/pendant/health").status_code == 200, START_TIMEOUT_S, "API")
+        wait_until(lambda: page_served(ui_url), START_TIMEOUT_S, "the page")
+        health = through_pendant.get("/pendant/health").json()
+        assert (health["mode"], health["robot_url"], health["online"]) == ("robot", robot_url, True)
+        assert health["motion_status"] == "IDLE"
+
+        moved = through_pendant.put("/pose", params={"speed": 100}, json={"angles": TARGET_DEG})
+        assert moved.status_code == 200, moved.text
+        wait_until(
+            lambda: robot.get("/status/motion").json() == "IDLE", MOTION_DEADLINE_S, "the motion's end"
+        )
+        assert robot.get("/pose").json()["angles"] == pytest.approx(TARGET_DEG, abs=ANGLE_TOL_DEG)
+
+        simulator.kill()
+        simulator.wait(STOP_TIMEOUT_S)
+        wait_until(
+            lambda: through_pendant.get("/pendant/health").json()["online"] is False,
+            OFFLINE_WITHIN_S,
+            "offline in /pendant/health",
+        )
+        health = through_pendant.get("/pendant/health").json()
+        assert health["mode"] == "robot" and "unreachable" in health["last_error"]
+        assert through_pendant.get("/pose").status_code == 502
+        assert pendant.poll() is None, (tmp_path / "pendant.log").read_text()
+        assert page_served(ui_url)
