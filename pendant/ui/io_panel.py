@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import viser
 
-from pendant.controller import SignalLevel
+from pendant.controller import Controller, SignalLevel
 from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS, INPUT_PORTS, OUTPUT_PORTS
 from pendant.ui.commands import CommandRunner
 from pendant.ui.gui_target import GuiTarget
@@ -56,5 +56,23 @@ class IoPanel:
     def _write_output(self, port: int, event: viser.GuiEvent) -> None:
         if self._syncing or event.client is None:
             return  # our own read-back, not an operator's click
-        level = SignalLevel.HIGH if self.outputs[port].value else SignalLevel.LOW
-        self._runner.submit(f"DO{port} {level.value}", lambda c: c.set_output(port, level), event.client)
+        high = bool(self.outputs[port].value)
+        level = SignalLevel.HIGH if high else SignalLevel.LOW
+
+        def write(controller: Controller) -> None:
+            try:
+                controller.set_output(port, level)
+            except Exception:
+                self._spring_back(port, high)
+                raise
+
+        future = self._runner.submit(f"DO{port} {level.value}", write, event.client)
+        if future.done() and not future.cancelled() and future.exception() is not None:
+            self._spring_back(port, high)  # refused by the page (a viewer), never sent
+
+    def _spring_back(self, port: int, asked_high: bool) -> None:
+        """Show a refused write as not done: the read-back cannot correct the toggle while the controller
+        does not answer (emergency, no response)."""
+        toggle = self.outputs[port]
+        if toggle.value == asked_high:  # not clicked again meanwhile
+            toggle.value = not asked_high  # from Python: no client, so not sent to the controller

@@ -1,0 +1,189 @@
+"""The Dashboard tab headless: the motor table, the live plots, the event log and CSV recording, fed by the
+pendant's own refresh step and driven by the tab's buttons as a browser would click them."""
+
+from __future__ import annotations
+
+import csv
+import io
+import re
+import socket
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pytest
+import viser
+
+from pendant.controller import MotionParams, Pose
+from pendant.controller.types import MotorStatus
+from pendant.eventlog import EventKind
+from pendant.sim import FakeClock, SimController
+from pendant.telemetry import CSV_FIELDS, csv_header
+from pendant.ui.app import PendantUI
+from pendant.ui.dashboard_panel import EVENTS_SHOWN, PLOTS
+from pendant.ui.session import ClientSession
+
+SAMPLE_PERIOD_S = 0.1  # the refresh loop samples the motors at 10 Hz
+VALUE_TOL = 1e-9
+FUTURE_TIMEOUT_S = 5.0
+OPERATOR = 1
+MOVE = Pose(angles=[40.0, -70.0, 30.0, -90.0, -90.0, 20.0])
+TABLE_COLUMNS = ("Angle °", "Vel", "I rms A", "U V", "Stator °C", "Servo °C", "Pos err °")
+
+
+@dataclass
+class FakeBrowser:
+    """What the pendant uses of a viser ClientHandle: its id, notifications and downloads (kept)."""
+
+    client_id: int
+    notifications: list[str] = field(default_factory=list)
+    downloads: list[tuple[str, bytes]] = field(default_factory=list)
+
+    def add_notification(self, *, title: str, body: str, **_: object) -> None:
+        self.notifications.append(f"{title}: {body}")
+
+    def send_file_download(self, filename: str, content: bytes, **_: object) -> None:
+        self.downloads.append((filename, content))
+
+
+def click(handle: Any, browser: FakeBrowser) -> None:
+    """What viser does when a browser clicks `handle`."""
+    for callback in list(handle._impl.update_cb):
+        callback(viser.GuiEvent(client=browser, client_id=browser.client_id, target=handle))  # type: ignore[arg-type]
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def pendant_ui(sim: SimController) -> Iterator[PendantUI]:
+    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=_free_port(), mode_line="Simulator · pulse75")
+    page.desk.join(OPERATOR)  # on loopback the first browser is the operator
+    page.refresh()
+    yield page
+    page.stop()
+
+
+@pytest.fixture
+def ui(pendant_ui: PendantUI) -> ClientSession:
+    """The panels one browser would get, built on the server's GUI so no browser is needed."""
+    session = pendant_ui.open_session(pendant_ui.server)
+    with pendant_ui._sessions_lock:
+        pendant_ui.sessions[-1] = session
+    return session
+
+
+@pytest.fixture
+def operator() -> FakeBrowser:
+    return FakeBrowser(OPERATOR)
+
+
+def sample(pendant_ui: PendantUI, clock: FakeClock, count: int) -> list[list[MotorStatus]]:
+    """`count` ticks of the refresh loop's dashboard step, SAMPLE_PERIOD_S apart; the readings taken."""
+    readings = []
+    for _ in range(count):
+        clock.advance(SAMPLE_PERIOD_S)
+        pendant_ui.refresh_dashboard()
+        assert pendant_ui.telemetry.latest is not None
+        readings.append(pendant_ui.telemetry.latest)
+    return readings
+
+
+def shown_events(ui: ClientSession) -> list[tuple[str, str]]:
+    """(who, what) of each line of the event log, top to bottom."""
+    return re.findall(r"<i>(.*?)</i>: (.*?)</div>", ui.dashboard.event_log.content)
+
+
+def test_the_motor_table_shows_six_motors_with_every_field(
+    ui: ClientSession, pendant_ui: PendantUI, sim: SimController
+) -> None:
+    assert "No motor readings" in ui.dashboard.motor_table.content
+    pendant_ui.refresh_dashboard()
+    table = ui.dashboard.motor_table.content
+    header, *rows = re.findall(r"<tr>(.*?)</tr>", table)
+    assert [re.sub(r"<.*?>", "", c) for c in re.findall(r"<th.*?</th>", header)] == ["", *TABLE_COLUMNS]
+    assert len(rows) == 6
+    for j, (row, motor) in enumerate(zip(rows, sim.get_motors(), strict=True)):
+        cells = [re.sub(r"<.*?>", "", c) for c in re.findall(r"<td.*?</td>", row)]
+        assert cells[0] == f"J{j + 1}"
+        assert len(cells) == 1 + len(TABLE_COLUMNS)
+        assert float(cells[1]) == pytest.approx(motor.angle, abs=0.005)  # shown to 0.01°
+        assert float(cells[3]) == pytest.approx(motor.rmsCurrent, abs=0.005)  # shown to 0.01 A
+
+
+def test_the_plots_fill_with_the_samples(
+    ui: ClientSession, pendant_ui: PendantUI, sim: SimController, clock: FakeClock
+) -> None:
+    assert all(len(plot.data[0]) == 1 for plot in ui.dashboard.plots.values()), "empty until sampled"
+    sim.set_pose(MOVE, MotionParams(speed=30.0))
+    readings = sample(pendant_ui, clock, 10)
+    latest = readings[-1]
+    expected_newest = {
+        "angle": [m.angle for m in latest],
+        "current": [m.rmsCurrent for m in latest],
+        "stator": [m.statorTemperature for m in latest],
+    }
+    assert set(ui.dashboard.plots) == {key for key, _ in PLOTS}
+    for key, plot in ui.dashboard.plots.items():
+        t, *series = plot.data
+        assert len(series) == 6 and len(t) >= 2
+        assert t[-1] == 0.0 and np.all(np.diff(t) > 0), "seconds ago, oldest first"
+        np.testing.assert_allclose([s[-1] for s in series], expected_newest[key], atol=VALUE_TOL)
+    angle_j1 = ui.dashboard.plots["angle"].data[1]
+    assert angle_j1[-1] > angle_j1[0] + 1.0, "the plot shows J1 turning"
+
+
+def test_the_event_log_lists_the_newest_first_with_who_did_it(
+    ui: ClientSession, pendant_ui: PendantUI, operator: FakeBrowser
+) -> None:
+    for label in ("Home", "Relax"):
+        click(ui.robot_buttons[label], operator)
+    pendant_ui.refresh_dashboard()
+    shown = shown_events(ui)
+    assert shown[:2] == [("browser #1", "Relax"), ("browser #1", "Home")]
+    assert [what for _, what in shown] == [e.message for e in reversed(pendant_ui.events.recent())]
+
+
+def test_the_event_log_shows_only_the_latest_events(ui: ClientSession, pendant_ui: PendantUI) -> None:
+    for i in range(EVENTS_SHOWN + 5):
+        pendant_ui.events.record(EventKind.COMMAND, "API 127.0.0.1", f"PUT /freeze #{i}")
+    pendant_ui.refresh_dashboard()
+    shown = [what for _, what in shown_events(ui)]
+    assert len(shown) == EVENTS_SHOWN
+    assert shown[0] == f"PUT /freeze #{EVENTS_SHOWN + 4}" and shown[-1] == "PUT /freeze #5"
+
+
+def test_recording_start_stop_and_download_give_a_csv_of_the_samples(
+    ui: ClientSession, pendant_ui: PendantUI, operator: FakeBrowser, sim: SimController, clock: FakeClock
+) -> None:
+    dashboard = ui.dashboard
+    assert dashboard.download.disabled and dashboard.record_stop.disabled
+    sample(pendant_ui, clock, 3)  # before the start: not recorded
+    click(dashboard.record_start, operator)
+    sim.set_pose(MOVE, MotionParams(speed=30.0))
+    recorded = sample(pendant_ui, clock, 15)
+    assert "**Recording** · 15 samples" in dashboard.recording_status.content
+    assert dashboard.record_start.disabled and not dashboard.record_stop.disabled
+    click(dashboard.record_stop, operator)
+    sample(pendant_ui, clock, 3)  # after the stop: not recorded
+    assert dashboard.recording_status.content == "Stopped · 15 samples ready to download"
+    assert not dashboard.download.disabled
+
+    click(dashboard.download, operator)
+    ((name, content),) = operator.downloads
+    assert name.startswith("pendant-telemetry-") and name.endswith(".csv")
+    rows = list(csv.reader(io.StringIO(content.decode())))
+    assert rows[0] == csv_header()
+    assert len(rows) == 1 + len(recorded)
+    times = [float(row[0]) for row in rows[1:]]
+    assert times[0] >= 0.0 and np.all(np.diff(times) >= 0.0)
+    for row, motors in zip(rows[1:], recorded, strict=True):
+        expected = [getattr(m, f) for m in motors for f in CSV_FIELDS]
+        np.testing.assert_allclose([float(v) for v in row[1:]], expected, rtol=0, atol=VALUE_TOL)
+    commands = [(e.source, e.message) for e in pendant_ui.events.recent() if e.kind is EventKind.COMMAND]
+    assert ("browser #1", "Recording started") in commands
+    assert ("browser #1", "Recording stopped: 15 samples") in commands
