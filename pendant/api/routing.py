@@ -5,6 +5,10 @@ PUT /relax, /freeze, ...) is found in a dict by (method, path) and awaited at on
 matching, no dependency solving, no response-model pass. The routes stay ordinary FastAPI routes, so
 /openapi.json documents them and anything not in the table (parameters, bodies, 404, 405) goes through
 FastAPI as usual. In-process this takes GET /pose from ~50 us to ~10 us.
+
+Endpoints here are awaited on the event loop like any `async def` route: one that blocks (PUT /pack plans a
+motion) hands its work to a thread itself (`run_in_threadpool`), or PUT /freeze would wait behind it. A plain
+`def` endpoint is not taken: FastAPI runs it in its thread pool.
 """
 
 from __future__ import annotations

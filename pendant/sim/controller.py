@@ -5,6 +5,13 @@ checked up front, then appended to a timeline (`timeline.Motion`) that is evalua
 asked. There is no background thread and no busy loop; one re-entrant lock serialises callers (FastAPI and
 viser call from different threads).
 
+Planning (IK, collision sampling: up to a second for a long LINEAR run) happens outside the lock, so a
+freeze or a read never waits for it: the planner works from a snapshot of where the queue ends (`_Start`),
+and the plan is queued only if the queue still ends there, with the same tool and zero point. Otherwise
+something came in meanwhile (another command, a fault, a reset, a hand on the arm) and the plan is made again
+from the new end. A freeze that came in while a command was being planned cancels it, as it would have had
+the command been queued a moment earlier: the command is accepted and nothing moves (Freeze always wins).
+
 Frames. T_zero_tcp = inv(T_origbase_zero) @ fk(q) @ T_flange_tool, where
 - T_origbase_zero is the zero point set by POST /base (its pose in the physical base frame), and
 - T_flange_tool is the tool set by POST /tool, read as the pose of the new TCP relative to the flange (the
@@ -21,6 +28,8 @@ import functools
 import math
 import threading
 from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass
 from enum import StrEnum
 
 import numpy as np
@@ -30,6 +39,7 @@ from pendant.controller.errors import (
     MSG_UNREACHABLE_POSITION,
     BadRequest,
     Collision,
+    ControllerError,
     Emergency,
     NotResponding,
     PreconditionFailed,
@@ -80,6 +90,15 @@ MSG_BASE_TOO_FAR = f"Zero point must be within {MAX_BASE_OFFSET_M:g} m of the ar
 GRIPPER_OPEN, GRIPPER_CLOSED = 1.0, 0.0
 POWER_ON_GRIPPER = GRIPPER_OPEN
 MSG_HAND_NEEDS_RELAX = "The arm can be moved by hand only in ZERO_GRAVITY: relax it first (PUT /relax)"
+# A run is planned in one go before it is accepted (100 LINEAR waypoints 15 cm apart take most of a second),
+# and a queue longer than anyone can follow is a runaway client, not a program: both are capped.
+MAX_WAYPOINTS = 100
+MAX_QUEUED_COMMANDS = 100
+# How often a plan is made again when the queue end keeps moving while it is planned (other clients).
+MAX_PLAN_ATTEMPTS = 3
+MSG_QUEUE_BUSY = (
+    f"the command queue changed while the move was planned, {MAX_PLAN_ATTEMPTS} times: send it again"
+)
 # Finished motions kept for the thermal model before they are folded in (bounds memory if nobody reads).
 _HISTORY_LIMIT = 256
 
@@ -112,6 +131,24 @@ def _pose_of(q: np.ndarray) -> Pose:
     return Pose(angles=np.degrees(q).tolist())
 
 
+def _check_waypoint_count(count: int) -> None:
+    if count == 0:
+        raise BadRequest()
+    if count > MAX_WAYPOINTS:
+        raise PreconditionFailed(f"waypoints must be 1 to {MAX_WAYPOINTS} per run (got {count})")
+
+
+@dataclass(frozen=True)
+class _Start:
+    """What a plan is made from, read under the lock: where the queue ends, the tool and the zero point."""
+
+    q: np.ndarray
+    tool_radius: float
+    T_flange_tool: np.ndarray
+    T_origbase_zero: np.ndarray
+    freezes: int  # freezes so far: one more by the time the plan is made means "cancelled"
+
+
 class SimController:
     """A simulated PULSE controller: every `Controller` method, plus simulator-only controls."""
 
@@ -131,6 +168,7 @@ class SimController:
     def _power_on(self) -> None:
         now = self._clock.now()
         self._mode = _Mode.ACTIVE
+        self._freezes = getattr(self, "_freezes", 0) + 1  # a reset cancels what is being planned too
         self._queue: deque[Motion] = deque()
         self._history: list[Motion] = []
         self._rest_q = self._home_q.copy()
@@ -200,21 +238,75 @@ class SimController:
         if self._mode is _Mode.ERROR:
             raise NotResponding()  # the reference's 500 text; GET /status/motion says ERROR
 
-    def _enqueue(self, plan: Plan | None, gripper_to: float | None = None, duration: float = 0.0) -> None:
-        now = self._clock.now()
-        t0, q0, g0 = self._queue_end(now)
-        if plan is not None:
-            motion = Motion(
-                t0=t0, duration=plan.duration, q_end=plan.q_end, gripper_start=g0, gripper_end=g0, plan=plan
+    def _check_queue_room(self) -> None:
+        self._settle(self._clock.now())  # what is done is no longer queued
+        queued = len(self._queue)
+        if queued >= MAX_QUEUED_COMMANDS:
+            raise PreconditionFailed(
+                f"queue must hold at most {MAX_QUEUED_COMMANDS} commands (got {queued} queued): "
+                "wait for the arm to work through them"
             )
-        else:
-            assert gripper_to is not None
-            motion = Motion(t0=t0, duration=duration, q_end=q0, gripper_start=g0, gripper_end=gripper_to)
+
+    def _append(self, motion: Motion, now: float) -> None:
         # A queued command engages the motors: ZERO_GRAVITY and MOTION_FAILED end here.
         self._mode = _Mode.ACTIVE
         self._queue.append(motion)
         self._pose_cache = None
         self._settle(now)
+
+    def _enqueue_plan(self, plan: Plan | None) -> None:
+        """Queue a planned motion; None queues a command that fails when its turn comes (MOTION_FAILED)."""
+        now = self._clock.now()
+        t0, q0, g0 = self._queue_end(now)
+        if plan is None:
+            motion = Motion(t0=t0, duration=0.0, q_end=q0, gripper_start=g0, gripper_end=g0, fails=True)
+        else:
+            motion = Motion(
+                t0=t0, duration=plan.duration, q_end=plan.q_end, gripper_start=g0, gripper_end=g0, plan=plan
+            )
+        self._append(motion, now)
+
+    def _start(self) -> _Start:
+        _, q0, _ = self._queue_end(self._clock.now())
+        return _Start(q0.copy(), self._tool.radius, self._T_flange_tool, self._T_origbase_zero, self._freezes)
+
+    def _starts_at(self, start: _Start) -> bool:
+        """The queue still ends where `start` was read, with the same tool and zero point."""
+        _, q0, _ = self._queue_end(self._clock.now())
+        # _apply_tool and _apply_base make new matrices, so identity says "not changed since".
+        return (
+            self._T_flange_tool is start.T_flange_tool
+            and self._T_origbase_zero is start.T_origbase_zero
+            and np.array_equal(q0, start.q)
+        )
+
+    def _plan_and_enqueue(self, make_plan: Callable[[_Start], Plan | None]) -> Position:
+        """Plan outside the lock, queue under it; returns the TCP position when the command was accepted.
+
+        A plan (or a refusal) made from a queue end that moved meanwhile is stale: plan again from there.
+        """
+        for _ in range(MAX_PLAN_ATTEMPTS):
+            with self._lock:
+                self._check_can_move()
+                self._check_queue_room()
+                start = self._start()
+            try:
+                plan = make_plan(start)
+            except ControllerError:
+                with self._lock:
+                    if self._starts_at(start):
+                        raise
+                continue
+            with self._lock:
+                # A fault that came in meanwhile wins (500 / 503, nothing queued); so does a freeze.
+                self._check_can_move()
+                if self._freezes != start.freezes:
+                    return self._position_now()
+                if self._starts_at(start):
+                    self._check_queue_room()
+                    self._enqueue_plan(plan)
+                    return self._position_now()
+        raise PreconditionFailed(MSG_QUEUE_BUSY)
 
     def _integrate_thermal(self, now: float) -> None:
         """Fold the motion history up to `now` into the servo temperatures."""
@@ -259,8 +351,11 @@ class SimController:
     def get_position(self) -> Position:
         with self._lock:
             self.check_alive()
-            q = self._q_now(self._clock.now())
-            return matrix_to_position(self._T_zero_origbase @ self.arm.fk(q) @ self._T_flange_tool)
+            return self._position_now()
+
+    def _position_now(self) -> Position:
+        q = self._q_now(self._clock.now())
+        return matrix_to_position(self._T_zero_origbase @ self.arm.fk(q) @ self._T_flange_tool)
 
     def get_pose(self) -> Pose:
         with self._lock:
@@ -319,65 +414,61 @@ class SimController:
 
     # --- motion --------------------------------------------------------------------------------------------
 
+    # Planning runs without the lock (see the module doc): these methods take it only to read and to queue.
+
     def set_position(self, position: Position, params: MotionParams) -> Position:
-        """Queue a stop-at-target move to a TCP position; returns where the arm is at the time of the call."""
-        with self._lock:
-            self._move_to_positions([position], params)
-            return self.get_position()
+        """Queue a stop-at-target move to a TCP position; returns where the arm is when it is accepted."""
+        return self._move_to_positions([position], params)
 
     def run_positions(self, positions: list[Position], params: MotionParams) -> None:
-        with self._lock:
-            self._move_to_positions(positions, params)
+        self._move_to_positions(positions, params)
 
     def set_pose(self, pose: Pose, params: MotionParams) -> None:
-        with self._lock:
-            self._move_to_poses([pose], params)
+        self._move_to_poses([pose], params)
 
     def run_poses(self, poses: list[Pose], params: MotionParams) -> None:
+        self._move_to_poses(poses, params)
+
+    def _check_move(self, params: MotionParams, waypoints: int) -> None:
         with self._lock:
-            self._move_to_poses(poses, params)
+            self._check_can_move()
+        check_params(params)
+        _check_waypoint_count(waypoints)
 
     def _move_to_poses(self, poses: list[Pose], params: MotionParams) -> None:
-        self._check_can_move()
-        check_params(params)
-        if not poses:
-            raise BadRequest()
+        self._check_move(params, len(poses))
         targets = [np.radians(pose.angles) for pose in poses]
-        self._enqueue(self._plan_to_configurations(targets, params))
+        self._plan_and_enqueue(lambda start: self._plan_to_configurations(targets, params, start))
 
-    def _plan_to_configurations(self, targets: list[np.ndarray], params: MotionParams) -> Plan:
-        _, q0, _ = self._queue_end(self._clock.now())
+    def _plan_to_configurations(self, targets: list[np.ndarray], params: MotionParams, start: _Start) -> Plan:
         for q in targets:
             if not self.arm.within_limits(q):
                 raise Unreachable(MSG_UNREACHABLE_POSE)
-        tool, radius = self._T_flange_tool, self._tool.radius
+        q0, tool, radius = start.q, start.T_flange_tool, start.tool_radius
         if params.motion_type is MotionType.JOINT:
             return self._planner.joint(q0, targets, params, tool, radius, MSG_UNREACHABLE_POSE)
         tcp = [self.arm.fk(q) @ tool for q in targets]
         return self._planner.linear(q0, tcp, params, tool, radius, MSG_UNREACHABLE_POSE, q_final=targets[-1])
 
-    def _move_to_positions(self, positions: list[Position], params: MotionParams) -> None:
-        self._check_can_move()
-        check_params(params)
-        if not positions:
-            raise BadRequest()
-        _, q0, _ = self._queue_end(self._clock.now())
-        tool, radius = self._T_flange_tool, self._tool.radius
-        tcp_targets = [self._tcp_target(p) for p in positions]
+    def _move_to_positions(self, positions: list[Position], params: MotionParams) -> Position:
+        self._check_move(params, len(positions))
+        return self._plan_and_enqueue(lambda start: self._plan_to_positions(positions, params, start))
+
+    def _plan_to_positions(self, positions: list[Position], params: MotionParams, start: _Start) -> Plan:
+        q0, tool, radius = start.q, start.T_flange_tool, start.tool_radius
+        tcp_targets = [start.T_origbase_zero @ position_to_matrix(p) for p in positions]
         if params.motion_type is MotionType.LINEAR:
-            plan = self._planner.linear(q0, tcp_targets, params, tool, radius, MSG_UNREACHABLE_POSITION)
-        else:
-            T_tool_flange = inverse(tool)
-            configurations = []
-            q_near = q0
-            for T_tcp in tcp_targets:
-                q = self.arm.ik(T_tcp @ T_tool_flange, q_near)
-                if q is None:
-                    raise Unreachable(MSG_UNREACHABLE_POSITION)
-                configurations.append(q)
-                q_near = q
-            plan = self._planner.joint(q0, configurations, params, tool, radius, MSG_UNREACHABLE_POSITION)
-        self._enqueue(plan)
+            return self._planner.linear(q0, tcp_targets, params, tool, radius, MSG_UNREACHABLE_POSITION)
+        T_tool_flange = inverse(tool)
+        configurations = []
+        q_near = q0
+        for T_tcp in tcp_targets:
+            q = self.arm.ik(T_tcp @ T_tool_flange, q_near)
+            if q is None:
+                raise Unreachable(MSG_UNREACHABLE_POSITION)
+            configurations.append(q)
+            q_near = q
+        return self._planner.joint(q0, configurations, params, tool, radius, MSG_UNREACHABLE_POSITION)
 
     def open_gripper(self, timeout_ms: int) -> None:
         with self._lock:
@@ -393,28 +484,27 @@ class SimController:
             raise PreconditionFailed(
                 f"gripper timeout must be a number of milliseconds >= 0 (got {timeout_ms})"
             )
-        self._enqueue(None, gripper_to=target, duration=timeout_ms / 1000.0)
+        self._check_queue_room()
+        now = self._clock.now()
+        t0, q0, g0 = self._queue_end(now)
+        duration = timeout_ms / 1000.0
+        self._append(Motion(t0=t0, duration=duration, q_end=q0, gripper_start=g0, gripper_end=target), now)
 
     def pack(self) -> None:
         """Queue a JOINT move to the transportation pose PACK_POSE_DEG at PACK_SPEED_PERCENT, through the
         upright pose when the straight way is blocked. The reference lists no 412 for PUT /pack: with no
         clear way the command is accepted and fails when its turn comes (MOTION_FAILED, queue dropped)."""
-        with self._lock:
-            self._check_can_move()
-            params = MotionParams(speed=PACK_SPEED_PERCENT)
+        params = MotionParams(speed=PACK_SPEED_PERCENT)
+
+        def plan(start: _Start) -> Plan | None:
             for route in ([self._pack_q], [np.radians(UPRIGHT_DEG), self._pack_q]):
                 try:
-                    plan = self._plan_to_configurations(route, params)
+                    return self._plan_to_configurations(route, params, start)
                 except (Collision, Unreachable):
                     continue
-                self._enqueue(plan)
-                return
-            t0, q0, g0 = self._queue_end(self._clock.now())
-            self._queue.append(
-                Motion(t0=t0, duration=0.0, q_end=q0, gripper_start=g0, gripper_end=g0, fails=True)
-            )
-            self._mode = _Mode.ACTIVE
-            self._pose_cache = None
+            return None
+
+        self._plan_and_enqueue(plan)
 
     def busy_until(self) -> float:
         """The clock time at which everything queued will be done (now, at rest)."""
@@ -436,6 +526,7 @@ class SimController:
             self.check_alive()
             if self._mode is _Mode.ERROR:
                 return
+            self._freezes += 1  # cancels what is being planned (see the module doc)
             self._stop(self._clock.now())
             self._mode = _Mode.ACTIVE
 

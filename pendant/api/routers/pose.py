@@ -1,10 +1,15 @@
-"""GET/PUT /pose and PUT /poses/run: the six servo angles in degrees."""
+"""GET/PUT /pose and PUT /poses/run: the six servo angles in degrees.
+
+The moves are planned in a worker thread (IK and collision checks can take most of a second): on the event
+loop they would hold up every other client, PUT /freeze included.
+"""
 
 from __future__ import annotations
 
 from typing import Annotated
 
 from fastapi import APIRouter, Depends, Request
+from fastapi.concurrency import run_in_threadpool
 
 from pendant.api import docs
 from pendant.api.params import POSE, POSES, json_body, motion_params, read_body
@@ -38,7 +43,7 @@ def pose_router(controller: Controller) -> APIRouter:
     )
     async def set_pose(request: Request, params: Params) -> TextResponse:
         target = await read_body(request, POSE)
-        controller.set_pose(target, params)
+        await run_in_threadpool(controller.set_pose, target, params)
         return empty_result()
 
     @router.put(
@@ -54,7 +59,7 @@ def pose_router(controller: Controller) -> APIRouter:
     )
     async def run_poses(request: Request, params: Params) -> TextResponse:
         waypoints = await read_body(request, POSES)
-        controller.run_poses(waypoints, params)
+        await run_in_threadpool(controller.run_poses, waypoints, params)
         return empty_result()
 
     return router

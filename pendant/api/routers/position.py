@@ -1,10 +1,15 @@
-"""GET/PUT /position and PUT /positions/run: the TCP position in metres and radians."""
+"""GET/PUT /position and PUT /positions/run: the TCP position in metres and radians.
+
+The moves are planned in a worker thread (IK and collision checks can take most of a second): on the event
+loop they would hold up every other client, PUT /freeze included.
+"""
 
 from __future__ import annotations
 
 from typing import Annotated
 
 from fastapi import APIRouter, Depends, Request
+from fastapi.concurrency import run_in_threadpool
 
 from pendant.api import docs
 from pendant.api.params import POSITION, POSITIONS, json_body, motion_params, read_body
@@ -53,7 +58,7 @@ def position_router(controller: Controller) -> APIRouter:
     )
     async def set_position(request: Request, params: Params) -> JSONBytesResponse:
         target = await read_body(request, POSITION)
-        return model_result(controller.set_position(target, params))
+        return model_result(await run_in_threadpool(controller.set_position, target, params))
 
     @router.put(
         "/positions/run",
@@ -73,7 +78,7 @@ def position_router(controller: Controller) -> APIRouter:
     )
     async def run_positions(request: Request, params: Params) -> TextResponse:
         waypoints = await read_body(request, POSITIONS)
-        controller.run_positions(waypoints, params)
+        await run_in_threadpool(controller.run_positions, waypoints, params)
         return empty_result()
 
     return router

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from fastapi import APIRouter
+from fastapi.concurrency import run_in_threadpool
 
 from pendant.api import docs
 from pendant.api.wire import TextResponse, empty_result, string_result
@@ -73,7 +74,7 @@ def robot_router(controller: Controller) -> APIRouter:
         responses={**docs.empty_ok(), **docs.arm_errors()},
     )
     async def pack() -> TextResponse:
-        controller.pack()
+        await run_in_threadpool(controller.pack)  # it plans: not on the event loop (see pose.py)
         return empty_result()
 
     return router
