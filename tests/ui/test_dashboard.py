@@ -6,14 +6,9 @@ from __future__ import annotations
 import csv
 import io
 import re
-import socket
-from collections.abc import Iterator
-from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 import pytest
-import viser
 
 from pendant.controller import MotionParams, Pose
 from pendant.controller.types import MotorStatus
@@ -24,57 +19,13 @@ from pendant.ui.app import PendantUI
 from pendant.ui.dashboard_panel import EVENTS_SHOWN, PLOTS
 from pendant.ui.session import ClientSession
 
+from .doubles import OPERATOR, FakeBrowser, fire
+
 SAMPLE_PERIOD_S = 0.1  # the refresh loop samples the motors at 10 Hz
 VALUE_TOL = 1e-9
 FUTURE_TIMEOUT_S = 5.0
-OPERATOR = 1
 MOVE = Pose(angles=[40.0, -70.0, 30.0, -90.0, -90.0, 20.0])
 TABLE_COLUMNS = ("Angle °", "Vel", "I rms A", "U V", "Stator °C", "Servo °C", "Pos err °")
-
-
-@dataclass
-class FakeBrowser:
-    """What the pendant uses of a viser ClientHandle: its id, notifications and downloads (kept)."""
-
-    client_id: int
-    notifications: list[str] = field(default_factory=list)
-    downloads: list[tuple[str, bytes]] = field(default_factory=list)
-
-    def add_notification(self, *, title: str, body: str, **_: object) -> None:
-        self.notifications.append(f"{title}: {body}")
-
-    def send_file_download(self, filename: str, content: bytes, **_: object) -> None:
-        self.downloads.append((filename, content))
-
-
-def click(handle: Any, browser: FakeBrowser) -> None:
-    """What viser does when a browser clicks `handle`."""
-    for callback in list(handle._impl.update_cb):
-        callback(viser.GuiEvent(client=browser, client_id=browser.client_id, target=handle))  # type: ignore[arg-type]
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-@pytest.fixture
-def pendant_ui(sim: SimController) -> Iterator[PendantUI]:
-    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=_free_port(), mode_line="Simulator · pulse75")
-    page.desk.join(OPERATOR)  # on loopback the first browser is the operator
-    page.refresh()
-    yield page
-    page.stop()
-
-
-@pytest.fixture
-def ui(pendant_ui: PendantUI) -> ClientSession:
-    """The panels one browser would get, built on the server's GUI so no browser is needed."""
-    session = pendant_ui.open_session(pendant_ui.server)
-    with pendant_ui._sessions_lock:
-        pendant_ui.sessions[-1] = session
-    return session
 
 
 @pytest.fixture
@@ -141,7 +92,7 @@ def test_the_event_log_lists_the_newest_first_with_who_did_it(
     ui: ClientSession, pendant_ui: PendantUI, operator: FakeBrowser
 ) -> None:
     for label in ("Home", "Relax"):
-        click(ui.robot_buttons[label], operator)
+        fire(ui.robot_buttons[label], operator)
     pendant_ui.refresh_dashboard()
     shown = shown_events(ui)
     assert shown[:2] == [("browser #1", "Relax"), ("browser #1", "Home")]
@@ -163,17 +114,17 @@ def test_recording_start_stop_and_download_give_a_csv_of_the_samples(
     dashboard = ui.dashboard
     assert dashboard.download.disabled and dashboard.record_stop.disabled
     sample(pendant_ui, clock, 3)  # before the start: not recorded
-    click(dashboard.record_start, operator)
+    fire(dashboard.record_start, operator)
     sim.set_pose(MOVE, MotionParams(speed=30.0))
     recorded = sample(pendant_ui, clock, 15)
     assert "**Recording** · 15 samples" in dashboard.recording_status.content
     assert dashboard.record_start.disabled and not dashboard.record_stop.disabled
-    click(dashboard.record_stop, operator)
+    fire(dashboard.record_stop, operator)
     sample(pendant_ui, clock, 3)  # after the stop: not recorded
     assert dashboard.recording_status.content == "Stopped · 15 samples ready to download"
     assert not dashboard.download.disabled
 
-    click(dashboard.download, operator)
+    fire(dashboard.download, operator)
     ((name, content),) = operator.downloads
     assert name.startswith("pendant-telemetry-") and name.endswith(".csv")
     rows = list(csv.reader(io.StringIO(content.decode())))

@@ -4,11 +4,7 @@ fired as a browser's click, hold or edit would fire them, the simulator on a fak
 from __future__ import annotations
 
 import math
-import socket
-from collections.abc import Iterator
 from concurrent.futures import Future, wait
-from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 import pytest
@@ -27,6 +23,8 @@ from pendant.ui.commands import HOME_POSE_DEG
 from pendant.ui.jog_panel import CONTINUOUS, DEFAULT_SPEED_PERCENT, HOLD_CONFIRM_HZ
 from pendant.ui.session import ClientSession
 
+from .doubles import OPERATOR, VIEWER, FakeBrowser, event, fire
+
 ANGLE_TOL_DEG = 1e-6
 POS_TOL_M = 1e-6
 STEP_TOL = 1e-12  # a step size is a unit conversion, exact to rounding
@@ -36,42 +34,14 @@ FUTURE_TIMEOUT_S = 5.0
 CONFIRM_PERIOD_S = 1.0 / HOLD_CONFIRM_HZ  # how often a held button calls back
 SAMPLE_PERIOD_S = 0.01  # how finely the TCP speed is sampled on the fake clock
 SETTLE_S = 0.1  # beyond the end of everything queued
-OPERATOR, VIEWER = 1, 2
 JOINT_LABELS = [f"J{j}{s}" for j in range(1, 7) for s in "-+"]
 CARTESIAN_LABELS = [f"{a}{s}" for a in ("X", "Y", "Z", "Roll", "Pitch", "Yaw") for s in "-+"]
-
-
-@dataclass
-class FakeBrowser:
-    """What the pendant uses of a viser ClientHandle: its id, notifications and downloads (kept)."""
-
-    client_id: int
-    notifications: list[str] = field(default_factory=list)
-    downloads: list[tuple[str, bytes]] = field(default_factory=list)
-
-    def add_notification(self, *, title: str, body: str, **_: object) -> None:
-        self.notifications.append(f"{title}: {body}")
-
-    def send_file_download(self, filename: str, content: bytes, **_: object) -> None:
-        self.downloads.append((filename, content))
-
-
-def _event(handle: Any, browser: FakeBrowser) -> viser.GuiEvent:
-    return viser.GuiEvent(client=browser, client_id=browser.client_id, target=handle)  # type: ignore[arg-type]
-
-
-def fire(handle: Any, browser: FakeBrowser, value: Any = None) -> None:
-    """What viser does when a browser clicks or edits `handle`: set the value, call the callbacks once."""
-    if value is not None:
-        handle._impl.value = value  # not `handle.value = ...`: that calls back as from Python (client None)
-    for callback in list(handle._impl.update_cb):
-        callback(_event(handle, browser))
 
 
 def confirm_hold(button: viser.GuiButtonHandle, browser: FakeBrowser) -> None:
     """One of the calls viser makes, HOLD_CONFIRM_HZ times a second, while a browser holds `button`."""
     for callback in list(button._impl.hold_cbs_from_freq[HOLD_CONFIRM_HZ]):
-        callback(_event(button, browser))
+        callback(event(button, browser))
 
 
 class Commands:
@@ -99,34 +69,9 @@ class Commands:
             assert not not_done, "a command did not finish"
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-@pytest.fixture
-def pendant_ui(sim: SimController) -> Iterator[PendantUI]:
-    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=_free_port(), mode_line="Simulator · pulse75")
-    page.desk.join(OPERATOR)  # on loopback the first browser is the operator
-    page.desk.join(VIEWER)
-    page.refresh()
-    yield page
-    page.stop()
-
-
 @pytest.fixture
 def commands(pendant_ui: PendantUI) -> Commands:
     return Commands(pendant_ui)
-
-
-@pytest.fixture
-def ui(pendant_ui: PendantUI, commands: Commands) -> ClientSession:
-    """The panels one browser would get, built on the server's GUI so no browser is needed."""
-    session = pendant_ui.open_session(pendant_ui.server)
-    with pendant_ui._sessions_lock:
-        pendant_ui.sessions[-1] = session
-    return session
 
 
 @pytest.fixture

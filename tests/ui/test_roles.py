@@ -4,11 +4,9 @@ pendant, and the operator leaving stops a jog. Headless: sessions on the server'
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass, field
 
 import numpy as np
 import pytest
-import viser
 
 from pendant.controller import MotionParams, MotionStatus, Pose
 from pendant.eventlog import EventKind
@@ -20,21 +18,12 @@ from pendant.ui.commands import CommandRefused
 from pendant.ui.roles import MSG_NO_TOKEN, MSG_WRONG_TOKEN
 from tests.api.server import free_port
 
+from .doubles import FakeBrowser, fire
+
 TOKEN = "s3cret-token"
 ANGLE_TOL_DEG = 1e-9
 FUTURE_TIMEOUT_S = 5.0
 HOME_MOVE = Pose(angles=[20.0, -90.0, 0.0, -90.0, -90.0, 0.0])
-
-
-@dataclass
-class StandInClient:
-    """What the pendant uses of a viser ClientHandle: its id, and notifications (recorded)."""
-
-    client_id: int
-    notifications: list[str] = field(default_factory=list)
-
-    def add_notification(self, *, title: str, body: str, **_: object) -> None:
-        self.notifications.append(f"{title}: {body}")
 
 
 def _ui(sim: SimController, token: str | None) -> PendantUI:
@@ -63,14 +52,14 @@ def angles(sim: SimController) -> np.ndarray:
     return np.asarray(sim.get_pose().angles)
 
 
-def move(ui: PendantUI, client: StandInClient):  # type: ignore[no-untyped-def]
+def move(ui: PendantUI, client: FakeBrowser):  # type: ignore[no-untyped-def]
     return ui.runner.submit("Move J", lambda c: c.set_pose(HOME_MOVE, MotionParams(speed=50.0)), client)
 
 
 def test_first_local_browser_operates_and_a_second_one_only_watches(
     local_ui: PendantUI, sim: SimController, clock: FakeClock
 ) -> None:
-    operator, viewer = StandInClient(1), StandInClient(2)
+    operator, viewer = FakeBrowser(1), FakeBrowser(2)
     local_ui.desk.join(1)
     local_ui.desk.join(2)
     assert local_ui.desk.operator == 1
@@ -93,9 +82,9 @@ def test_first_local_browser_operates_and_a_second_one_only_watches(
 def test_freeze_is_never_refused(local_ui: PendantUI, sim: SimController, clock: FakeClock) -> None:
     local_ui.desk.join(1)
     local_ui.desk.join(2)
-    move(local_ui, StandInClient(1)).result(FUTURE_TIMEOUT_S)
+    move(local_ui, FakeBrowser(1)).result(FUTURE_TIMEOUT_S)
     clock.advance(0.5)
-    local_ui.runner.submit("Freeze", lambda c: c.freeze(), StandInClient(2), urgent=True).result(
+    local_ui.runner.submit("Freeze", lambda c: c.freeze(), FakeBrowser(2), urgent=True).result(
         FUTURE_TIMEOUT_S
     )
     stopped = angles(sim)
@@ -173,7 +162,7 @@ def test_operator_leaving_releases_control_and_stops_the_jog(
     clock.advance(0.5)
     assert sim.get_motion_status() is MotionStatus.RUNNING
 
-    local_ui._disconnect(StandInClient(1))  # the operator's browser closes
+    local_ui._disconnect(FakeBrowser(1))  # the operator's browser closes
     assert local_ui.desk.operator is None
     assert local_ui.jogger.active is None
     stopped = angles(sim)
@@ -185,12 +174,6 @@ def test_operator_leaving_releases_control_and_stops_the_jog(
     assert any("Jog J1+" in m for m in messages) and any("Jog stopped" in m for m in messages)
 
 
-def click(handle: viser.GuiButtonHandle, client: StandInClient) -> None:
-    """What viser does when that browser clicks `handle`."""
-    for callback in list(handle._impl.update_cb):
-        callback(viser.GuiEvent(client=client, client_id=client.client_id, target=handle))  # type: ignore[arg-type]
-
-
 def test_a_viewer_cannot_record_or_run_a_program_and_the_log_says_who_did_what(
     local_ui: PendantUI, sim: SimController
 ) -> None:
@@ -200,9 +183,9 @@ def test_a_viewer_cannot_record_or_run_a_program_and_the_log_says_who_did_what(
     program = viewer_page.program
     assert program.record.disabled and program.run.disabled and not program.add.visible
 
-    viewer = StandInClient(2)
-    click(program.record, viewer)  # a page with the lock removed: the server refuses all the same
-    click(program.run, viewer)
+    viewer = FakeBrowser(2)
+    fire(program.record, viewer)  # a page with the lock removed: the server refuses all the same
+    fire(program.run, viewer)
     assert local_ui.programs.program.steps == ()
     assert local_ui.programs.progress.state is RunState.IDLE
     refused = [e for e in local_ui.events.recent() if e.kind is EventKind.REFUSED]
@@ -212,8 +195,8 @@ def test_a_viewer_cannot_record_or_run_a_program_and_the_log_says_who_did_what(
     viewer_page.close()  # both pages live on the server's one scene here: one at a time
     operator_page = local_ui.open_session(local_ui.server, client_id=1)
     assert not operator_page.program.record.disabled and not operator_page.program.run.disabled
-    operator = StandInClient(1)
-    click(operator_page.program.record, operator)
+    operator = FakeBrowser(1)
+    fire(operator_page.program.record, operator)
     assert operator_page.program.pending is not None
     operator_page.program.pending.result(FUTURE_TIMEOUT_S)
     assert len(local_ui.programs.program.steps) == 1

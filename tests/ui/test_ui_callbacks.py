@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
 import numpy as np
 import pytest
 
@@ -24,23 +22,6 @@ from tests.api.server import free_port
 TOOL_LENGTH_M = 0.12
 ANGLE_TOL_DEG = 1e-6
 FUTURE_TIMEOUT_S = 5.0
-
-
-@pytest.fixture
-def pendant_ui(sim: SimController) -> Iterator[PendantUI]:
-    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=free_port(), mode_line="Simulator · pulse75")
-    page.refresh()
-    yield page
-    page.stop()
-
-
-@pytest.fixture
-def ui(pendant_ui: ClientSession) -> ClientSession:
-    """The panels one browser would get, built on the server's GUI so no browser is needed."""
-    session = pendant_ui.open_session(pendant_ui.server)
-    with pendant_ui._sessions_lock:
-        pendant_ui.sessions[-1] = session
-    return session
 
 
 def pose_deg(sim: SimController) -> np.ndarray:
