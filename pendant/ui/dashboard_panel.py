@@ -20,6 +20,7 @@ from pendant.eventlog import Event, EventKind
 from pendant.telemetry import HISTORY_S, Telemetry
 from pendant.telemetry.history import HistoryWindow
 from pendant.ui.gui_target import GuiTarget
+from pendant.ui.html import inset
 
 EVENTS_SHOWN = 14
 PLOT_HEIGHT_PX = 170
@@ -45,8 +46,8 @@ def render_motor_table(motors: Sequence[MotorStatus] | None) -> str:
     if motors is None:
         return '<div style="color:#868e96">No motor readings (controller offline)</div>'
     header = "".join(
-        f'<th style="text-align:right;padding:0 3px">{h}</th>'
-        for h in ("", "Angle °", "Vel", "I rms A", "U V", "Stator °C", "Servo °C", "Pos err °")
+        f'<th style="text-align:right;padding:0 2px;white-space:nowrap">{h}</th>'
+        for h in ("", "Angle °", "rpm", "I rms A", "U V", "Stator °C", "Servo °C", "Pos err °")
     )
     rows = []
     for i, m in enumerate(motors):
@@ -59,11 +60,13 @@ def render_motor_table(motors: Sequence[MotorStatus] | None) -> str:
             f"{m.servoTemperature:.1f}",
             f"{m.positionError:.3f}",
         )
-        tds = "".join(f'<td style="text-align:right;padding:0 3px">{c}</td>' for c in cells)
+        tds = "".join(f'<td style="text-align:right;padding:0 2px">{c}</td>' for c in cells)
         rows.append(f"<tr><td><b>J{i + 1}</b></td>{tds}</tr>")
-    return (
-        '<table id="motor-table" style="width:100%;font-size:0.8em;font-family:monospace">'
-        f"<tr>{header}</tr>{''.join(rows)}</table>"
+    # Nine columns are wider than the panel on a narrow screen: scroll sideways rather than cut them off.
+    return inset(
+        '<div style="overflow-x:auto"><table id="motor-table" '
+        'style="width:100%;font-size:0.72em;font-family:monospace;border-collapse:collapse">'
+        f"<tr>{header}</tr>{''.join(rows)}</table></div>"
     )
 
 

@@ -142,7 +142,7 @@ class ClientSession:
             _set_disabled(handle, self.locked)
         self.target_panel.locked = self.locked
         self.program.locked = self.locked
-        ok = self.target_panel.check.ok
+        ok = self.target_panel.executable
         _set_disabled(self.target_panel.move_j, self.locked or not ok)
         _set_disabled(self.target_panel.move_l, self.locked or not ok)
         self.control.show(operator)
@@ -154,8 +154,9 @@ class ClientSession:
 
     def show(self, snapshot: Snapshot, *, with_io: bool) -> None:
         self.status.show(snapshot)
-        if with_io:
+        if with_io:  # 5 Hz is enough for these, and spares every browser six sliders' worth of messages
             self.io.show(snapshot)
+            self.target_panel.follow(snapshot.q)
 
     def show_dashboard(
         self, *, table_html: str | None, plots: PlotData | None, events_html: str | None

@@ -25,7 +25,11 @@ DEFAULT_MOVE_SPEED_PERCENT = 20.0
 
 
 class TargetPanel:
-    """The target the operator is preparing; never moves the arm until Move J or Move L is pressed."""
+    """The target the operator is preparing; never moves the arm until Move J or Move L is pressed.
+
+    Until the operator sets a target (drags the gizmo, moves a slider), the target follows the arm: no ghost,
+    nothing to run, and no stale target left behind where the arm was when the page opened.
+    """
 
     def __init__(
         self,
@@ -52,6 +56,7 @@ class TargetPanel:
         self._syncing = False
         self.locked = False  # a viewer's page: Move J / Move L stay disabled whatever the target
         self.check = TargetCheck(None, "No target yet")
+        self.following = True  # the target is where the arm is (see the class doc)
         self._ghost_q: np.ndarray | None = None  # where the ghost stands: the last target IK could solve
         self.ghost_shown: bool | None = None  # True: the blue (executable) ghost, False: the red one
 
@@ -90,12 +95,25 @@ class TargetPanel:
         self.move_l.on_click(lambda event: self.run(MotionType.LINEAR, event.client))
 
     # --- setting the target -------------------------------------------------------------------------
+    @property
+    def executable(self) -> bool:
+        """A target the operator set, and that can be run."""
+        return self.check.ok and not self.following
+
     def reset_to_current(self) -> None:
+        """Drop the operator's target: the target follows the arm again."""
+        self.following = True
         q = self._current_q()
         if q is not None:
-            self.set_joint_target(q)
+            self._target_joints(q)
+
+    def follow(self, q: np.ndarray | None) -> None:
+        """The arm is at `q` now: the target moves with it unless the operator has set one."""
+        if self.following and q is not None and (self.check.q is None or not np.array_equal(self.check.q, q)):
+            self._target_joints(q)
 
     def set_flange_target(self, T_base_flange: np.ndarray) -> TargetCheck:
+        self.following = False
         near = self.check.q if self.check.q is not None else self._current_q()
         near = near if near is not None else 0.5 * (self._arm.lower + self._arm.upper)
         self.check = check_flange_target(self._arm, T_base_flange, near)
@@ -107,6 +125,10 @@ class TargetPanel:
         return self.set_flange_target(T_base_tcp @ inverse(self._current_tool()))
 
     def set_joint_target(self, q: np.ndarray) -> TargetCheck:
+        self.following = False
+        return self._target_joints(q)
+
+    def _target_joints(self, q: np.ndarray) -> TargetCheck:
         self.check = check_joint_target(self._arm, np.asarray(q, dtype=float))
         self._show(move_gizmo=True)
         return self.check
@@ -115,7 +137,7 @@ class TargetPanel:
     def run(self, motion: MotionType, client: viser.ClientHandle | None = None) -> Future[object] | None:
         """Send the target as a Move J or Move L; None when the target cannot be executed."""
         check = self.check
-        if not check.ok or check.q is None:
+        if not self.executable or check.q is None:
             return None
         params = MotionParams(speed=float(self.speed.value), motion_type=motion)
         q_target = check.q.copy()
@@ -136,13 +158,16 @@ class TargetPanel:
     def _show(self, *, move_gizmo: bool) -> None:
         check = self.check
         self._show_ghost(check)
-        self.reason.content = (
-            "**Target ready** — Move J or Move L runs it."
-            if check.ok
-            else f"**Cannot execute:** {check.reason}"
-        )
-        self.move_j.disabled = not check.ok or self.locked
-        self.move_l.disabled = not check.ok or self.locked
+        if self.following:
+            text = "Drag the gizmo or move a slider to set a target."
+        elif check.ok:
+            text = "**Target ready** — Move J or Move L runs it."
+        else:
+            text = f"**Cannot execute:** {check.reason}"
+        if self.reason.content != text:
+            self.reason.content = text
+        self.move_j.disabled = not self.executable or self.locked
+        self.move_l.disabled = not self.executable or self.locked
         if check.q is None:
             return
         self._syncing = True
@@ -163,7 +188,7 @@ class TargetPanel:
         if check is not None and check.q is not None:
             self._ghost_q = check.q
         q = self._ghost_q
-        self.ghost_shown = None if check is None or q is None else check.ok
+        self.ghost_shown = None if check is None or q is None or self.following else check.ok
         for ok, ghost in self._ghosts.items():
             visible = self.ghost_shown == ok
             ghost.show_visual = visible

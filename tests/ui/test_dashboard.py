@@ -25,7 +25,7 @@ SAMPLE_PERIOD_S = 0.1  # the refresh loop samples the motors at 10 Hz
 VALUE_TOL = 1e-9
 FUTURE_TIMEOUT_S = 5.0
 MOVE = Pose(angles=[40.0, -70.0, 30.0, -90.0, -90.0, 20.0])
-TABLE_COLUMNS = ("Angle °", "Vel", "I rms A", "U V", "Stator °C", "Servo °C", "Pos err °")
+TABLE_COLUMNS = ("Angle °", "rpm", "I rms A", "U V", "Stator °C", "Servo °C", "Pos err °")
 
 
 @pytest.fixture

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pendant.controller import MotionStatus, SignalLevel
+from pendant.controller import MotionParams, MotionStatus, Pose, SignalLevel
 from pendant.controller.errors import (
     MSG_COLLISION,
     MSG_EMERGENCY,
@@ -28,10 +28,27 @@ def pose_deg(sim: SimController) -> np.ndarray:
     return np.asarray(sim.get_pose().angles)
 
 
-def test_target_starts_at_the_current_pose_and_is_executable(ui: ClientSession, sim: SimController) -> None:
-    assert ui.target_panel.check.ok and ui.target_panel.ghost_shown is True
-    np.testing.assert_allclose(np.degrees(ui.target_panel.check.q), pose_deg(sim), atol=ANGLE_TOL_DEG)
-    assert not ui.target_panel.move_j.disabled
+def test_until_the_operator_sets_a_target_it_follows_the_arm_with_no_ghost_and_nothing_to_run(
+    ui: ClientSession, pendant_ui: PendantUI, sim: SimController, clock: FakeClock
+) -> None:
+    panel = ui.target_panel
+    np.testing.assert_allclose(np.degrees(panel.check.q), pose_deg(sim), atol=ANGLE_TOL_DEG)
+    assert panel.ghost_shown is None and panel.move_j.disabled and panel.move_l.disabled
+
+    sim.set_pose(Pose(angles=[30.0, -80.0, 80.0, -90.0, -90.0, 0.0]), MotionParams(speed=100.0))
+    clock.advance(30.0)
+    pendant_ui.refresh(with_io=True)
+    np.testing.assert_allclose(np.degrees(panel.check.q), pose_deg(sim), atol=ANGLE_TOL_DEG)
+    assert panel.ghost_shown is None, "no stale ghost where the arm was"
+
+    target = np.radians(pose_deg(sim) + np.array([-20.0, 0.0, 0.0, 0.0, 0.0, 0.0]))
+    assert panel.set_joint_target(target).ok  # the operator moves a slider: now it is a target
+    assert panel.ghost_shown is True and not panel.move_j.disabled
+    pendant_ui.refresh(with_io=True)
+    np.testing.assert_allclose(panel.check.q, target, atol=1e-12)  # it stays where it was set
+
+    panel.reset_to_current()  # "Target = current": follow the arm again
+    assert panel.ghost_shown is None and panel.move_j.disabled
 
 
 def test_unreachable_drag_target_is_red_says_why_and_cannot_run(
