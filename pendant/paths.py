@@ -2,19 +2,25 @@
 
 from __future__ import annotations
 
+import site
 import sys
 from pathlib import Path
 
 _CHECKOUT_ROOT = Path(__file__).resolve().parent.parent
-_INSTALLED_ROOT = Path(sys.prefix) / "share" / "pulse-pendant"
+# A wheel puts its data files under the prefix it was installed into: the environment's, or the user's
+# (pip install --user).
+_INSTALLED_ROOTS = tuple(
+    Path(prefix) / "share" / "pulse-pendant" for prefix in (sys.prefix, site.getuserbase())
+)
 
 
 def data_root() -> Path:
     """The folder holding `urdf/` and `assets/` (checkout first, so an editable install sees edits)."""
-    for root in (_CHECKOUT_ROOT, _INSTALLED_ROOT):
+    candidates = (_CHECKOUT_ROOT, *_INSTALLED_ROOTS)
+    for root in candidates:
         if (root / "urdf").is_dir():
             return root
-    raise FileNotFoundError(f"PULSE model files not found under {_CHECKOUT_ROOT} or {_INSTALLED_ROOT}")
+    raise FileNotFoundError(f"PULSE model files not found under any of {[str(c) for c in candidates]}")
 
 
 def urdf_dir() -> Path:
