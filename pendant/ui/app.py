@@ -174,8 +174,9 @@ class PendantUI:
         self.runner.shutdown()
         self.server.stop()
 
-    def refresh(self, *, with_io: bool = True) -> Snapshot:
-        """Read the controller once and show what it says (IO and tool only when `with_io`)."""
+    def refresh(self, *, with_io: bool = True, flush: bool = False) -> Snapshot:
+        """Read the controller once and show what it says (IO and tool only when `with_io`); `flush` sends
+        it at once rather than in viser's next 1/60 s window (the first motion after a jog press)."""
         tool_name = self.latest.tool_name
         if with_io:
             tool = self._read_quietly(self.controller.get_tool, None)
@@ -195,6 +196,8 @@ class PendantUI:
         self.latest = snapshot
         for session in self._sessions():
             session.show(snapshot, with_io=with_io)
+        if flush:  # only then: flushing every tick costs the viewers' update rate (benchmarks/viewers.py)
+            self.server.flush()
         return snapshot
 
     def refresh_dashboard(self, *, sample: bool = True, table: bool = True, plots: bool = True) -> None:
@@ -318,9 +321,10 @@ class PendantUI:
         period = 1.0 / REFRESH_HZ
         tick = 0
         next_at = time.monotonic()
+        woken = False
         while not self._stop.is_set():
             try:
-                self.refresh(with_io=tick % IO_EVERY_N_TICKS == 0)
+                self.refresh(with_io=tick % IO_EVERY_N_TICKS == 0, flush=woken)
                 if tick % MOTORS_EVERY_N_TICKS == 1:  # offset: not on the same tick as the IO read
                     self.refresh_dashboard(
                         table=tick % TABLE_EVERY_N_TICKS == 1, plots=tick % PLOTS_EVERY_N_TICKS == 1
@@ -329,7 +333,8 @@ class PendantUI:
                 log.exception("refresh failed")
             tick += 1
             next_at += period
-            if self._wake.wait(max(0.0, next_at - time.monotonic())):
+            woken = self._wake.wait(max(0.0, next_at - time.monotonic()))
+            if woken:
                 self._wake.clear()
                 next_at = time.monotonic()  # the ticks go on from now
             next_at = max(next_at, time.monotonic() - period)  # after a stall, do not race to catch up

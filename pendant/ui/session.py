@@ -7,7 +7,7 @@ from collections.abc import Callable, Iterable
 import numpy as np
 import viser
 
-from pendant.controller import Controller
+from pendant.controller import Controller, MotionStatus
 from pendant.jog import Jogger
 from pendant.kinematics import ArmModel
 from pendant.program import ProgramWorkspace
@@ -156,7 +156,7 @@ class ClientSession:
         self.status.show(snapshot)
         if with_io:  # 5 Hz is enough for these, and spares every browser six sliders' worth of messages
             self.io.show(snapshot)
-            self.target_panel.follow(snapshot.q)
+            self.target_panel.follow(snapshot.q, moving=snapshot.motion_status is MotionStatus.RUNNING)
 
     def show_dashboard(
         self, *, table_html: str | None, plots: PlotData | None, events_html: str | None

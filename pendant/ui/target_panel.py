@@ -107,9 +107,16 @@ class TargetPanel:
         if q is not None:
             self._target_joints(q)
 
-    def follow(self, q: np.ndarray | None) -> None:
-        """The arm is at `q` now: the target moves with it unless the operator has set one."""
-        if self.following and q is not None and (self.check.q is None or not np.array_equal(self.check.q, q)):
+    def follow(self, q: np.ndarray | None, *, moving: bool) -> None:
+        """The arm is at `q` now: the target moves with it unless the operator has set one. While the arm
+        moves the gizmo is hidden rather than chased (six sliders and a gizmo to every browser, 5 times a
+        second); it comes back at the TCP when the arm stops."""
+        if not self.following or q is None:
+            return
+        if moving:
+            if self._gizmo.visible:
+                self._gizmo.visible = False
+        elif self.check.q is None or not np.array_equal(self.check.q, q) or not self._gizmo.visible:
             self._target_joints(q)
 
     def set_flange_target(self, T_base_flange: np.ndarray) -> TargetCheck:
@@ -196,6 +203,10 @@ class TargetPanel:
                 cfg = np.zeros(len(ghost.get_actuated_joint_names()))
                 cfg[:6] = q
                 ghost.update_cfg(cfg)
+
+    @property
+    def gizmo_shown(self) -> bool:
+        return bool(self._gizmo.visible)
 
     @property
     def gizmo_position(self) -> np.ndarray:

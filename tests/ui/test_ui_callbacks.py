@@ -36,10 +36,13 @@ def test_until_the_operator_sets_a_target_it_follows_the_arm_with_no_ghost_and_n
     assert panel.ghost_shown is None and panel.move_j.disabled and panel.move_l.disabled
 
     sim.set_pose(Pose(angles=[30.0, -80.0, 80.0, -90.0, -90.0, 0.0]), MotionParams(speed=100.0))
+    clock.advance(0.2)
+    pendant_ui.refresh(with_io=True)
+    assert not panel.gizmo_shown, "not chased while the arm moves"
     clock.advance(30.0)
     pendant_ui.refresh(with_io=True)
     np.testing.assert_allclose(np.degrees(panel.check.q), pose_deg(sim), atol=ANGLE_TOL_DEG)
-    assert panel.ghost_shown is None, "no stale ghost where the arm was"
+    assert panel.gizmo_shown and panel.ghost_shown is None, "back at the TCP; no stale ghost"
 
     target = np.radians(pose_deg(sim) + np.array([-20.0, 0.0, 0.0, 0.0, 0.0, 0.0]))
     assert panel.set_joint_target(target).ok  # the operator moves a slider: now it is a target
