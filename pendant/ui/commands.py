@@ -15,6 +15,8 @@ log = logging.getLogger(__name__)
 
 HOME_POSE_DEG = (0.0, -90.0, 0.0, -90.0, -90.0, 0.0)
 HOME_SPEED_PERCENT = 20.0
+FREEZE_HOTKEY = "escape"
+FREEZE_HOTKEY_LABEL = "Esc"
 
 
 Gate = Callable[[viser.ClientHandle | None], str | None]
@@ -94,10 +96,26 @@ class CommandRunner:
 
 
 def add_freeze_button(target: GuiTarget, runner: CommandRunner) -> viser.GuiButtonHandle:
-    """The red Freeze button, above everything else so it is always in reach."""
-    button = target.gui.add_button("Freeze", color="red", icon=viser.Icon.HAND_STOP, order=-1000.0)
-    button.on_click(lambda event: runner.submit("Freeze", lambda c: c.freeze(), event.client, urgent=True))
+    """The red Freeze button, above everything else, and the Esc key anywhere on the page: the button
+    scrolls away with a long tab, the key does not."""
+    button = target.gui.add_button(
+        "Freeze",
+        color="red",
+        icon=viser.Icon.HAND_STOP,
+        order=-1000.0,
+        hint=f"Stop the arm where it is ({FREEZE_HOTKEY_LABEL} anywhere on the page)",
+    )
+    button.on_click(lambda event: freeze(runner, event.client))
+    hotkey = target.gui.add_command(
+        "Freeze", description="Stop the arm where it is", hotkey=FREEZE_HOTKEY, icon=viser.Icon.HAND_STOP
+    )
+    hotkey.on_trigger(lambda event: freeze(runner, event.client))
     return button
+
+
+def freeze(runner: CommandRunner, client: viser.ClientHandle | None) -> Future[object]:
+    """Every browser may stop the arm, and it never waits behind another command."""
+    return runner.submit("Freeze", lambda c: c.freeze(), client, urgent=True)
 
 
 def add_robot_commands(target: GuiTarget, runner: CommandRunner) -> dict[str, viser.GuiButtonHandle]:

@@ -12,6 +12,9 @@ HOLD_S = 1.2
 SETTLE_S = 0.6
 ANGLE_TOL_DEG = 0.01
 MOVE_TIMEOUT_S = 30.0
+FREEZE_TIMEOUT_S = 5.0
+SLOW_SPEED_PERCENT = 5  # a 60° move takes several seconds: time to press Esc in the middle of it
+VIEWPORT_CENTRE = (500, 450)
 
 
 def wait_idle(pendant: Pendant, timeout_s: float = MOVE_TIMEOUT_S) -> None:
@@ -60,3 +63,21 @@ def test_sliders_pose_the_ghost_and_move_j_runs_it(page, pendant: Pendant) -> No
     wait_idle(pendant)
     page.screenshot(path=str(ARTIFACTS / "after-move-j.png"))
     assert abs(pendant.pose()[0] - target_j1) < ANGLE_TOL_DEG
+
+
+def test_escape_anywhere_on_the_page_freezes_a_moving_arm(page, pendant: Pendant) -> None:
+    wait_idle(pendant)
+    start = np.array(pendant.pose())
+    far = (start + np.array([60.0, 0.0, 0.0, 0.0, 0.0, 0.0])).tolist()
+    pendant.api.put("/pose", params={"speed": SLOW_SPEED_PERCENT}, json={"angles": far}).raise_for_status()
+    deadline = time.monotonic() + MOVE_TIMEOUT_S
+    while pendant.status() != "RUNNING":
+        assert time.monotonic() < deadline, "the move did not start"
+        time.sleep(0.05)
+    page.mouse.click(VIEWPORT_CENTRE[0], VIEWPORT_CENTRE[1])  # focus on the 3D view, away from the panel
+    page.keyboard.press("Escape")
+    wait_idle(pendant, timeout_s=FREEZE_TIMEOUT_S)
+    stopped = np.array(pendant.pose())
+    time.sleep(SETTLE_S)
+    np.testing.assert_allclose(pendant.pose(), stopped, atol=ANGLE_TOL_DEG)  # frozen, not finishing the move
+    assert abs(stopped[0] - far[0]) > 1.0, "the move ran to its end: Esc did not freeze it"
