@@ -10,8 +10,6 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from collections.abc import Callable
-from concurrent.futures import Future
 from dataclasses import replace
 from urllib.parse import parse_qs, urlsplit
 
@@ -19,14 +17,14 @@ import numpy as np
 import viser
 
 from pendant.access import TOKEN_QUERY
-from pendant.controller import Controller, ControllerError, MotionStatus
+from pendant.controller import Controller, ControllerError
 from pendant.eventlog import EventKind, EventLog
-from pendant.jog import Jogger, JogRequest
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import position_to_matrix
-from pendant.program import Change, ProgramWorkspace, RunState
+from pendant.program import ProgramWorkspace
 from pendant.telemetry import Telemetry
-from pendant.ui.commands import CommandRefused, CommandRunner
+from pendant.ui.activity import ActivityLog, LoggedJogger
+from pendant.ui.commands import CommandRunner
 from pendant.ui.dashboard_panel import EVENTS_SHOWN, PlotData, plot_data, render_events, render_motor_table
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.roles import ControlDesk
@@ -42,46 +40,6 @@ MOTORS_EVERY_N_TICKS = 3  # motors at 10 Hz into the shared history
 TABLE_EVERY_N_TICKS = 6  # the motor table and the event log redrawn at 5 Hz
 PLOTS_EVERY_N_TICKS = 15  # the 60 s plots at 2 Hz ...
 PLOT_EVERY_NTH_SAMPLE = 2  # ... with a point every 0.2 s
-_ALARM_STATES = {MotionStatus.ERROR, MotionStatus.EMERGENCY, MotionStatus.MOTION_FAILED}
-
-
-class LoggedJogger(Jogger):
-    """A Jogger that tells the event log when a jog starts (once per press, not per deadman confirmation)."""
-
-    def __init__(
-        self,
-        controller: Controller,
-        arm: ArmModel,
-        *,
-        events: EventLog,
-        desk: ControlDesk,
-        on_start: Callable[[], None] = lambda: None,
-    ) -> None:
-        super().__init__(controller, arm, on_stop=self._stopped)
-        self._events = events
-        self._desk = desk
-        self._on_start = on_start
-
-    def hold(self, request: JogRequest) -> bool:
-        starting = self.active != request
-        moved = super().hold(request)
-        if starting and moved:
-            self._on_start()
-            self._events.record(
-                EventKind.COMMAND, self._desk.name(self._desk.operator), f"Jog {request.label()}"
-            )
-        return moved
-
-    def step(self, request: JogRequest) -> bool:
-        moved = super().step(request)
-        if moved:
-            self._events.record(
-                EventKind.COMMAND, self._desk.name(self._desk.operator), f"Step {request.label()}"
-            )
-        return moved
-
-    def _stopped(self, reason: str) -> None:
-        self._events.record(EventKind.COMMAND, "pendant", f"Jog stopped ({reason})")
 
 
 class PendantUI:
@@ -111,7 +69,8 @@ class PendantUI:
         self.server.gui.configure_theme(control_width="large", show_logo=False)
         self.desk = ControlDesk(self.events, token=token)
         self.runner = CommandRunner(controller, gate=self.desk.gate)
-        self.runner.on_submit = self._log_command
+        self.activity = ActivityLog(self.events, self.desk)
+        self.runner.on_submit = self.activity.command
         self._stop = threading.Event()
         self._wake = threading.Event()  # a jog started: show its first motion now, not at the next tick
         self.jogger = LoggedJogger(
@@ -119,10 +78,9 @@ class PendantUI:
         )
         self.telemetry = Telemetry(controller)
         self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
-        self.programs.on_change(self._log_program_failure)
+        self.programs.on_change(lambda change: self.activity.program_changed(self.programs, change))
         if self.programs.store.restore_problem is not None:
             self.events.record(EventKind.ERROR, "program", self.programs.store.restore_problem)
-        self._failure_logged: str | None = None
         self.scene = ArmScene(self.server, arm.urdf_path)
         self.latest = Snapshot(taken_at=0.0)
         self.T_flange_tool = np.eye(4)  # the tool's TCP on the flange: the scene's TCP frame and the gizmo
@@ -155,7 +113,7 @@ class PendantUI:
             client_id=client_id,
             url_token=url_token,
             on_recording=lambda client, message: self.events.record(
-                EventKind.COMMAND, self._who(client), message
+                EventKind.COMMAND, self.activity.who(client), message
             ),
         )
 
@@ -192,7 +150,7 @@ class PendantUI:
         if snapshot.q is not None:
             T_base_tcp = self.arm.fk(snapshot.q) @ self.T_flange_tool
             self.scene.show(snapshot.q, snapshot.gripper_opening, T_base_tcp, snapshot.taken_at)
-        self._log_state_change(self.latest, snapshot)
+        self.activity.state_changed(self.latest, snapshot)
         self.latest = snapshot
         for session in self._sessions():
             session.show(snapshot, with_io=with_io)
@@ -268,53 +226,6 @@ class PendantUI:
     def _sessions(self) -> list[ClientSession]:
         with self._sessions_lock:
             return list(self.sessions.values())
-
-    # --- the event log ------------------------------------------------------------------------------
-    def _who(self, client: viser.ClientHandle | None) -> str:
-        return "pendant" if client is None else self.desk.name(client.client_id)
-
-    def _log_command(
-        self,
-        label: str,
-        client: viser.ClientHandle | None,
-        refusal: str | None,
-        future: Future[object] | None,
-    ) -> None:
-        who = self._who(client)
-        if refusal is not None:
-            self.events.record(EventKind.REFUSED, who, f"{label}: {refusal}")
-            return
-        self.events.record(EventKind.COMMAND, who, label)
-        if future is None:
-            return
-
-        def failed(done: Future[object]) -> None:
-            error = done.exception() if not done.cancelled() else None
-            if isinstance(error, ControllerError):
-                self.events.record(EventKind.ERROR, who, f"{label} failed: {error.message}")
-            elif error is not None and not isinstance(error, CommandRefused):
-                self.events.record(EventKind.ERROR, who, f"{label} failed: {error}")
-
-        future.add_done_callback(failed)
-
-    def _log_program_failure(self, change: Change) -> None:
-        if change is not Change.RUN:
-            return
-        progress = self.programs.progress
-        if progress.state is not RunState.FAILED:
-            self._failure_logged = None
-            return
-        if progress.message != self._failure_logged:  # RUN changes repeat while the failure is shown
-            self._failure_logged = progress.message
-            self.events.record(EventKind.ERROR, "program", progress.message)
-
-    def _log_state_change(self, before: Snapshot, after: Snapshot) -> None:
-        if after.error != before.error and after.error is not None:
-            self.events.record(EventKind.ERROR, "controller", after.error)
-        if after.motion_status is not None and after.motion_status != before.motion_status:
-            was = before.motion_status.value if before.motion_status is not None else "offline"
-            kind = EventKind.ERROR if after.motion_status in _ALARM_STATES else EventKind.STATE
-            self.events.record(kind, "controller", f"{was} → {after.motion_status.value}")
 
     # --- the loop -----------------------------------------------------------------------------------
     def _refresh_loop(self) -> None:
