@@ -6,17 +6,23 @@ import site
 import sys
 from pathlib import Path
 
-_CHECKOUT_ROOT = Path(__file__).resolve().parent.parent
-# A wheel puts its data files under the prefix it was installed into: the environment's, or the user's
-# (pip install --user).
-_INSTALLED_ROOTS = tuple(
-    Path(prefix) / "share" / "pulse-pendant" for prefix in (sys.prefix, site.getuserbase())
-)
+_HERE = Path(__file__).resolve()
+_CHECKOUT_ROOT = _HERE.parent.parent
+
+
+def _installed_roots() -> tuple[Path, ...]:
+    """Where a wheel's data files land: under the prefix it was installed into. That is the one holding
+    this package (<prefix>/lib/pythonX.Y/site-packages/pendant), whatever it is (a venv, --user, --prefix),
+    then, in case of an unusual layout, the running environment's and the user's."""
+    prefixes = [Path(sys.prefix), Path(site.getuserbase())]
+    if len(_HERE.parents) > 4:
+        prefixes.insert(0, _HERE.parents[4])
+    return tuple(dict.fromkeys(prefix / "share" / "pulse-pendant" for prefix in prefixes))
 
 
 def data_root() -> Path:
     """The folder holding `urdf/` and `assets/` (checkout first, so an editable install sees edits)."""
-    candidates = (_CHECKOUT_ROOT, *_INSTALLED_ROOTS)
+    candidates = (_CHECKOUT_ROOT, *_installed_roots())
     for root in candidates:
         if (root / "urdf").is_dir():
             return root
