@@ -29,7 +29,8 @@ def test_a_wheel_installed_to_another_prefix_finds_its_model_files(tmp_path: Pat
     pip("wheel", "--no-deps", "--no-build-isolation", "--wheel-dir", str(tmp_path / "dist"), str(source))
     (wheel,) = (tmp_path / "dist").glob("pulse_pendant-*.whl")
     prefix = tmp_path / "prefix"
-    pip("install", "--no-deps", "--prefix", str(prefix), str(wheel))
+    # --ignore-installed: otherwise pip first uninstalls the pendant this test suite runs from.
+    pip("install", "--no-deps", "--ignore-installed", "--prefix", str(prefix), str(wheel))
 
     # The installed pendant/paths.py, loaded on its own: `import pendant` here would find the checkout.
     site_packages = Path(sysconfig.get_path("purelib", vars={"base": str(prefix)}))
@@ -46,3 +47,5 @@ def test_a_wheel_installed_to_another_prefix_finds_its_model_files(tmp_path: Pat
         )
     shipped_meshes = sorted(p.name for p in (data_root() / "assets").iterdir())
     assert sorted(p.name for p in installed.assets_dir().iterdir()) == shipped_meshes
+    # ... and the environment the suite runs in still has its own pendant (pip left it installed).
+    subprocess.run([sys.executable, "-c", "import pendant"], cwd=tmp_path, check=True)
