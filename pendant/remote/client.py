@@ -88,6 +88,8 @@ class RemoteController:
         )
         self._health_lock = threading.Lock()
         self._health = Health(online=False, latency_s=None, last_error=None, last_seen=None)
+        # The PULSE API cannot read the gripper back: remember what this client last told it (None: nothing).
+        self._gripper_opening: float | None = None
 
     # Lifetime
 
@@ -166,9 +168,16 @@ class RemoteController:
 
     def open_gripper(self, timeout_ms: int) -> None:
         self._request("PUT", "/gripper/open", params={"timeout": timeout_ms})
+        self._gripper_opening = 1.0
 
     def close_gripper(self, timeout_ms: int) -> None:
         self._request("PUT", "/gripper/close", params={"timeout": timeout_ms})
+        self._gripper_opening = 0.0
+
+    def gripper_opening(self) -> float | None:
+        """What the gripper was last told through this client (1 open, 0 closed), None when never: scripts
+        going through the pendant's proxy, or the controller's own panel, are not seen here."""
+        return self._gripper_opening
 
     def pack(self) -> None:
         self._request("PUT", "/pack")

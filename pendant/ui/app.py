@@ -149,7 +149,8 @@ class PendantUI:
             snapshot = replace(snapshot, outputs=self.latest.outputs, inputs=self.latest.inputs)
         if snapshot.q is not None:
             T_base_tcp = self.arm.fk(snapshot.q) @ self.T_flange_tool
-            self.scene.show(snapshot.q, snapshot.gripper_opening, T_base_tcp, snapshot.taken_at)
+            opening = snapshot.gripper_opening if snapshot.gripper_opening is not None else 0.0
+            self.scene.show(snapshot.q, opening, T_base_tcp, snapshot.taken_at)
         self.activity.state_changed(self.latest, snapshot)
         self.latest = snapshot
         for session in self._sessions():

@@ -16,9 +16,10 @@ from pendant.controller.types import INPUT_PORTS, OUTPUT_PORTS
 
 @runtime_checkable
 class ReportsGripper(Protocol):
-    """A controller that knows its gripper's opening (the simulator; the PULSE API has no such read)."""
+    """A controller that knows its gripper's opening (the simulator), or what it last told the gripper (the
+    remote client: the PULSE API has no such read); None when it cannot tell."""
 
-    def gripper_opening(self) -> float: ...
+    def gripper_opening(self) -> float | None: ...
 
 
 @dataclass(frozen=True)
@@ -31,7 +32,7 @@ class Snapshot:
     robot_id: str = ""
     outputs: dict[int, SignalLevel] = field(default_factory=dict)
     inputs: dict[int, SignalLevel] = field(default_factory=dict)
-    gripper_opening: float = 0.0
+    gripper_opening: float | None = None  # 0 closed .. 1 open; None: unknown
     error: str | None = None  # the controller's message when the last reading failed
     latency_s: float | None = None
     online: bool = False  # the controller answered (an emergency 503 or a 500 is an answer too)
@@ -57,7 +58,7 @@ def read_snapshot(controller: Controller, *, with_io: bool, robot_id: str, tool_
             online=not isinstance(error, ControllerOffline),
             latency_s=time.monotonic() - started,
         )
-    opening = controller.gripper_opening() if isinstance(controller, ReportsGripper) else 0.0
+    opening = controller.gripper_opening() if isinstance(controller, ReportsGripper) else None
     return Snapshot(
         taken_at=started,
         q=np.radians(np.asarray(pose.angles, dtype=float)),

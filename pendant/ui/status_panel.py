@@ -67,7 +67,8 @@ def render_status(snapshot: Snapshot, mode_line: str) -> str:
             f"R {math.degrees(r.roll):.1f} P {math.degrees(r.pitch):.1f} "
             f"Y {math.degrees(r.yaw):.1f} °</div>"
         )
-    gripper = "open" if snapshot.gripper_opening > 0.5 else "closed"
+    opening = snapshot.gripper_opening
+    gripper = "unknown" if opening is None else "open" if opening > 0.5 else "closed"
     parts.append(
         f'<div style="font-size:0.85em">Tool <b>{html.escape(snapshot.tool_name)}</b> · '
         f"gripper <b>{gripper}</b> · id {html.escape(snapshot.robot_id)}</div>"

@@ -215,3 +215,16 @@ def test_ping_never_raises() -> None:
     health = controller.ping()
     assert not health.online
     assert health.last_error is not None
+
+
+def test_the_gripper_is_what_this_client_last_told_it_and_unknown_before() -> None:
+    controller = always(200, b"")
+    assert controller.gripper_opening() is None  # the PULSE API has no gripper read
+    controller.open_gripper(500)
+    assert controller.gripper_opening() == 1.0
+    controller.close_gripper(500)
+    assert controller.gripper_opening() == 0.0
+    refusing = always(503, b'"Robot unavailable in emergency state"')
+    with pytest.raises(Emergency):
+        refusing.open_gripper(500)
+    assert refusing.gripper_opening() is None  # a refused command changes nothing

@@ -17,6 +17,8 @@ from pendant.kinematics.transforms import position_to_matrix
 from pendant.sim import FakeClock, Fault, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.session import ClientSession
+from pendant.ui.snapshot import Snapshot
+from pendant.ui.status_panel import render_status
 from tests.api.server import free_port
 
 TOOL_LENGTH_M = 0.12
@@ -194,3 +196,8 @@ def test_valid_tool_form_sets_the_tool(ui: ClientSession, pendant_ui: PendantUI,
     tool = sim.get_tool()
     assert tool.name == "gripper"
     assert tool.point.z == pytest.approx(0.12)
+
+
+def test_a_gripper_the_controller_cannot_report_is_shown_as_unknown() -> None:
+    assert "gripper <b>unknown</b>" in render_status(Snapshot(taken_at=0.0, gripper_opening=None), "robot")
+    assert "gripper <b>open</b>" in render_status(Snapshot(taken_at=0.0, gripper_opening=1.0), "robot")
