@@ -1,0 +1,95 @@
+"""An access token in a real browser: the URL printed at start-up gives control; a page without it cannot
+move the arm, not from its buttons and not through the API. On loopback with --token, as on a LAN."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+
+import numpy as np
+import pytest
+
+from pendant.access import TOKEN_HEADER, ui_url
+from tests.api.server import answers, free_port, wait_until
+
+from .conftest import ARTIFACTS, START_TIMEOUT_S, Pendant
+
+TOKEN = "browser-test-token"
+UI_TIMEOUT_MS = 15_000
+HOLD_S = 1.0
+ANGLE_TOL_DEG = 0.01
+
+
+@pytest.fixture(scope="module")
+def pendant() -> Iterator[Pendant]:
+    """This module's own pendant, with an access token."""
+    ui_port, api_port = free_port(), free_port()
+    process = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "pendant",
+            "--ui-port",
+            str(ui_port),
+            "--api-port",
+            str(api_port),
+            "--token",
+            TOKEN,
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        env={**os.environ, "PYTHONUNBUFFERED": "1"},
+    )
+    try:
+        wait_until(lambda: answers(f"http://127.0.0.1:{api_port}/pose"), START_TIMEOUT_S, "the API")
+        wait_until(lambda: answers(f"http://127.0.0.1:{ui_port}/"), START_TIMEOUT_S, "the page")
+        served = Pendant(f"http://127.0.0.1:{ui_port}/", f"http://127.0.0.1:{api_port}")
+        served.ui_port = ui_port  # type: ignore[attr-defined]
+        yield served
+    finally:
+        process.terminate()
+        try:
+            process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            process.kill()
+
+
+def hold_j1_plus(page) -> None:  # type: ignore[no-untyped-def]
+    page.get_by_role("tab", name="Jog").click()
+    box = page.get_by_role("button", name="J1+", exact=True).bounding_box()
+    assert box is not None
+    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    page.mouse.down()
+    time.sleep(HOLD_S)
+    page.mouse.up()
+
+
+def test_without_the_token_a_page_cannot_take_control_or_move_the_arm(page, pendant: Pendant) -> None:
+    before = pendant.pose()
+    assert page.get_by_role("button", name="J1+", exact=True).is_disabled()
+    page.get_by_role("button", name="Take control").click()
+    page.get_by_text("needs its access token").first.wait_for(timeout=UI_TIMEOUT_MS)
+    page.screenshot(path=str(ARTIFACTS / "token-refused.png"))
+    np.testing.assert_allclose(pendant.pose(), before, atol=ANGLE_TOL_DEG)
+    refused = pendant.api.put("/pose", params={"speed": 10}, json={"angles": before})
+    assert refused.status_code == 401  # and the API without the header
+
+
+def test_the_url_with_the_token_takes_control_and_jogs(browser, pendant: Pendant) -> None:  # type: ignore[no-untyped-def]
+    page = browser.new_page(viewport={"width": 1400, "height": 900})
+    try:
+        page.goto(ui_url("127.0.0.1", pendant.ui_port, TOKEN))  # type: ignore[attr-defined]
+        page.get_by_role("button", name="Freeze").wait_for(timeout=30_000)
+        page.get_by_role("button", name="Take control").click()
+        page.get_by_text("You have control").first.wait_for(timeout=UI_TIMEOUT_MS)
+        before = np.array(pendant.pose())
+        hold_j1_plus(page)
+        assert pendant.pose()[0] > before[0] + 1.0, "the operator's J1+ did not move the arm"
+        page.screenshot(path=str(ARTIFACTS / "token-operator.png"))
+    finally:
+        page.close()
+    accepted = pendant.api.put("/freeze", headers={TOKEN_HEADER: TOKEN})
+    assert accepted.status_code == 200
