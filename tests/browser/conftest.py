@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 import subprocess
@@ -21,9 +22,10 @@ START_TIMEOUT_S = 60.0
 
 
 class Pendant:
-    def __init__(self, ui_url: str, api_url: str) -> None:
-        self.ui_url = ui_url
-        self.api = httpx.Client(base_url=api_url, timeout=5.0)
+    def __init__(self, ui_port: int, api_port: int) -> None:
+        self.ui_port = ui_port
+        self.ui_url = f"http://127.0.0.1:{ui_port}/"
+        self.api = httpx.Client(base_url=f"http://127.0.0.1:{api_port}", timeout=5.0)
 
     def pose(self) -> list[float]:
         return self.api.get("/pose").json()["angles"]
@@ -32,25 +34,32 @@ class Pendant:
         return self.api.get("/status/motion").text.strip('"')
 
 
-@pytest.fixture(scope="module")
-def pendant() -> Iterator[Pendant]:
+@contextlib.contextmanager
+def running_pendant(*flags: str, env: dict[str, str] | None = None) -> Iterator[Pendant]:
+    """A `pendant` process (simulator, UI and API on free loopback ports) with extra `flags`."""
     ui_port, api_port = free_port(), free_port()
     process = subprocess.Popen(
-        [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
+        [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port), *flags],
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
-        env={**os.environ, "PYTHONUNBUFFERED": "1"},
+        env={**os.environ, "PYTHONUNBUFFERED": "1", **(env or {})},
     )
     try:
         wait_until(lambda: answers(f"http://127.0.0.1:{api_port}/pose"), START_TIMEOUT_S, "the API")
         wait_until(lambda: answers(f"http://127.0.0.1:{ui_port}/"), START_TIMEOUT_S, "the page")
-        yield Pendant(f"http://127.0.0.1:{ui_port}/", f"http://127.0.0.1:{api_port}")
+        yield Pendant(ui_port, api_port)
     finally:
         process.terminate()
         try:
             process.wait(timeout=10)
         except subprocess.TimeoutExpired:
             process.kill()
+
+
+@pytest.fixture(scope="module")
+def pendant() -> Iterator[Pendant]:
+    with running_pendant() as served:
+        yield served
 
 
 @pytest.fixture(scope="module")

@@ -3,9 +3,6 @@ move the arm, not from its buttons and not through the API. On loopback with --t
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
 import time
 from collections.abc import Iterator
 
@@ -13,9 +10,8 @@ import numpy as np
 import pytest
 
 from pendant.access import TOKEN_HEADER, ui_url
-from tests.api.server import answers, free_port, wait_until
 
-from .conftest import ARTIFACTS, START_TIMEOUT_S, Pendant
+from .conftest import ARTIFACTS, Pendant, running_pendant
 
 TOKEN = "browser-test-token"
 UI_TIMEOUT_MS = 15_000
@@ -26,35 +22,8 @@ ANGLE_TOL_DEG = 0.01
 @pytest.fixture(scope="module")
 def pendant() -> Iterator[Pendant]:
     """This module's own pendant, with an access token."""
-    ui_port, api_port = free_port(), free_port()
-    process = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "pendant",
-            "--ui-port",
-            str(ui_port),
-            "--api-port",
-            str(api_port),
-            "--token",
-            TOKEN,
-        ],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        env={**os.environ, "PYTHONUNBUFFERED": "1"},
-    )
-    try:
-        wait_until(lambda: answers(f"http://127.0.0.1:{api_port}/pose"), START_TIMEOUT_S, "the API")
-        wait_until(lambda: answers(f"http://127.0.0.1:{ui_port}/"), START_TIMEOUT_S, "the page")
-        served = Pendant(f"http://127.0.0.1:{ui_port}/", f"http://127.0.0.1:{api_port}")
-        served.ui_port = ui_port  # type: ignore[attr-defined]
+    with running_pendant("--token", TOKEN) as served:
         yield served
-    finally:
-        process.terminate()
-        try:
-            process.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            process.kill()
 
 
 def hold_j1_plus(page) -> None:  # type: ignore[no-untyped-def]
@@ -81,7 +50,7 @@ def test_without_the_token_a_page_cannot_take_control_or_move_the_arm(page, pend
 def test_the_url_with_the_token_takes_control_and_jogs(browser, pendant: Pendant) -> None:  # type: ignore[no-untyped-def]
     page = browser.new_page(viewport={"width": 1400, "height": 900})
     try:
-        page.goto(ui_url("127.0.0.1", pendant.ui_port, TOKEN))  # type: ignore[attr-defined]
+        page.goto(ui_url("127.0.0.1", pendant.ui_port, TOKEN))
         page.get_by_role("button", name="Freeze").wait_for(timeout=30_000)
         page.get_by_role("button", name="Take control").click()
         page.get_by_text("You have control").first.wait_for(timeout=UI_TIMEOUT_MS)

@@ -3,18 +3,13 @@ the arm passed through both: DO1 went HIGH while the arm was at the first, and i
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
 import time
 from collections.abc import Iterator
 
 import numpy as np
 import pytest
 
-from tests.api.server import answers, free_port, wait_until
-
-from .conftest import ARTIFACTS, START_TIMEOUT_S, Pendant
+from .conftest import ARTIFACTS, Pendant, running_pendant
 
 POSE_A_DEG = [25.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 POSE_B_DEG = [-25.0, -80.0, 80.0, -90.0, -90.0, 0.0]
@@ -30,25 +25,9 @@ POLL_S = 0.02  # a real process on a real clock: the test watches it through the
 def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
     """This module's own pendant, with its programs in a fresh folder (not the checkout's ./programs)."""
     programs = tmp_path_factory.mktemp("programs")
-    ui_port, api_port = free_port(), free_port()
-    process = subprocess.Popen(
-        [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        env={**os.environ, "PYTHONUNBUFFERED": "1", "PENDANT_PROGRAMS_DIR": str(programs)},
-    )
-    try:
-        wait_until(lambda: answers(f"http://127.0.0.1:{api_port}/pose"), START_TIMEOUT_S, "the API")
-        wait_until(lambda: answers(f"http://127.0.0.1:{ui_port}/"), START_TIMEOUT_S, "the page")
-        served = Pendant(f"http://127.0.0.1:{ui_port}/", f"http://127.0.0.1:{api_port}")
+    with running_pendant("--programs", str(programs)) as served:
         served.programs = programs  # type: ignore[attr-defined]
         yield served
-    finally:
-        process.terminate()
-        try:
-            process.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            process.kill()
 
 
 def move_to(pendant: Pendant, angles: list[float]) -> None:
