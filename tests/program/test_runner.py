@@ -157,44 +157,6 @@ def test_step_runs_one_step_at_a_time_without_blending(sim, clock, waypoints) ->
     assert sim.get_output(1) is SignalLevel.HIGH
 
 
-def test_pause_holds_the_arm_and_resume_finishes_the_program(sim, clock, waypoints) -> None:
-    a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
-    program = Program(steps=(move(a), move(b), move(c)))
-    holder: list[ProgramRunner] = []
-    runner = ProgramRunner(sim, now=clock.now, sleep=sleeping(clock, 0.6, lambda: holder[0].pause()))
-    holder.append(runner)
-
-    paused = runner.run(program)
-
-    assert paused.state is RunState.PAUSED
-    held = angles(sim)
-    clock.advance(5.0)
-    np.testing.assert_allclose(angles(sim), held, atol=ANGLE_TOL_DEG)  # frozen, not drifting on
-    assert not np.allclose(held, c.pose.angles)
-    done = runner.resume()
-    assert done.state is RunState.FINISHED
-    np.testing.assert_allclose(angles(sim), c.pose.angles, atol=ANGLE_TOL_DEG)
-
-
-def test_stop_freezes_the_arm_where_it_is(sim, clock, waypoints) -> None:
-    program = Program(
-        steps=(move(waypoints["A"]), move(waypoints["B"]), OutputStep(port=1, level=SignalLevel.HIGH))
-    )
-    holder: list[ProgramRunner] = []
-    runner = ProgramRunner(sim, now=clock.now, sleep=sleeping(clock, 0.4, lambda: holder[0].stop()))
-    holder.append(runner)
-
-    result = runner.run(program)
-
-    assert result.state is RunState.STOPPED
-    stopped = angles(sim)
-    clock.advance(5.0)
-    np.testing.assert_allclose(angles(sim), stopped, atol=ANGLE_TOL_DEG)
-    assert sim.get_motion_status().value == "IDLE"
-    assert sim.get_output(1) is SignalLevel.LOW  # nothing after the stop ran
-    assert runner.resume().state is RunState.STOPPED  # a stopped run cannot be resumed
-
-
 def test_a_refused_move_stops_the_program_naming_the_step_and_the_reason(sim, clock, waypoints) -> None:
     a = waypoints["A"]
     beyond_limits = Waypoint(

@@ -10,7 +10,6 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -18,6 +17,7 @@ import httpx
 import pytest
 
 from pendant.sim import HOME_POSE_DEG
+from tests.api.server import wait_until
 
 from .servers import free_port, wait_for_port
 
@@ -57,19 +57,6 @@ def launch(tmp_path: Path) -> Iterator[Launch]:
         if process.poll() is None:
             process.kill()
         process.wait(STOP_TIMEOUT_S)
-
-
-def wait_until(condition: Callable[[], bool], timeout_s: float, what: str) -> None:
-    """Poll `condition` (an HTTP transport error counts as "not yet") until it holds or time runs out."""
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        try:
-            if condition():
-                return
-        except httpx.TransportError:
-            pass
-        time.sleep(POLL_INTERVAL_S)  # real processes on the real clock: no fake clock reaches them
-    raise TimeoutError(f"{what} did not happen within {timeout_s} s")
 
 
 def page_served(url: str) -> bool:
