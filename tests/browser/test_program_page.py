@@ -16,6 +16,7 @@ POSE_B_DEG = [-25.0, -80.0, 80.0, -90.0, -90.0, 0.0]
 AWAY_DEG = [0.0, -100.0, 100.0, -90.0, -90.0, 0.0]
 MOVE_SPEED_PERCENT = 60
 ANGLE_TOL_DEG = 0.01
+AT_WAYPOINT_TOL_DEG = 0.5  # two HTTP reads apart, around an arm coming to rest at P1 and leaving it
 UI_TIMEOUT_MS = 15_000
 RUN_TIMEOUT_S = 60.0
 POLL_S = 0.02  # a real process on a real clock: the test watches it through the API
@@ -62,21 +63,25 @@ def test_record_two_waypoints_and_play_them_back(page, pendant: Pendant) -> None
     page.screenshot(path=str(ARTIFACTS / "program-recorded.png"))
 
     page.get_by_role("button", name="Run", exact=True).click()
-    pose_when_do_went_high = None
+    poses_around_do_high: tuple[list[float], list[float]] | None = None
     deadline = time.monotonic() + RUN_TIMEOUT_S
     while True:
         pose = pendant.pose()
-        if pose_when_do_went_high is None and output(pendant, 1) == "HIGH":
-            pose_when_do_went_high = pose
-        if pose_when_do_went_high is not None and np.allclose(pose, POSE_B_DEG, atol=ANGLE_TOL_DEG):
+        if poses_around_do_high is None and output(pendant, 1) == "HIGH":
+            # The arm may arrive at P1 between the two reads, or just leave it: keep both sides.
+            poses_around_do_high = (pose, pendant.pose())
+        if poses_around_do_high is not None and np.allclose(pose, POSE_B_DEG, atol=ANGLE_TOL_DEG):
             break
         assert time.monotonic() < deadline, f"the program did not reach P2 (arm at {pose})"
         time.sleep(POLL_S)
     page.get_by_text("Finished").first.wait_for(timeout=UI_TIMEOUT_MS)
     page.screenshot(path=str(ARTIFACTS / "program-finished.png"))
 
-    # DO1 is set between the two moves, so when it went HIGH the arm was at P1.
-    np.testing.assert_allclose(pose_when_do_went_high, POSE_A_DEG, atol=ANGLE_TOL_DEG)
+    # DO1 is set between the two moves, so when it went HIGH the arm was at P1 (P2 and the start are 25°
+    # away in J1; within a few milliseconds of P1 the arm is within hundredths of a degree of it).
+    assert poses_around_do_high is not None
+    nearest = min(float(np.max(np.abs(np.subtract(p, POSE_A_DEG)))) for p in poses_around_do_high)
+    assert nearest < AT_WAYPOINT_TOL_DEG, f"DO1 went HIGH {nearest:.2f}° away from P1"
     np.testing.assert_allclose(pendant.pose(), POSE_B_DEG, atol=ANGLE_TOL_DEG)
     assert pendant.status() == "IDLE"
     # Recording autosaved: a kill of the pendant now would lose nothing.
