@@ -17,8 +17,8 @@ FLOOR_SIZE_M = 2.0
 FRAME_AXES_LENGTH_M = 0.12
 FRAME_AXES_RADIUS_M = 0.004
 # Three-quarter view from the front right, the arm filling the view.
-CAMERA_POSITION_M = (1.1, -1.3, 0.9)
-CAMERA_LOOK_AT_M = (0.0, 0.0, 0.35)
+CAMERA_POSITION_M = (0.9, -1.05, 0.75)
+CAMERA_LOOK_AT_M = (-0.1, -0.05, 0.3)
 
 
 class ArmScene:
