@@ -17,7 +17,7 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
-from pendant.program.models import SCHEMA_VERSION, Program
+from pendant.program.models import SCHEMA_VERSION, Program, describe_problems
 
 DEFAULT_PROGRAMS_DIR = Path("programs")  # relative to the pendant's working directory
 PROGRAMS_DIR_ENV = "PENDANT_PROGRAMS_DIR"
@@ -86,10 +86,7 @@ def parse_program(data: bytes, source: str) -> Program:
     try:
         return Program.model_validate(document)
     except ValidationError as error:
-        problems = "; ".join(
-            f"{'.'.join(str(part) for part in issue['loc'])}: {issue['msg']}" for issue in error.errors()[:3]
-        )
-        raise ProgramFileError(f"{source} is not a valid program: {problems}") from error
+        raise ProgramFileError(f"{source} is not a valid program: {describe_problems(error)}") from error
 
 
 def dump_program(program: Program) -> bytes:

@@ -9,7 +9,8 @@ from __future__ import annotations
 from enum import StrEnum
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic_core import ErrorDetails
 
 from pendant.controller.types import (
     DEFAULT_GRIPPER_TIMEOUT_MS,
@@ -98,6 +99,16 @@ class Program(_Frozen):
 
     def waypoint_names(self) -> list[str]:
         return [step.waypoint.name for step in self.steps if isinstance(step, MoveStep)]
+
+
+def describe_problems(error: ValidationError, limit: int = 3) -> str:
+    """The first `limit` problems pydantic found, as "steps.2.speed: Input should be ..." joined by "; "."""
+
+    def one(issue: ErrorDetails) -> str:
+        where = ".".join(str(part) for part in issue["loc"])
+        return f"{where}: {issue['msg']}" if where else issue["msg"]
+
+    return "; ".join(one(issue) for issue in error.errors()[:limit])
 
 
 def describe_step(step: Step) -> str:

@@ -26,6 +26,7 @@ from pendant.program.models import (
     Program,
     Step,
     Waypoint,
+    describe_problems,
 )
 from pendant.program.runner import ProgramRunner, RunProgress
 
@@ -45,12 +46,6 @@ class EditError(Exception):
 
 
 ChangeListener = Callable[[Change], None]
-
-
-def _first_problem(error: ValidationError) -> str:
-    problem = error.errors()[0]
-    where = ".".join(str(part) for part in problem["loc"])
-    return f"{where}: {problem['msg']}" if where else problem["msg"]
 
 
 class ProgramWorkspace:
@@ -115,7 +110,7 @@ class ProgramWorkspace:
             try:  # validated whole, as a load would: an edit never saves what could not be read back
                 program = Program.model_validate({**dict(self._program), "steps": tuple(steps)})
             except ValidationError as error:
-                raise EditError(_first_problem(error)) from error
+                raise EditError(describe_problems(error, limit=1)) from error
             # On disk before it is applied or shown: if the autosave fails, the edit is refused whole.
             self.store.autosave(program, self._file_name, True)
             self._program, self._dirty = program, True
