@@ -135,18 +135,19 @@ class PendantUI:
     def refresh(self, *, with_io: bool = True, flush: bool = False) -> Snapshot:
         """Read the controller once and show what it says (IO and tool only when `with_io`); `flush` sends
         it at once rather than in viser's next 1/60 s window (the first motion after a jog press)."""
-        tool_name = self.latest.tool_name
-        if with_io:
-            tool = self._read_quietly(self.controller.get_tool, None)
-            if tool is not None:
-                tool_name, self.T_flange_tool = tool.name, position_to_matrix(tool.position)
-        if not self._robot_id and with_io:  # the controller was unreachable when the pendant started
-            self._robot_id = self._read_quietly(self.controller.get_robot_id, "")
         snapshot = read_snapshot(
-            self.controller, with_io=with_io, robot_id=self._robot_id, tool_name=tool_name
+            self.controller, with_io=with_io, robot_id=self._robot_id, tool_name=self.latest.tool_name
         )
         if not with_io:
             snapshot = replace(snapshot, outputs=self.latest.outputs, inputs=self.latest.inputs)
+        elif snapshot.online:  # an offline controller would only make each of these reads time out too
+            tool = self._read_quietly(self.controller.get_tool, None)
+            if tool is not None:
+                self.T_flange_tool = position_to_matrix(tool.position)
+                snapshot = replace(snapshot, tool_name=tool.name)
+            if not self._robot_id:  # the controller was unreachable when the pendant started
+                self._robot_id = self._read_quietly(self.controller.get_robot_id, "")
+                snapshot = replace(snapshot, robot_id=self._robot_id)
         if snapshot.q is not None:
             T_base_tcp = self.arm.fk(snapshot.q) @ self.T_flange_tool
             opening = snapshot.gripper_opening if snapshot.gripper_opening is not None else 0.0
