@@ -4,12 +4,9 @@ stops responding. The pendant must report it, never crash, and never replay a lo
 
 from __future__ import annotations
 
-import os
 import subprocess
-import sys
 import time
-from collections.abc import Callable, Iterator
-from pathlib import Path
+from collections.abc import Callable
 
 import httpx
 import pytest
@@ -25,10 +22,10 @@ from pendant.controller.types import MotionParams, MotionStatus, Pose
 from pendant.remote import RemoteController, create_proxy_app
 from pendant.sim import HOME_POSE_DEG
 
+from .conftest import Launch
 from .servers import free_port, wait_for_port
 from .uvicorn_thread import serve_in_thread
 
-ROOT = Path(__file__).resolve().parents[2]
 START_TIMEOUT_S = 15.0
 STOP_TIMEOUT_S = 5.0
 ANGLE_TOL_DEG = 1e-6
@@ -36,35 +33,9 @@ SLOW = MotionParams(speed=2.0)  # a motion that lasts many seconds
 FAR = Pose(angles=[120.0, -60.0, 60.0, -90.0, -90.0, 90.0])
 QUIET_S = 0.5  # how long we watch a restarted controller for motion nobody asked for
 
-Launch = Callable[[list[str]], subprocess.Popen[bytes]]
-
-
-@pytest.fixture
-def launch() -> Iterator[Launch]:
-    """Start `python -m pendant ARGS...`; every process started is killed at teardown."""
-    processes: list[subprocess.Popen[bytes]] = []
-    env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
-
-    def start(args: list[str]) -> subprocess.Popen[bytes]:
-        process = subprocess.Popen(
-            [sys.executable, "-m", "pendant", "--no-ui", *args],
-            cwd=ROOT,
-            env=env,
-            stdout=subprocess.DEVNULL,
-            stderr=subprocess.DEVNULL,
-        )
-        processes.append(process)
-        return process
-
-    yield start
-    for process in processes:
-        if process.poll() is None:
-            process.kill()
-        process.wait(STOP_TIMEOUT_S)
-
 
 def start_controller(launch: Launch, port: int) -> subprocess.Popen[bytes]:
-    process = launch(["--api-port", str(port)])
+    process = launch(["--no-ui", "--api-port", str(port)], "controller")
     wait_for_port(port, START_TIMEOUT_S)
     return process
 
@@ -85,7 +56,7 @@ def wait_until(condition: Callable[[], bool], timeout_s: float = START_TIMEOUT_S
 def test_the_pendant_starts_before_the_controller(launch: Launch) -> None:
     controller_port, pendant_port = free_port(), free_port()
     controller_url = f"http://127.0.0.1:{controller_port}"
-    launch(["--api-port", str(pendant_port), "--robot", controller_url])
+    launch(["--no-ui", "--api-port", str(pendant_port), "--robot", controller_url])
     wait_for_port(pendant_port, START_TIMEOUT_S)
 
     with httpx.Client(base_url=f"http://127.0.0.1:{pendant_port}") as pendant:

@@ -7,10 +7,6 @@ survive the controller's death: offline within a few seconds, still running, its
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import httpx
@@ -19,9 +15,9 @@ import pytest
 from pendant.sim import HOME_POSE_DEG
 from tests.api.server import wait_until
 
+from .conftest import Launch
 from .servers import free_port, wait_for_port
 
-ROOT = Path(__file__).resolve().parents[2]
 START_TIMEOUT_S = 60.0  # the UI loads the arm model and meshes before it serves
 OFFLINE_WITHIN_S = 5.0
 MOTION_DEADLINE_S = 10.0
@@ -30,33 +26,6 @@ POLL_INTERVAL_S = 0.1
 CLIENT_TIMEOUT_S = 5.0
 ANGLE_TOL_DEG = 1e-6
 TARGET_DEG = [HOME_POSE_DEG[0] + 10.0, *HOME_POSE_DEG[1:]]
-
-Launch = Callable[[str, list[str]], subprocess.Popen[bytes]]
-
-
-@pytest.fixture
-def launch(tmp_path: Path) -> Iterator[Launch]:
-    """Start `python -m pendant ARGS...`, its output in a file under tmp_path; all killed at teardown."""
-    processes: list[subprocess.Popen[bytes]] = []
-    env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
-
-    def start(name: str, args: list[str]) -> subprocess.Popen[bytes]:
-        with open(tmp_path / f"{name}.log", "wb") as log:
-            process = subprocess.Popen(
-                [sys.executable, "-m", "pendant", "--host", "127.0.0.1", *args],
-                cwd=ROOT,
-                env=env,
-                stdout=log,
-                stderr=subprocess.STDOUT,
-            )
-        processes.append(process)
-        return process
-
-    yield start
-    for process in processes:
-        if process.poll() is None:
-            process.kill()
-        process.wait(STOP_TIMEOUT_S)
 
 
 def page_served(url: str) -> bool:
@@ -68,10 +37,10 @@ def test_the_pendant_drives_a_separate_simulator_and_outlives_it(launch: Launch,
     robot_port, ui_port, api_port = free_port(), free_port(), free_port()
     robot_url = f"http://127.0.0.1:{robot_port}"
     ui_url, api_url = f"http://127.0.0.1:{ui_port}/", f"http://127.0.0.1:{api_port}"
-    simulator = launch("simulator", ["--no-ui", "--api-port", str(robot_port)])
+    simulator = launch(["--no-ui", "--api-port", str(robot_port)], "simulator")
     wait_for_port(robot_port, START_TIMEOUT_S)
     pendant_args = ["--robot", robot_url, "--ui-port", str(ui_port), "--api-port", str(api_port)]
-    pendant = launch("pendant", [*pendant_args, "--programs", str(tmp_path / "programs")])
+    pendant = launch([*pendant_args, "--programs", str(tmp_path / "programs")])
 
     with (
         httpx.Client(base_url=api_url, timeout=CLIENT_TIMEOUT_S) as through_pendant,
