@@ -161,6 +161,7 @@ class SimController:
         self._robot_id = "".join(servo_ids(self.arm.name))
         self._home_q = np.radians(HOME_POSE_DEG)
         self._pack_q = np.radians(PACK_POSE_DEG)
+        self._freezes = 0  # freezes and resets so far: one more while a command is planned cancels it
         self._power_on()
 
     # --- state ---------------------------------------------------------------------------------------------
@@ -168,7 +169,7 @@ class SimController:
     def _power_on(self) -> None:
         now = self._clock.now()
         self._mode = _Mode.ACTIVE
-        self._freezes = getattr(self, "_freezes", 0) + 1  # a reset cancels what is being planned too
+        self._freezes += 1  # a reset cancels what is being planned too
         self._queue: deque[Motion] = deque()
         self._history: list[Motion] = []
         self._rest_q = self._home_q.copy()
