@@ -77,7 +77,7 @@ class TargetPanel:
         self.from_current = target.gui.add_button("Target = current", icon=viser.Icon.TARGET)
         self.move_j = target.gui.add_button("Move J", disabled=True)
         self.move_l = target.gui.add_button("Move L", disabled=True)
-        self._show_ghost(None)
+        self._show_ghost(self.check)
 
         @self._gizmo.on_update
         def _(_: viser.TransformControlsEvent) -> None:
@@ -189,13 +189,13 @@ class TargetPanel:
         finally:
             self._syncing = False
 
-    def _show_ghost(self, check: TargetCheck | None) -> None:
+    def _show_ghost(self, check: TargetCheck) -> None:
         """Blue at an executable target; red otherwise, at the target or, when IK has no solution (out of
         reach), where the last solvable one was, so the operator sees which drag went too far."""
-        if check is not None and check.q is not None:
+        if check.q is not None:
             self._ghost_q = check.q
         q = self._ghost_q
-        self.ghost_shown = None if check is None or q is None or self.following else check.ok
+        self.ghost_shown = None if q is None or self.following else check.ok
         for ok, ghost in self._ghosts.items():
             visible = self.ghost_shown == ok
             ghost.show_visual = visible
