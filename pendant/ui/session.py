@@ -56,7 +56,7 @@ class ClientSession:
         jogger: Jogger,
         mode_line: str,
         current_q: Callable[[], np.ndarray | None],
-        current_tool: Callable[[], np.ndarray] = lambda: np.eye(4),
+        current_tool: Callable[[], np.ndarray],
         desk: ControlDesk,
         telemetry: Telemetry,
         programs: ProgramWorkspace,

@@ -37,7 +37,7 @@ class TargetPanel:
         arm: ArmModel,
         runner: CommandRunner,
         current_q: Callable[[], np.ndarray | None],
-        current_tool: Callable[[], np.ndarray] = lambda: np.eye(4),
+        current_tool: Callable[[], np.ndarray],
     ) -> None:
         self._arm = arm
         self._runner = runner
