@@ -1,10 +1,13 @@
 """The `pendant` command: flags -> Settings -> controller -> the web UI and the API server.
 
     pendant [--host 127.0.0.1] [--ui-port 8080] [--api-port 8081] [--model pulse75|pulse90] [--robot URL]
-            [--connect-timeout 1] [--read-timeout 3]
+            [--connect-timeout 1] [--read-timeout 3] [--no-ui [--time-scale K]]
+    pendant check URL [--timeout S]
+
 
 serves the pendant's page and the PULSE REST API (the simulator's, or a proxy to the real arm at --robot);
-with --no-ui, the API alone on the controller's own port.
+with --no-ui, the API alone on the controller's own port (its clock K times the wall clock with
+--time-scale K). `pendant check URL` waits until a PULSE API answers at URL (for CI scripts).
 
 Bound to loopback (the default) nobody else can reach it. Bound to anything else (`--host 0.0.0.0`) it
 has an access token (`--token`, or a fresh one printed at start-up with a ready-to-open URL carrying it):
@@ -90,10 +93,20 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         help="folder of taught programs (default: $PENDANT_PROGRAMS_DIR, else ./programs)",
     )
     parser.add_argument("--no-ui", action="store_true", help="serve the PULSE REST API only")
+    parser.add_argument(
+        "--time-scale",
+        type=float,
+        default=_DEFAULTS.time_scale,
+        metavar="K",
+        help="with --no-ui: the simulator's time runs K times the wall clock, e.g. 100 for tests "
+        "(default %(default)g)",
+    )
     args = parser.parse_args(argv)
     for port in (args.api_port, args.ui_port):
         if not 0 <= port <= 65535:
             parser.error(f"port {port} is out of range 0-65535")
+    if args.time_scale != 1.0:
+        _check_time_scale_flag(parser, args)
     return Settings(
         host=args.host,
         ui_port=args.ui_port,
@@ -105,7 +118,20 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         programs_dir=args.programs,
         connect_timeout=args.connect_timeout,
         read_timeout=args.read_timeout,
+        time_scale=args.time_scale,
     )
+
+
+def _check_time_scale_flag(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    if args.robot is not None or not args.no_ui:
+        # A real arm keeps its own time; the page's jog deadman and program waits run on the wall clock.
+        parser.error("--time-scale is for the simulator alone: use it with --no-ui and without --robot")
+    from pendant.sim.clock import check_time_scale  # the simulator's package: imported only when needed
+
+    try:
+        check_time_scale(args.time_scale)
+    except ValueError as error:
+        parser.error(str(error))
 
 
 def with_access_token(settings: Settings) -> Settings:
@@ -116,16 +142,16 @@ def with_access_token(settings: Settings) -> Settings:
 
 
 def make_controller(settings: Settings) -> Controller:
-    """The embedded simulator on the real clock, or a client of the real controller at `--robot`."""
+    """The embedded simulator on the wall clock (times --time-scale), or a client of the real controller."""
     if settings.robot_url is not None:
         from pendant.remote import RemoteController
 
         return RemoteController(
             settings.robot_url, connect_timeout=settings.connect_timeout, read_timeout=settings.read_timeout
         )
-    from pendant.sim import MonotonicClock, SimController
+    from pendant.sim import ScaledClock, SimController
 
-    return SimController(model=settings.model, clock=MonotonicClock())
+    return SimController(model=settings.model, clock=ScaledClock(settings.time_scale))
 
 
 def make_api_app(
@@ -181,6 +207,8 @@ def announce(settings: Settings) -> None:
     if not settings.no_ui:
         print(f"PULSE pendant: http://{settings.host}:{settings.ui_port}", flush=True)
     source = settings.robot_url or f"simulated {settings.model}"
+    if settings.time_scale != 1.0:
+        source += f", {settings.time_scale:g}x time"
     print(f"PULSE REST API ({source}): {api_url(settings)}  (docs: {api_url(settings)}/docs)", flush=True)
     if settings.token is not None:
         print(f"Access token: {settings.token}", flush=True)
@@ -204,6 +232,11 @@ def serve_api(settings: Settings, app: ASGIApp) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    args = sys.argv[1:] if argv is None else list(argv)
+    if args[:1] == ["check"]:
+        from pendant.readiness import check_main
+
+        return check_main(args[1:])
     settings = with_access_token(parse_settings(argv))
     started_at = time.monotonic()
     controller = make_controller(settings)

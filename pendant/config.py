@@ -19,3 +19,5 @@ class Settings:
     # controller is reported within a read timeout rather than hanging the page or a script.
     connect_timeout: float = 1.0
     read_timeout: float = 3.0
+    # Simulated time per wall-clock second (the simulator's clock; --time-scale, with --no-ui only).
+    time_scale: float = 1.0

@@ -512,6 +512,17 @@ class SimController:
         with self._lock:
             return self._queue_end(self._clock.now())[0]
 
+    @property
+    def clock(self) -> Clock:
+        """The clock every time of the simulator is read from (GET /sim/clock, scripted events)."""
+        return self._clock
+
+    def queued_motions(self) -> tuple[Motion, ...]:
+        """The queue as a timeline, the running command first (read-only, for scripted events)."""
+        with self._lock:
+            self._settle(self._clock.now())
+            return tuple(self._queue)
+
     # --- state commands ------------------------------------------------------------------------------------
 
     def relax(self) -> None:

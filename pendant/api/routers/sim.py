@@ -6,6 +6,7 @@ from enum import StrEnum
 from typing import TYPE_CHECKING, Annotated
 
 from fastapi import APIRouter, Path, Request
+from fastapi.responses import JSONResponse
 
 from pendant.api import docs
 from pendant.api.errors import MSG_FAULT, MSG_INPUT_PORT
@@ -99,6 +100,22 @@ def sim_router(sim: SimController) -> APIRouter:
 
         sim.inject_fault(Fault[fault.name.upper()])
         return empty_result()
+
+    @router.get(
+        "/clock",
+        summary="Simulator: its clock",
+        description=(
+            "The simulated time in seconds (`time`), how many times faster than the wall clock it runs "
+            "(`scale`, `pendant --time-scale`), and the Unix time of that instant (`timestamp`). Every "
+            "motion, gripper wait and servo temperature follows this clock."
+        ),
+    )
+    async def get_clock() -> JSONResponse:
+        clock = sim.clock
+        now = clock.now()
+        return JSONResponse(
+            {"time": now, "scale": getattr(clock, "scale", 1.0), "timestamp": clock.unix_time(now)}
+        )
 
     @router.put(
         "/reset",
