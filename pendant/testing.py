@@ -98,7 +98,12 @@ class PulseSim:
     @property
     def time(self) -> float:
         """Simulated seconds since the test started."""
-        return self._server.clock.now() - self._server.script.origin
+        return self._server.clock.now() - self.origin
+
+    @property
+    def origin(self) -> float:
+        """The simulator clock's reading (GET /sim/clock `time`) when the test started: its time 0."""
+        return self._server.script.origin
 
     def fault(self, kind: str) -> None:
         """Make the controller fail now: error, emergency, no_response, motion_failed, twisted,

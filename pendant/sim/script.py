@@ -147,13 +147,13 @@ class Script:
 
     def _bind(self, motion: Motion, run: _Run, k: int, event: ScriptedEvent) -> None:
         if k > len(run.targets):
-            self.errors.append(
-                (event, ValueError(f"{event.description}: the run has only {len(run.targets)} waypoints"))
-            )
+            count = len(run.targets)
+            plural = "" if count == 1 else "s"
+            self.errors.append((event, ValueError(f"the run has only {count} waypoint{plural}")))
             return
         t = waypoint_times(motion, run, self._sim)[k - 1]
         if t < self._clock.now():
-            self.errors.append((event, ValueError(f"{event.description}: waypoint {k} was already passed")))
+            self.errors.append((event, ValueError(f"waypoint {k} was already passed")))
             return
         self._at_absolute(t, event)
 
