@@ -7,6 +7,7 @@ import heapq
 import math
 import threading
 import time
+from collections.abc import Callable
 from typing import Protocol, runtime_checkable
 
 
@@ -82,11 +83,12 @@ class ScaledClock:
     When the last stop before "now" goes, time resumes from the stop (it does not jump the time it was held).
     """
 
-    def __init__(self, scale: float = 1.0) -> None:
+    def __init__(self, scale: float = 1.0, wall: Callable[[], float] = time.monotonic) -> None:
         self._scale = check_time_scale(scale)
+        self._wall = wall  # the wall clock (tests pass a fake one)
         self._lock = threading.Lock()
         self._sim0 = 0.0  # simulated time at wall time _wall0
-        self._wall0 = time.monotonic()
+        self._wall0 = wall()
         self._stops: list[float] = []  # a heap: the earliest stop first
         self._unix0 = time.time()  # Unix time at simulated time 0
 
@@ -99,11 +101,11 @@ class ScaledClock:
             return self._now_locked()
 
     def _now_locked(self) -> float:
-        t = self._sim0 + self._scale * (time.monotonic() - self._wall0)
+        t = self._sim0 + self._scale * (self._wall() - self._wall0)
         return min(t, self._stops[0]) if self._stops else t
 
     def _rebase(self, sim_now: float) -> None:
-        self._sim0, self._wall0 = sim_now, time.monotonic()
+        self._sim0, self._wall0 = sim_now, self._wall()
 
     def set_scale(self, scale: float) -> None:
         """Run at `scale` from now on; the time read so far is kept."""
@@ -141,7 +143,7 @@ class ScaledClock:
     def wall_seconds_until(self, t: float) -> float:
         """How long the wall clock takes to reach simulated time t (0 if it has, or a stop holds it there)."""
         with self._lock:
-            free = self._sim0 + self._scale * (time.monotonic() - self._wall0)
+            free = self._sim0 + self._scale * (self._wall() - self._wall0)
             return max(0.0, (t - free) / self._scale)
 
     def unix_time(self, t: float) -> float:
