@@ -149,9 +149,11 @@ def make_controller(settings: Settings) -> Controller:
         return RemoteController(
             settings.robot_url, connect_timeout=settings.connect_timeout, read_timeout=settings.read_timeout
         )
-    from pendant.sim import ScaledClock, SimController
+    from pendant.sim import MonotonicClock, ScaledClock, SimController
 
-    return SimController(model=settings.model, clock=ScaledClock(settings.time_scale))
+    # Real time is the wall clock itself; a scaled one also keeps planning out of simulated time.
+    clock = MonotonicClock() if settings.time_scale == 1.0 else ScaledClock(settings.time_scale)
+    return SimController(model=settings.model, clock=clock)
 
 
 def make_api_app(

@@ -17,7 +17,7 @@ from starlette.types import ASGIApp, Receive, Scope, Send
 
 from pendant.api import create_app
 from pendant.api.availability import NOT_THE_CONTROLLERS
-from pendant.sim.clock import ScaledClock
+from pendant.sim.clock import ScaledClock, paused
 from pendant.sim.script import Script, ScriptedSim
 
 LOOPBACK = "127.0.0.1"
@@ -28,22 +28,29 @@ COMMAND_METHODS = frozenset({"PUT", "POST", "DELETE", "PATCH"})
 
 class CommandCounter:
     """ASGI wrapper: counts the commands sent to the PULSE API and fires the events due on each, before
-    the command is handled (so a fault scripted on the N-th command is what that command meets)."""
+    the command is handled (so a fault scripted on the N-th command is what that command meets).
 
-    def __init__(self, app: ASGIApp, script: Script) -> None:
+    Simulated time stands still while a command is handled (parsing, checks, planning): at a high time
+    scale the server's own work would otherwise show as delays between the commands of a program."""
+
+    def __init__(self, app: ASGIApp, script: Script, clock: ScaledClock) -> None:
         self.app = app
         self.script = script
+        self.clock = clock
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if (
-            scope["type"] == "http"
-            and scope["method"] in COMMAND_METHODS
-            and not scope["path"].startswith(NOT_THE_CONTROLLERS)
+            scope["type"] != "http"
+            or scope["method"] not in COMMAND_METHODS
+            or scope["path"].startswith(NOT_THE_CONTROLLERS)
         ):
+            await self.app(scope, receive, send)
+            return
+        with paused(self.clock):
             for event in self.script.command_received():
                 # Off the event loop: an action may itself call this server.
                 await run_in_threadpool(self.script.fire, event)
-        await self.app(scope, receive, send)
+            await self.app(scope, receive, send)
 
 
 class SimServer:
@@ -60,9 +67,8 @@ class SimServer:
         self._socket.bind((LOOPBACK, 0))  # the OS picks a free port; it is ours until stop()
         self.port: int = self._socket.getsockname()[1]
         self.url = f"http://{LOOPBACK}:{self.port}"
-        config = uvicorn.Config(
-            CommandCounter(self.app, self.script), log_level="warning", access_log=False, lifespan="off"
-        )
+        counted = CommandCounter(self.app, self.script, self.clock)
+        config = uvicorn.Config(counted, log_level="warning", access_log=False, lifespan="off")
         self._server = uvicorn.Server(config)
         self._thread = threading.Thread(
             target=self._server.run, kwargs={"sockets": [self._socket]}, name="pendant-sim-api", daemon=True

@@ -3,11 +3,12 @@ the wall clock, `--time-scale`), or a fake one tests advance by hand."""
 
 from __future__ import annotations
 
+import contextlib
 import heapq
 import math
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Protocol, runtime_checkable
 
 
@@ -149,3 +150,19 @@ class ScaledClock:
     def unix_time(self, t: float) -> float:
         """The Unix time a timestamp taken at simulated time t carries: the start's wall time plus t."""
         return self._unix0 + t
+
+
+@contextlib.contextmanager
+def paused(clock: Clock) -> Iterator[None]:
+    """Simulated time stands still inside, on a clock that can be held (ScaledClock): the simulator's own
+    computing (planning a motion) then takes no simulated time, so a run K times faster stays exact. The
+    real-time clocks run on, as a real controller's would while it plans."""
+    hold = getattr(clock, "hold", None)
+    if hold is None:
+        yield
+        return
+    held = hold()
+    try:
+        yield
+    finally:
+        clock.remove_stop(held)  # type: ignore[attr-defined]

@@ -62,7 +62,7 @@ from pendant.controller.types import (
 )
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import inverse, matrix_to_position, position_to_matrix
-from pendant.sim.clock import Clock, MonotonicClock
+from pendant.sim.clock import Clock, MonotonicClock, paused
 from pendant.sim.motors import ServoModel, servo_ids
 from pendant.sim.planner import FLOOR_Z_M, Plan, Planner, check_params
 from pendant.sim.timeline import Motion
@@ -285,7 +285,12 @@ class SimController:
         """Plan outside the lock, queue under it; returns the TCP position when the command was accepted.
 
         A plan (or a refusal) made from a queue end that moved meanwhile is stale: plan again from there.
+        Planning takes no simulated time on a scaled clock (`paused`).
         """
+        with paused(self._clock):
+            return self._plan_and_enqueue_now(make_plan)
+
+    def _plan_and_enqueue_now(self, make_plan: Callable[[_Start], Plan | None]) -> Position:
         for _ in range(MAX_PLAN_ATTEMPTS):
             with self._lock:
                 self._check_can_move()
