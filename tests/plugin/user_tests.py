@@ -135,6 +135,15 @@ def test_waypoint_error_leaves_the_arm_at_the_waypoint(pulse_sim, api):
     assert angles(api) == pytest.approx(run[1]["angles"], abs=0.01)
 
 
+def test_waypoint_of_the_run_already_moving(pulse_sim, api):
+    run = [{"angles": [j1, -90.0, 90.0, -90.0, -90.0, 0.0]} for j1 in (30.0, 60.0, 90.0)]
+    api.put("/poses/run", params={"speed": 5}, json=run).raise_for_status()
+    assert motion_status(api) == "RUNNING"
+    pulse_sim.on_waypoint(2, "error")
+    assert wait_while_running(api) == "ERROR"
+    assert angles(api) == pytest.approx(run[1]["angles"], abs=0.01)
+
+
 @pytest.mark.pulse_sim(time_scale=100)
 def test_waypoint_of_a_linear_positions_run(pulse_sim, api):
     start = api.get("/position").json()
