@@ -171,7 +171,8 @@ class PulseSim:
         member = Fault.__members__.get(name.upper())
         if member is not None:
             return lambda: sim.inject_fault(member)
-        method = getattr(sim, FAULT_METHODS.get(name, ""), None) if name in FAULT_METHODS else None
+        method_name = FAULT_METHODS.get(name)
+        method = getattr(sim, method_name, None) if method_name is not None else None
         return method if callable(method) else None
 
     def apply_cell(self, path: str | Path) -> None:

@@ -13,14 +13,21 @@ from tests.api.server import REPO_ROOT
 RUN_TIMEOUT_S = 300.0
 
 
-def run_project(folder: Path, files: dict[str, str], *args: str) -> subprocess.CompletedProcess[str]:
-    """Write `files` into `folder` and run pytest there; returns the finished process (output in stdout)."""
+def run_project(
+    folder: Path, files: dict[str, str], *args: str, by_name: bool = True, site: Path | None = None
+) -> subprocess.CompletedProcess[str]:
+    """Write `files` into `folder` and run pytest there; returns the finished process (output in stdout).
+
+    `by_name`: load the plugin with `-p pendant.testing` (else only installed entry points load it);
+    `site`: a folder of installed distributions' metadata put on the path after the worktree."""
     for name, text in files.items():
         (folder / name).write_text(text, encoding="utf-8")
-    env = {**os.environ, "PYTHONPATH": str(REPO_ROOT)}
+    path = [str(REPO_ROOT), *([str(site)] if site is not None else [])]
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(path)}
     env.pop("PYTEST_ADDOPTS", None)
+    plugin = ["-p", "pendant.testing"] if by_name else []
     return subprocess.run(
-        [sys.executable, "-m", "pytest", "-p", "pendant.testing", "-q", "-p", "no:cacheprovider", *args],
+        [sys.executable, "-m", "pytest", *plugin, "-q", "-p", "no:cacheprovider", *args],
         cwd=folder,
         env=env,
         capture_output=True,

@@ -85,9 +85,22 @@ def test_cell_option_applies_the_cell_or_says_why_not(tmp_path: Path) -> None:
         assert "this simulator has no environment yet" in output
 
 
-def test_the_entry_point_is_declared() -> None:
+def test_the_entry_point_makes_the_fixture_available_once_installed(tmp_path: Path) -> None:
     project = tomllib.loads((REPO_ROOT / "pyproject.toml").read_text(encoding="utf-8"))
-    assert project["project"]["entry-points"]["pytest11"] == {"pendant.testing": "pendant.testing"}
-    import pendant.testing
-
-    assert callable(pendant.testing.pulse_sim)
+    entry_points = project["project"]["entry-points"]["pytest11"]
+    assert entry_points == {"pendant.testing": "pendant.testing"}
+    # What installing the package writes (the entry points of its metadata), without touching the venv.
+    site = tmp_path / "site"
+    metadata = site / "pulse_pendant_installed-0.1.dist-info"
+    metadata.mkdir(parents=True)
+    (metadata / "METADATA").write_text("Metadata-Version: 2.1\nName: pulse-pendant-installed\nVersion: 0.1\n")
+    lines = [f"{name} = {target}" for name, target in entry_points.items()]
+    (metadata / "entry_points.txt").write_text("[pytest11]\n" + "\n".join(lines) + "\n")
+    test = "def test_url(pulse_sim):\n    assert pulse_sim.url.startswith('http://127.0.0.1:')\n"
+    files = {"pytest.ini": INI, "test_url.py": test}
+    project_dir = tmp_path / "project"
+    project_dir.mkdir()
+    for by_name in (False, True):  # installed alone, and installed plus -p (registered once, not twice)
+        run = run_project(project_dir, files, by_name=by_name, site=site)
+        assert run.returncode == 0, run.stdout + run.stderr
+        assert "1 passed" in run.stdout
