@@ -112,24 +112,31 @@ def time_scales(planned: float) -> None:
 
 START_SCRIPT = """
 import time
-t0 = time.perf_counter()
+t0, c0 = time.perf_counter(), time.process_time()
 import httpx
 from pendant.simserver import SimServer
+imported = time.perf_counter()
 server = SimServer().start()
 httpx.get(server.url + "/robot/id").raise_for_status()
-print(time.perf_counter() - t0)
+print(time.perf_counter() - t0, time.process_time() - c0, imported - t0)
 server.stop()
 """
 
 
 def first_fixture() -> None:
-    times = []
+    walls, cpus, imports = [], [], []
     for _ in range(3):
         out = subprocess.run(
             [sys.executable, "-c", START_SCRIPT], cwd=REPO_ROOT, capture_output=True, text=True, check=True
         ).stdout
-        times.append(float(out.strip()))
-    print(f"first fixture ready (fresh process: imports, model, server, first answer): {_spread(times)} s")
+        wall, cpu, imported = (float(word) for word in out.split())
+        walls.append(wall)
+        cpus.append(cpu)
+        imports.append(imported)
+    print(
+        f"first fixture ready (fresh process: imports, model, server, first answer): {_spread(walls)} s wall "
+        f"({_spread(cpus)} s CPU; the imports {_spread(imports)} s of it)"
+    )
 
 
 def resets() -> None:

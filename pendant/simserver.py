@@ -10,6 +10,7 @@ from __future__ import annotations
 import socket
 import threading
 import time
+from collections.abc import Callable
 
 import uvicorn
 from starlette.concurrency import run_in_threadpool
@@ -31,14 +32,20 @@ class CommandCounter:
     the command is handled (so a fault scripted on the N-th command is what that command meets).
 
     Simulated time stands still while a command is handled (parsing, checks, planning): at a high time
-    scale the server's own work would otherwise show as delays between the commands of a program."""
+    scale the server's own work would otherwise show as delays between the commands of a program.
+    `on_request` is told of every request first (the start of a test's time)."""
 
-    def __init__(self, app: ASGIApp, script: Script, clock: ScaledClock) -> None:
+    def __init__(
+        self, app: ASGIApp, script: Script, clock: ScaledClock, on_request: Callable[[], None]
+    ) -> None:
         self.app = app
         self.script = script
         self.clock = clock
+        self.on_request = on_request
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] == "http":
+            self.on_request()
         if (
             scope["type"] != "http"
             or scope["method"] not in COMMAND_METHODS
@@ -67,9 +74,10 @@ class SimServer:
         self._socket.bind((LOOPBACK, 0))  # the OS picks a free port; it is ours until stop()
         self.port: int = self._socket.getsockname()[1]
         self.url = f"http://{LOOPBACK}:{self.port}"
-        counted = CommandCounter(self.app, self.script, self.clock)
+        counted = CommandCounter(self.app, self.script, self.clock, self.begin)
         config = uvicorn.Config(counted, log_level="warning", access_log=False, lifespan="off")
         self._server = uvicorn.Server(config)
+        self._origin_hold: float | None = None
         self._thread = threading.Thread(
             target=self._server.run, kwargs={"sockets": [self._socket]}, name="pendant-sim-api", daemon=True
         )
@@ -85,11 +93,18 @@ class SimServer:
         return self
 
     def reset(self, time_scale: float) -> None:
-        """Power-on state, no scripted event, time counted from now at `time_scale`."""
+        """Power-on state, no scripted event, at `time_scale`; simulated time stands still at the new origin
+        until `begin()` (or the first request), so the set-up of a test takes none of it."""
         self.script.reset()
         self.clock.set_scale(time_scale)
         self.sim.reset()
-        self.script.origin = self.clock.now()
+        self._origin_hold = self.script.origin = self.clock.hold()
+
+    def begin(self) -> None:
+        """Let simulated time run (the test has started, or talks to the simulator)."""
+        held, self._origin_hold = self._origin_hold, None
+        if held is not None:
+            self.clock.remove_stop(held)
 
     def stop(self) -> None:
         """Stop serving, close the port, end the threads."""

@@ -37,7 +37,7 @@ DEFAULT_TIME_SCALE = 10.0
 # Every fault kind the fixture knows; those the simulator does not have yet are refused with a message.
 FAULT_KINDS = ("error", "emergency", "no_response", "motion_failed", "twisted", "protective_stop")
 # Kinds played by a simulator method rather than a `Fault` member, when the simulator has that method.
-FAULT_METHODS = {"protective_stop": "protective_stop"}
+FAULT_METHODS = {"protective_stop": "stop"}  # POST /stop, as the PULSE 1.8 simulator names it
 ENVIRONMENT_PATH = "/environment"
 MARKER = "pulse_sim"
 _OPTIONS = {
@@ -71,6 +71,14 @@ def pytest_configure(config: pytest.Config) -> None:
     )
 
 
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_call(item: pytest.Item) -> None:
+    # The test's simulated time starts with the test function (or its first request, if a fixture sends one).
+    handle = getattr(item, "funcargs", {}).get("pulse_sim")
+    if isinstance(handle, PulseSim):
+        handle.begin()
+
+
 def _option(request: pytest.FixtureRequest, name: str) -> Any:
     marker = request.node.get_closest_marker(MARKER)
     if marker is not None and marker.kwargs.get(name) is not None:
@@ -89,6 +97,10 @@ class PulseSim:
         self.model: str = server.model
         self.time_scale = time_scale
         self.events: list[ScriptedEvent] = []
+
+    def begin(self) -> None:
+        """Start the test's simulated time now (done for you when the test function starts)."""
+        self._server.begin()
 
     @property
     def controller(self) -> Any:

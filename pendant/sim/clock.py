@@ -116,7 +116,11 @@ class ScaledClock:
             self._scale = scale
 
     def add_stop(self, t: float) -> None:
+        """Keep simulated time from passing t; ValueError if it already has (time never runs backwards)."""
         with self._lock:
+            now = self._now_locked()
+            if t < now:
+                raise ValueError(f"simulated time {t:g} s has passed (it is {now:g} s)")
             heapq.heappush(self._stops, float(t))
 
     def hold(self) -> float:

@@ -88,7 +88,11 @@ class Script:
         if not t >= 0:
             raise ValueError(f"a scripted time must be >= 0 s (got {t})")
         event = ScriptedEvent(description, action)
-        self._at_absolute(self.origin + float(t), event)
+        try:
+            self._at_absolute(self.origin + float(t), event)
+        except ValueError:
+            passed = self._clock.now() - self.origin
+            raise ValueError(f"{description}: the test's simulated time is already {passed:g} s") from None
         return event
 
     def _at_absolute(self, t_abs: float, event: ScriptedEvent) -> None:
@@ -151,11 +155,10 @@ class Script:
             plural = "" if count == 1 else "s"
             self.errors.append((event, ValueError(f"the run has only {count} waypoint{plural}")))
             return
-        t = waypoint_times(motion, run, self._sim)[k - 1]
-        if t < self._clock.now():
+        try:
+            self._at_absolute(waypoint_times(motion, run, self._sim)[k - 1], event)
+        except ValueError:
             self.errors.append((event, ValueError(f"waypoint {k} was already passed")))
-            return
-        self._at_absolute(t, event)
 
     # --- firing ---------------------------------------------------------------------------------------------
 

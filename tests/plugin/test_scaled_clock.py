@@ -62,6 +62,14 @@ def test_a_stop_holds_time_until_removed_and_time_resumes_from_it(wall: Wall) ->
     assert clock.now() == pytest.approx(10.0)
 
 
+def test_a_stop_in_the_past_is_refused(wall: Wall) -> None:
+    clock = ScaledClock(10.0, wall=wall)
+    wall.t += 1.0
+    with pytest.raises(ValueError, match="simulated time 5 s has passed"):
+        clock.add_stop(5.0)
+    assert clock.now() == pytest.approx(10.0)
+
+
 def test_hold_freezes_the_present(wall: Wall) -> None:
     clock = ScaledClock(100.0, wall=wall)
     wall.t += 0.01

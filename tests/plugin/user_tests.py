@@ -156,6 +156,14 @@ def test_waypoint_of_a_linear_positions_run(pulse_sim, api):
     assert stopped["x"] == pytest.approx(points[0]["point"]["x"], abs=0.0015)
 
 
+@pytest.mark.pulse_sim(time_scale=1000)
+def test_a_moment_already_past_is_refused(pulse_sim):
+    while pulse_sim.time < 1.0:
+        time.sleep(0.001)
+    with pytest.raises(ValueError, match="the test's simulated time is already"):
+        pulse_sim.at(0.5, "error")
+
+
 def test_on_the_nth_command(pulse_sim, api):
     event = pulse_sim.on_command(2, "no_response")
     assert api.put("/signal/output/1/high").status_code == 200
