@@ -70,8 +70,9 @@ def wait_idle(client: httpx.Client) -> None:
 
 
 def run_program(client: httpx.Client, server: SimServer, paced: bool) -> tuple[float, float]:
-    """(wall seconds, simulated seconds) of one run of the program: from the first command (when the
-    simulator started it) to the arm at rest (when the client saw it: its reaction time counts)."""
+    """(wall seconds, simulated seconds) of one run of the program, from its first command (when the
+    simulator started it) to the arm at rest: paced, when the client saw it (its reaction time counts);
+    queued, when the simulator ended it (a queue that ran dry between two commands counts)."""
     start_wall, start_sim = time.perf_counter(), None
     for path, query, body in program():
         client.put(path, params=query, json=body).raise_for_status()
@@ -79,9 +80,10 @@ def run_program(client: httpx.Client, server: SimServer, paced: bool) -> tuple[f
             start_sim = server.sim.queued_motions()[0].t0
         if paced:
             wait_idle(client)
+    ends_at = server.sim.busy_until()
     wait_idle(client)
     wall = time.perf_counter() - start_wall
-    end_sim = client.get("/sim/clock").json()["time"]
+    end_sim = client.get("/sim/clock").json()["time"] if paced else ends_at
     end = client.get("/pose").json()["angles"]
     assert max(abs(a - b) for a, b in zip(end, PLACE, strict=True)) < 1e-6, "the program ended elsewhere"
     assert start_sim is not None
