@@ -6,8 +6,8 @@ it until the event has happened, so every reader sees the simulator either befor
 exactly its time, however late the event's thread wakes up. Between events nothing runs.
 
 `ScriptedSim` is the simulator with the hooks the waypoint events need: it remembers each queued run's
-waypoints, and while a waypoint event waits for a run it holds the clock during the command, so the run
-cannot start moving before its waypoint times are known.
+waypoints, holding the clock during the command, so a run cannot start moving before its waypoint times are
+known.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ import numpy as np
 from pendant.controller.errors import ControllerError
 from pendant.controller.types import MotionParams, Pose, Position
 from pendant.kinematics.transforms import inverse, position_to_matrix
-from pendant.sim.clock import ScaledClock
+from pendant.sim.clock import ScaledClock, paused
 from pendant.sim.controller import SimController
 from pendant.sim.timeline import Motion
 
@@ -126,10 +126,6 @@ class Script:
         finally:
             self._clock.remove_stop(held)
         return event
-
-    @property
-    def waiting_for_a_run(self) -> bool:
-        return bool(self._waypoint_waiting)
 
     # --- hooks ----------------------------------------------------------------------------------------------
 
@@ -295,10 +291,9 @@ class ScriptedSim(SimController):
         script = getattr(self, "script", None)
         if script is None:
             return command()
-        # Only while an event waits for a run: hold simulated time so the run cannot start before its
-        # waypoint times are known (time pauses for the planning, which is otherwise off the clock anyway).
-        held = self.clock.hold() if script.waiting_for_a_run and isinstance(self.clock, ScaledClock) else None
-        try:
+        # Simulated time stands still until the run's waypoint times are known (over HTTP the command's
+        # handling holds it already; this covers direct calls).
+        with paused(self.clock):
             before = {id(m) for m in self.queued_motions()}
             result = command()
             new = [m for m in self.queued_motions() if id(m) not in before and m.plan is not None]
@@ -309,9 +304,6 @@ class ScriptedSim(SimController):
                     return result
                 script.run_queued(new[0], run)
             return result
-        finally:
-            if held is not None:
-                self.clock.remove_stop(held)
 
     def _run_of(self, waypoints: Sequence[Pose | Position], joint_space: bool) -> _Run:
         if joint_space:
