@@ -12,6 +12,7 @@ from pendant.access.http_guard import TokenGuard
 from pendant.api import docs
 from pendant.api.availability import UnavailableFirst
 from pendant.api.errors import install_error_handlers
+from pendant.api.limits import BodySizeLimit
 from pendant.api.routers.base import base_router
 from pendant.api.routers.gripper import gripper_router
 from pendant.api.routers.pose import pose_router
@@ -97,7 +98,8 @@ def create_app(
     if sim_type is not None and isinstance(controller, sim_type):
         app.add_middleware(UnavailableFirst, check_alive=controller.check_alive)
     if token is not None or events is not None:
-        app.add_middleware(TokenGuard, token=token, events=events)  # added last: runs first
+        app.add_middleware(TokenGuard, token=token, events=events)
+    app.add_middleware(BodySizeLimit)  # added last: runs first, before any body is read
     app.openapi = lambda: _openapi(app)  # type: ignore[method-assign]
     app.state.controller = controller
     return app
