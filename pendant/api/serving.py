@@ -115,9 +115,13 @@ class GuardedHttpProtocol(HttpToolsProtocol):
             oldest.transport.close()
 
 
-def guarded_protocol(max_connections: int) -> type[GuardedHttpProtocol]:
-    """The protocol class to give uvicorn (`http=`), capped at `max_connections`."""
-    return type("GuardedHttpProtocol", (GuardedHttpProtocol,), {"max_connections": max_connections})
+def guarded_protocol(
+    max_connections: int, request_read_timeout_s: float = REQUEST_READ_TIMEOUT_S
+) -> type[GuardedHttpProtocol]:
+    """The protocol class to give uvicorn (`http=`): at most `max_connections`, each request read in
+    `request_read_timeout_s`."""
+    settings = {"max_connections": max_connections, "request_read_timeout_s": request_read_timeout_s}
+    return type("GuardedHttpProtocol", (GuardedHttpProtocol,), settings)
 
 
 def serve(app: Any, host: str, port: int) -> None:

@@ -49,6 +49,15 @@ def running_pendant(*extra_args: str, max_open_files: int | None = None) -> Iter
     """The base URL of a freshly started `pendant --no-ui`; the process is stopped on exit.
 
     `max_open_files`: the process's open-file limit (soft and hard), as a service or shell might set it."""
+    with pendant_process(*extra_args, max_open_files=max_open_files) as (_, base_url):
+        yield base_url
+
+
+@contextlib.contextmanager
+def pendant_process(
+    *extra_args: str, max_open_files: int | None = None
+) -> Iterator[tuple[subprocess.Popen[str], str]]:
+    """running_pendant(), also giving the process (to read its memory, say)."""
     port = free_port()
     command = [sys.executable, "-m", "pendant", "--no-ui", "--host", LOOPBACK, "--api-port", str(port)]
     process = subprocess.Popen(
@@ -62,7 +71,7 @@ def running_pendant(*extra_args: str, max_open_files: int | None = None) -> Iter
     base_url = f"http://{LOOPBACK}:{port}"
     try:
         _wait_until_serving(process, base_url)
-        yield base_url
+        yield process, base_url
     finally:
         process.terminate()
         try:
