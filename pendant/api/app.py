@@ -6,6 +6,7 @@ from typing import Any
 
 from fastapi import FastAPI
 from fastapi.openapi.utils import get_openapi
+from fastapi_offline import FastAPIOffline
 
 from pendant import __version__
 from pendant.access.http_guard import TokenGuard
@@ -69,7 +70,8 @@ def create_app(
     `token`: when given (the pendant is exposed on a network), every PUT/POST needs it in the
     `X-Pendant-Token` header (401 without, 403 wrong); reads stay open. `events`: log of every such request.
     """
-    app = FastAPI(
+    # /docs and /redoc from Swagger UI and ReDoc files installed with the package: they work offline.
+    app = FastAPIOffline(
         title="PULSE REST API",
         version=__version__,
         description=DESCRIPTION,
