@@ -191,16 +191,11 @@ def announce(settings: Settings) -> None:
 
 
 def serve_api(settings: Settings, app: ASGIApp) -> None:
-    """Serve the API app with uvicorn until interrupted (blocks; uvloop and httptools when installed)."""
-    import uvicorn
+    """Serve the API app until interrupted (blocks): uvicorn with the connection guards of
+    pendant.api.serving (idle and slow connections closed, a cap that always leaves room for a stop)."""
+    from pendant.api.serving import serve
 
-    uvicorn.run(
-        app,
-        host=settings.host,
-        port=settings.api_port,
-        access_log=False,  # a log line per request would cost more than the request itself
-        log_level="warning",
-    )
+    serve(app, settings.host, settings.api_port)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -6,12 +6,14 @@ from typing import Any
 
 from fastapi import FastAPI
 from fastapi.openapi.utils import get_openapi
+from fastapi_offline import FastAPIOffline
 
 from pendant import __version__
 from pendant.access.http_guard import TokenGuard
 from pendant.api import docs
 from pendant.api.availability import UnavailableFirst
 from pendant.api.errors import install_error_handlers
+from pendant.api.limits import BodySizeLimit
 from pendant.api.routers.base import base_router
 from pendant.api.routers.gripper import gripper_router
 from pendant.api.routers.pose import pose_router
@@ -68,7 +70,8 @@ def create_app(
     `token`: when given (the pendant is exposed on a network), every PUT/POST needs it in the
     `X-Pendant-Token` header (401 without, 403 wrong); reads stay open. `events`: log of every such request.
     """
-    app = FastAPI(
+    # /docs and /redoc from Swagger UI and ReDoc files installed with the package: they work offline.
+    app = FastAPIOffline(
         title="PULSE REST API",
         version=__version__,
         description=DESCRIPTION,
@@ -97,7 +100,8 @@ def create_app(
     if sim_type is not None and isinstance(controller, sim_type):
         app.add_middleware(UnavailableFirst, check_alive=controller.check_alive)
     if token is not None or events is not None:
-        app.add_middleware(TokenGuard, token=token, events=events)  # added last: runs first
+        app.add_middleware(TokenGuard, token=token, events=events)
+    app.add_middleware(BodySizeLimit)  # added last: runs first, before any body is read
     app.openapi = lambda: _openapi(app)  # type: ignore[method-assign]
     app.state.controller = controller
     return app

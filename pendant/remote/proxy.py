@@ -28,6 +28,7 @@ from starlette.requests import Request
 from starlette.responses import PlainTextResponse, Response
 from starlette.types import ASGIApp, Receive, Scope, Send
 
+from pendant.api.limits import BodySizeLimit
 from pendant.config import Settings
 from pendant.remote.client import RemoteController
 from pendant.remote.health import health_router
@@ -182,6 +183,7 @@ def create_proxy_app(
     )
     app.include_router(health_router(settings, health_probe, started_at))
     app.add_middleware(_Forwarder, robot_url=robot_url, pool=pool, on_request=on_request)
+    app.add_middleware(BodySizeLimit)  # runs first: no body, GET's included, is buffered past its limit
     app.state.robot_url = robot_url
     app.state.health_probe = health_probe
     app.state.upstream = pool  # its timeouts are the ones in force
@@ -194,7 +196,7 @@ def _bad_gateway(message: str) -> Response:
 
 def main(argv: list[str] | None = None) -> int:
     """`python -m pendant.remote.proxy --robot URL [--host H] [--port N]`: the proxy alone, no UI."""
-    import uvicorn
+    from pendant.api.serving import serve
 
     parser = argparse.ArgumentParser(description="Serve the PULSE API as a proxy to a real controller.")
     parser.add_argument("--robot", required=True, help="the controller's URL, e.g. http://192.168.1.50:8081")
@@ -212,7 +214,7 @@ def main(argv: list[str] | None = None) -> int:
         read_timeout=args.read_timeout,
     )
     app = create_proxy_app(args.robot, settings=settings)
-    uvicorn.run(app, host=args.host, port=args.port, log_level="warning", access_log=False)
+    serve(app, args.host, args.port)
     return 0
 
 
