@@ -101,6 +101,12 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         "'.example.com' allows its subdomains); other names are refused (DNS rebinding)",
     )
     parser.add_argument(
+        "--remote-control",
+        choices=("on", "off"),
+        help="whether API clients may move the arm at start-up (the operator can switch it in the page); "
+        "default on for the simulator on loopback and with --no-ui, off otherwise",
+    )
+    parser.add_argument(
         "--token",
         help=f"access token to take control in the page and for API commands ({TOKEN_HEADER} header); "
         "generated when --host is not a loopback address",
@@ -130,6 +136,7 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         read_timeout=args.read_timeout,
         command_timeout=args.command_timeout,
         allowed_hosts=tuple(args.allowed_host),
+        remote_control=None if args.remote_control is None else args.remote_control == "on",
     )
 
 
@@ -155,7 +162,10 @@ def make_controller(settings: Settings) -> Controller:
 
 def remote_control_default(settings: Settings) -> bool:
     """API clients may move the arm from the start only where nobody else can be surprised: the simulator on
-    loopback (scripts work out of the box), or no page at all (--no-ui: there is no operator to decide)."""
+    loopback (scripts work out of the box), or no page at all (--no-ui: there is no operator to decide);
+    `--remote-control on|off` says otherwise."""
+    if settings.remote_control is not None:
+        return settings.remote_control
     if settings.no_ui:
         return True
     return settings.robot_url is None and is_loopback_host(settings.host)

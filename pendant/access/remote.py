@@ -25,8 +25,8 @@ RemoteListener = Callable[[bool], None]
 
 def msg_remote_off(holder: str) -> str:
     return (
-        f"Remote control is off: {holder} has control of the arm "
-        "(the operator can turn on Remote control in the pendant's page)"
+        f"Remote control is off: the arm is commanded from the pendant's page, where {holder} has control "
+        "(the operator can turn Remote control on there)"
     )
 
 

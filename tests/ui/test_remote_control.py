@@ -77,7 +77,7 @@ def test_with_remote_control_off_the_api_cannot_move_the_arm_and_is_told_who_has
     answer = put_pose(api)
     assert answer.status_code == 403
     message = json.loads(answer.text)
-    assert "Remote control is off" in message and "browser #1 (10.0.0.7)" in message
+    assert "Remote control is off" in message and "browser #1 (10.0.0.7) has control" in message
     assert api.post("/tool", json={"name": "t", "radius": 0.0, "position": {}}).status_code == 403
     clock.advance(10.0)
     np.testing.assert_allclose(angles(sim), before, atol=ANGLE_TOL_DEG)
@@ -149,6 +149,8 @@ def test_a_jog_is_refused_while_an_api_motion_runs_and_the_motion_is_not_dropped
         (["--no-ui"], True),  # no page, no operator to decide
         (["--host", "0.0.0.0"], False),
         (["--robot", "http://192.168.0.10:8081"], False),
+        (["--robot", "http://192.168.0.10:8081", "--remote-control", "on"], True),
+        (["--remote-control", "off"], False),
     ],
 )
 def test_remote_control_is_on_by_default_only_for_the_simulator_on_loopback(
