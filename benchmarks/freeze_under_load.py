@@ -37,7 +37,7 @@ RUN_WAYPOINTS = 100
 SLOWLORIS_CLIENTS = 20
 ATTACK_READ_TIMEOUT_S = 10.0
 FREEZE_TIMEOUT_S = 10.0
-FREEZE = b"PUT /freeze HTTP/1.1\r\nHost: bench\r\nContent-Length: 0\r\n\r\n"
+FREEZE = b"PUT /freeze HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\n\r\n"
 
 
 def max_allowed_run_body() -> bytes:
@@ -49,7 +49,7 @@ def max_allowed_run_body() -> bytes:
 
 def request_head(path: str, length: int | None) -> bytes:
     size = b"Transfer-Encoding: chunked" if length is None else b"Content-Length: %d" % length
-    return b"PUT %s HTTP/1.1\r\nHost: bench\r\n%s\r\n\r\n" % (path.encode(), size)
+    return b"PUT %s HTTP/1.1\r\nHost: 127.0.0.1\r\n%s\r\n\r\n" % (path.encode(), size)
 
 
 async def read_response(reader: asyncio.StreamReader) -> None:
@@ -123,7 +123,7 @@ async def idle_connections(port: int, count: int, stop: asyncio.Event) -> None:
 
 
 async def slowloris(port: int, stop: asyncio.Event) -> None:
-    head = b"GET /pose HTTP/1.1\r\nHost: bench\r\nX-Slow: " + b"a" * 10_000
+    head = b"GET /pose HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: " + b"a" * 10_000
     while not stop.is_set():
         with contextlib.suppress(OSError):
             _, writer = await asyncio.open_connection(LOOPBACK, port)

@@ -101,7 +101,7 @@ def test_the_largest_allowed_run_is_accepted(api: httpx.Client) -> None:
 
 def test_freeze_answers_while_a_max_size_body_is_uploaded_slowly(api: httpx.Client, pendant: tuple) -> None:
     body = run_body(RUN_BODY_LIMIT)
-    head = b"PUT /poses/run?speed=100 HTTP/1.1\r\nHost: t\r\nContent-Length: %d\r\n\r\n" % len(body)
+    head = b"PUT /poses/run?speed=100 HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: %d\r\n\r\n" % len(body)
     with socket.create_connection((LOOPBACK, int(pendant[1].rsplit(":", 1)[1])), timeout=10.0) as upload:
         upload.sendall(head + body[: len(body) // 2])
         assert api.put("/freeze").status_code == 200  # while half the body is still to come
@@ -150,7 +150,7 @@ def upload(port: int, path: str, size: int, chunked: bool) -> bytes:
     framing = b"Transfer-Encoding: chunked" if chunked else b"Content-Length: %d" % size
     piece = b" " * (1024 * 1024)
     with socket.create_connection((LOOPBACK, port), timeout=10.0) as connection:
-        connection.sendall(b"PUT %s HTTP/1.1\r\nHost: t\r\n%s\r\n\r\n" % (path.encode(), framing))
+        connection.sendall(b"PUT %s HTTP/1.1\r\nHost: 127.0.0.1\r\n%s\r\n\r\n" % (path.encode(), framing))
         try:
             for _ in range(size // len(piece)):
                 connection.sendall(b"%x\r\n%s\r\n" % (len(piece), piece) if chunked else piece)
@@ -185,7 +185,7 @@ def test_a_slow_or_silent_client_is_disconnected(sim: SimController) -> None:
             socket.create_connection((LOOPBACK, port)) as silent,
             socket.create_connection((LOOPBACK, port)) as slow,
         ):
-            trickle = iter(b"GET /pose HTTP/1.1\r\nHost: t\r\nX-Slow: " + b"a" * 1000)
+            trickle = iter(b"GET /pose HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: " + b"a" * 1000)
             deadline = time.monotonic() + SLOW_CLIENT_GIVE_UP_S
             while still_open(slow) and time.monotonic() < deadline:
                 slow.sendall(bytes([next(trickle)]))
