@@ -11,7 +11,9 @@ with --no-ui, the API alone on the controller's own port (its clock K times the 
 
 Bound to loopback (the default) nobody else can reach it. Bound to anything else (`--host 0.0.0.0`) it
 has an access token (`--token`, or a fresh one printed at start-up with a ready-to-open URL carrying it):
-taking control in the page needs it, and so does every PUT/POST on the API (header X-Pendant-Token).
+taking control in the page needs it, and so does every command on the API (header X-Pendant-Token) but a stop.
+Both ports answer only to IP addresses, loopback names, the bound name and `--allowed-host` names, and refuse
+commands from web pages of other origins (pendant.access.origin).
 """
 
 from __future__ import annotations
@@ -28,6 +30,10 @@ from starlette.types import ASGIApp
 
 from pendant import __version__
 from pendant.access import TOKEN_HEADER, is_loopback_host, new_token, ui_url
+from pendant.access.http_guard import AccessRules
+from pendant.access.origin import OriginPolicy
+from pendant.access.remote import RemoteControl
+from pendant.access.token import token_problem, token_weakness
 from pendant.config import Settings
 from pendant.controller.protocol import Controller
 from pendant.eventlog import EventLog
@@ -83,6 +89,27 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         help="with --robot: seconds to wait for the controller's answer (default %(default)g)",
     )
     parser.add_argument(
+        "--command-timeout",
+        type=_seconds,
+        default=_DEFAULTS.command_timeout,
+        metavar="S",
+        help="with --robot: seconds a command through the API waits for the controller (default %(default)g)",
+    )
+    parser.add_argument(
+        "--allowed-host",
+        action="append",
+        default=[],
+        metavar="NAME",
+        help="a host name the pendant answers to besides IP addresses and localhost (repeatable; "
+        "'.example.com' allows its subdomains); other names are refused (DNS rebinding)",
+    )
+    parser.add_argument(
+        "--remote-control",
+        choices=("on", "off"),
+        help="whether API clients may move the arm at start-up (the operator can switch it in the page); "
+        "default on for the simulator on loopback and with --no-ui, off otherwise",
+    )
+    parser.add_argument(
         "--token",
         help=f"access token to take control in the page and for API commands ({TOKEN_HEADER} header); "
         "generated when --host is not a loopback address",
@@ -105,6 +132,8 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
     for port in (args.api_port, args.ui_port):
         if not 0 <= port <= 65535:
             parser.error(f"port {port} is out of range 0-65535")
+    if args.token is not None and (problem := token_problem(args.token)) is not None:
+        parser.error(f"--token: {problem}")
     if args.time_scale != 1.0:
         _check_time_scale_flag(parser, args)
     return Settings(
@@ -118,6 +147,9 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         programs_dir=args.programs,
         connect_timeout=args.connect_timeout,
         read_timeout=args.read_timeout,
+        command_timeout=args.command_timeout,
+        allowed_hosts=tuple(args.allowed_host),
+        remote_control=None if args.remote_control is None else args.remote_control == "on",
         time_scale=args.time_scale,
     )
 
@@ -156,15 +188,41 @@ def make_controller(settings: Settings) -> Controller:
     return SimController(model=settings.model, clock=clock)
 
 
+def remote_control_default(settings: Settings) -> bool:
+    """API clients may move the arm from the start only where nobody else can be surprised: the simulator on
+    loopback (scripts work out of the box), or no page at all (--no-ui: there is no operator to decide);
+    `--remote-control on|off` says otherwise."""
+    if settings.remote_control is not None:
+        return settings.remote_control
+    if settings.no_ui:
+        return True
+    return settings.robot_url is None and is_loopback_host(settings.host)
+
+
+def access_rules(settings: Settings, events: EventLog | None = None) -> AccessRules:
+    """The API port's guard for these settings: Host and Origin rules always, the token when there is one,
+    and the Remote control switch (shared with the page)."""
+    return AccessRules(
+        token=settings.token,
+        events=events,
+        origins=OriginPolicy.for_binding(settings.host, settings.allowed_hosts),
+        remote=RemoteControl(remote_control_default(settings)),
+    )
+
+
 def make_api_app(
-    settings: Settings, controller: Controller, started_at: float, events: EventLog | None = None
+    settings: Settings,
+    controller: Controller,
+    started_at: float,
+    events: EventLog | None = None,
+    access: AccessRules | None = None,
 ) -> ASGIApp:
     """The app on the API port: the simulator's PULSE API, or a transparent proxy to the real controller;
-    both also answer GET /pendant/health. With a token, commands need it; `events` logs every command."""
+    both also answer GET /pendant/health. `access`: its guard (default: `access_rules(settings, events)`)."""
     from pendant.remote import health_router
 
+    access = access if access is not None else access_rules(settings, events)
     if settings.robot_url is not None:
-        from pendant.access.http_guard import proxy_request_hook
         from pendant.remote import RemoteController, create_proxy_app
 
         assert isinstance(controller, RemoteController)
@@ -173,17 +231,24 @@ def make_api_app(
             settings=settings,
             controller=controller,
             started_at=started_at,
-            on_request=proxy_request_hook(settings.token, events),
+            access=access,
         )
     from pendant.api import create_app
 
-    app = create_app(controller, token=settings.token, events=events)
+    app = create_app(controller, access=access)
     app.include_router(health_router(settings, controller, started_at))
     return app
 
 
-def start_ui(settings: Settings, controller: Controller, events: EventLog | None = None) -> PendantUI:
-    """The pendant's page on its own port (viser serves it from its own thread)."""
+def start_ui(
+    settings: Settings,
+    controller: Controller,
+    events: EventLog | None = None,
+    access: AccessRules | None = None,
+) -> PendantUI:
+    """The pendant's page on its own port (viser serves it from its own thread), sharing the API's Host and
+    Origin rules and Remote control switch."""
+    access = access if access is not None else access_rules(settings, events)
     from pendant.kinematics import ArmModel
     from pendant.ui.app import PendantUI
 
@@ -197,6 +262,8 @@ def start_ui(settings: Settings, controller: Controller, events: EventLog | None
         token=settings.token,
         events=events,
         programs_dir=settings.programs_dir,
+        origins=access.origins,
+        remote=access.remote,
     ).start()
 
 
@@ -217,20 +284,25 @@ def announce(settings: Settings) -> None:
         if not settings.no_ui:
             print("Open the pendant (and take control) with this URL:", flush=True)
             print(f"    {ui_url(settings.host, settings.ui_port, settings.token)}", flush=True)
-        print(f"API commands (PUT/POST) need the header  {TOKEN_HEADER}: {settings.token}", flush=True)
+        print(
+            f"API commands need the header  {TOKEN_HEADER}: {settings.token}  (PUT /freeze does not)",
+            flush=True,
+        )
+        weakness = token_weakness(settings.token)
+        if weakness is not None:
+            print(
+                f"WARNING: this access token is easy to guess: {weakness}. Omit --token for a strong one",
+                file=sys.stderr,
+                flush=True,
+            )
 
 
 def serve_api(settings: Settings, app: ASGIApp) -> None:
-    """Serve the API app with uvicorn until interrupted (blocks; uvloop and httptools when installed)."""
-    import uvicorn
+    """Serve the API app until interrupted (blocks): uvicorn with the connection guards of
+    pendant.api.serving (idle and slow connections closed, a cap that always leaves room for a stop)."""
+    from pendant.api.serving import serve
 
-    uvicorn.run(
-        app,
-        host=settings.host,
-        port=settings.api_port,
-        access_log=False,  # a log line per request would cost more than the request itself
-        log_level="warning",
-    )
+    serve(app, settings.host, settings.api_port)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -243,8 +315,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     started_at = time.monotonic()
     controller = make_controller(settings)
     events = EventLog()  # one log for the page and the API: who sent what
-    api_app = make_api_app(settings, controller, started_at, events)
-    ui = None if settings.no_ui else start_ui(settings, controller, events)
+    access = access_rules(settings, events)  # one switch and one set of rules for both ports
+    api_app = make_api_app(settings, controller, started_at, events, access)
+    ui = None if settings.no_ui else start_ui(settings, controller, events, access)
     announce(settings)
     try:
         serve_api(settings, api_app)

@@ -8,7 +8,8 @@ from concurrent.futures import Future
 
 import viser
 
-from pendant.controller import Controller, ControllerError, MotionStatus
+from pendant.access.remote import RemoteControl
+from pendant.controller import Controller, ControllerError, MotionStatus, PreconditionFailed
 from pendant.eventlog import EventKind, EventLog
 from pendant.jog import Jogger, JogRequest
 from pendant.kinematics import ArmModel
@@ -21,7 +22,10 @@ _ALARM_STATES = {MotionStatus.ERROR, MotionStatus.EMERGENCY, MotionStatus.MOTION
 
 
 class LoggedJogger(Jogger):
-    """A Jogger that tells the event log when a jog starts (once per press, not per deadman confirmation)."""
+    """A Jogger that tells the event log when a jog starts (once per press, not per deadman confirmation),
+    and takes its turn with API clients (pendant.access.remote): a press while an API motion is under way is
+    refused (PreconditionFailed, once per press), and API commands are refused while the jog is held, so the
+    freeze of its release never drops a command a client was told was accepted."""
 
     def __init__(
         self,
@@ -30,16 +34,25 @@ class LoggedJogger(Jogger):
         *,
         events: EventLog,
         desk: ControlDesk,
+        remote: RemoteControl | None = None,
         on_start: Callable[[], None] = lambda: None,
     ) -> None:
         super().__init__(controller, arm, on_stop=self._stopped)
         self._events = events
         self._desk = desk
+        self._remote = remote
         self._on_start = on_start
+        self._refused: JogRequest | None = None  # this press was refused: say so once, not 20 times a second
 
     def hold(self, request: JogRequest) -> bool:
         starting = self.active != request
-        moved = super().hold(request)
+        if starting and self._remote is not None and not self._claim(request):
+            return False
+        try:
+            moved = super().hold(request)
+        finally:
+            if self._remote is not None and self.active is None:
+                self._remote.end_jog()  # it did not start (or stopped at once): the API's turn again
         if starting and moved:
             self._on_start()
             self._events.record(
@@ -55,7 +68,28 @@ class LoggedJogger(Jogger):
             )
         return moved
 
+    def release(self, reason: str = "released") -> None:
+        self._refused = None
+        super().release(reason)
+
+    def _claim(self, request: JogRequest) -> bool:
+        """Take the arm from the API for this jog; False (after raising once per press) when refused."""
+        assert self._remote is not None
+        if self._refused == request:
+            return False
+        refusal = self._remote.begin_jog(lambda: self._controller.get_motion_status() is MotionStatus.RUNNING)
+        if refusal is None:
+            self._refused = None
+            return True
+        self._refused = request
+        self._events.record(
+            EventKind.REFUSED, self._desk.name(self._desk.operator), f"Jog {request.label()}: {refusal}"
+        )
+        raise PreconditionFailed(refusal)
+
     def _stopped(self, reason: str) -> None:
+        if self._remote is not None:
+            self._remote.end_jog()  # the freeze has gone out: API commands may follow
         self._events.record(EventKind.COMMAND, "pendant", f"Jog stopped ({reason})")
 
 

@@ -17,6 +17,8 @@ import numpy as np
 import viser
 
 from pendant.access import TOKEN_QUERY
+from pendant.access.origin import OriginPolicy
+from pendant.access.remote import RemoteControl
 from pendant.controller import Controller, ControllerError
 from pendant.eventlog import EventKind, EventLog
 from pendant.kinematics import ArmModel
@@ -31,6 +33,7 @@ from pendant.ui.roles import ControlDesk
 from pendant.ui.scene import ArmScene
 from pendant.ui.session import ClientSession
 from pendant.ui.snapshot import Snapshot, read_snapshot
+from pendant.ui.ws_guard import guarded_viser_server
 
 log = logging.getLogger(__name__)
 
@@ -47,6 +50,8 @@ class PendantUI:
 
     `token`: taking control needs it (an exposed pendant); without one, the first browser to connect gets
     control. `events`: the event log, shared with the API server when both run in one process.
+    `origins`: the Host and Origin rules for page loads and websockets (None: none). `remote`: the Remote
+    control switch shared with the API (by default on: nothing else in this process moves the arm).
     """
 
     def __init__(
@@ -60,21 +65,26 @@ class PendantUI:
         token: str | None = None,
         events: EventLog | None = None,
         programs_dir: str | None = None,
+        origins: OriginPolicy | None = None,
+        remote: RemoteControl | None = None,
     ) -> None:
         self.controller = controller
         self.arm = arm
         self.mode_line = mode_line
         self.events = events if events is not None else EventLog()
-        self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
+        with guarded_viser_server(origins):
+            self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
         self.server.gui.configure_theme(control_width="large", show_logo=False)
         self.desk = ControlDesk(self.events, token=token)
+        self.remote = remote if remote is not None else RemoteControl(enabled=True)
+        self.remote.holder = lambda: self.desk.name(self.desk.operator)
         self.runner = CommandRunner(controller, gate=self.desk.gate)
         self.activity = ActivityLog(self.events, self.desk)
         self.runner.on_submit = self.activity.command
         self._stop = threading.Event()
         self._wake = threading.Event()  # a jog started: show its first motion now, not at the next tick
         self.jogger = LoggedJogger(
-            controller, arm, events=self.events, desk=self.desk, on_start=self._wake.set
+            controller, arm, events=self.events, desk=self.desk, remote=self.remote, on_start=self._wake.set
         )
         self.telemetry = Telemetry(controller)
         self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
@@ -91,6 +101,7 @@ class PendantUI:
         self._events_seq = -1
         self._thread = threading.Thread(target=self._refresh_loop, name="pendant-refresh", daemon=True)
         self.desk.on_change(self._control_changed)
+        self.remote.on_change(self._remote_changed)
         self.server.on_client_connect(self._connect)
         self.server.on_client_disconnect(self._disconnect)
 
@@ -112,6 +123,7 @@ class PendantUI:
             programs=self.programs,
             client_id=client_id,
             url_token=url_token,
+            remote=self.remote,
             on_recording=lambda client, message: self.events.record(
                 EventKind.COMMAND, self.activity.who(client), message
             ),
@@ -224,6 +236,10 @@ class PendantUI:
             self.jogger.release("control changed")  # the operator left or handed over: no jog goes on
         for session in self._sessions():
             session.apply_role(operator)
+
+    def _remote_changed(self, enabled: bool) -> None:
+        for session in self._sessions():
+            session.control.show_remote(enabled)
 
     def _sessions(self) -> list[ClientSession]:
         with self._sessions_lock:

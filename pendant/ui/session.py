@@ -7,6 +7,7 @@ from collections.abc import Callable, Iterable
 import numpy as np
 import viser
 
+from pendant.access.remote import RemoteControl
 from pendant.controller import Controller, MotionStatus
 from pendant.jog import Jogger
 from pendant.kinematics import ArmModel
@@ -62,6 +63,7 @@ class ClientSession:
         programs: ProgramWorkspace,
         client_id: int | None = None,
         url_token: str | None = None,
+        remote: RemoteControl | None = None,
         on_recording: RecordingListener | None = None,
     ) -> None:
         self.target = target
@@ -69,7 +71,7 @@ class ClientSession:
         self._desk = desk
         self.freeze = add_freeze_button(target, runner)
         self.status = StatusPanel(target, mode_line)
-        self.control = ControlPanel(target, desk, client_id, url_token)
+        self.control = ControlPanel(target, desk, client_id, url_token, remote)
         self.tabs = target.gui.add_tab_group()
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
             self.jog = JogPanel(target, jogger, runner)
@@ -100,6 +102,8 @@ class ClientSession:
 
     def _commanding_handles(self) -> Iterable[viser.GuiInputHandle]:
         """Every control that moves the arm or changes IO or settings (Freeze is not one of them)."""
+        if self.control.remote is not None:
+            yield self.control.remote
         jog = self.jog
         yield from (jog.frame, jog.step, jog.speed, *jog.buttons.values())
         target = self.target_panel
