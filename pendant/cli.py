@@ -19,6 +19,7 @@ import sys
 import time
 from collections.abc import Sequence
 from dataclasses import replace
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from starlette.types import ASGIApp
@@ -28,6 +29,7 @@ from pendant.access import TOKEN_HEADER, is_loopback_host, new_token, ui_url
 from pendant.config import Settings
 from pendant.controller.protocol import Controller
 from pendant.eventlog import EventLog
+from pendant.monitoring import EventStore, PendantMetrics, data_dir
 from pendant.paths import MODEL_NAMES
 
 if TYPE_CHECKING:
@@ -89,6 +91,12 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         metavar="DIR",
         help="folder of taught programs (default: $PENDANT_PROGRAMS_DIR, else ./programs)",
     )
+    parser.add_argument(
+        "--data",
+        metavar="DIR",
+        help="folder of the event log and recordings (default: $PENDANT_DATA_DIR, else pendant-data/ "
+        "beside the programs folder)",
+    )
     parser.add_argument("--no-ui", action="store_true", help="serve the PULSE REST API only")
     args = parser.parse_args(argv)
     for port in (args.api_port, args.ui_port):
@@ -103,6 +111,7 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         no_ui=args.no_ui,
         token=args.token,
         programs_dir=args.programs,
+        data_dir=args.data,
         connect_timeout=args.connect_timeout,
         read_timeout=args.read_timeout,
     )
@@ -129,11 +138,19 @@ def make_controller(settings: Settings) -> Controller:
 
 
 def make_api_app(
-    settings: Settings, controller: Controller, started_at: float, events: EventLog | None = None
+    settings: Settings,
+    controller: Controller,
+    started_at: float,
+    events: EventLog | None = None,
+    metrics: PendantMetrics | None = None,
 ) -> ASGIApp:
     """The app on the API port: the simulator's PULSE API, or a transparent proxy to the real controller;
-    both also answer GET /pendant/health. With a token, commands need it; `events` logs every command."""
+    both also answer GET /pendant/health, GET /metrics and (with a stored log) GET /pendant/events. With a
+    token, commands need it; `events` logs every command."""
+    from pendant.monitoring import add_monitoring
     from pendant.remote import health_router
+
+    store = events.store if events is not None else None
 
     if settings.robot_url is not None:
         from pendant.access.http_guard import proxy_request_hook
@@ -146,15 +163,25 @@ def make_api_app(
             controller=controller,
             started_at=started_at,
             on_request=proxy_request_hook(settings.token, events),
+            metrics=metrics,
+            store=store,
         )
     from pendant.api import create_app
 
     app = create_app(controller, token=settings.token, events=events)
     app.include_router(health_router(settings, controller, started_at))
+    if metrics is None:
+        metrics = PendantMetrics(controller, mode="sim", model=settings.model, robot_url=None)
+    add_monitoring(app, metrics, store)
     return app
 
 
-def start_ui(settings: Settings, controller: Controller, events: EventLog | None = None) -> PendantUI:
+def start_ui(
+    settings: Settings,
+    controller: Controller,
+    events: EventLog | None = None,
+    metrics: PendantMetrics | None = None,
+) -> PendantUI:
     """The pendant's page on its own port (viser serves it from its own thread)."""
     from pendant.kinematics import ArmModel
     from pendant.ui.app import PendantUI
@@ -169,7 +196,16 @@ def start_ui(settings: Settings, controller: Controller, events: EventLog | None
         token=settings.token,
         events=events,
         programs_dir=settings.programs_dir,
+        data_dir=str(resolve_data_dir(settings)),
+        metrics=metrics,
     ).start()
+
+
+def resolve_data_dir(settings: Settings) -> Path:
+    from pendant.program import programs_dir
+
+    programs = Path(settings.programs_dir) if settings.programs_dir else programs_dir()
+    return data_dir(settings.data_dir, programs)
 
 
 def api_url(settings: Settings) -> str:
@@ -207,15 +243,25 @@ def main(argv: Sequence[str] | None = None) -> int:
     settings = with_access_token(parse_settings(argv))
     started_at = time.monotonic()
     controller = make_controller(settings)
-    events = EventLog()  # one log for the page and the API: who sent what
-    api_app = make_api_app(settings, controller, started_at, events)
-    ui = None if settings.no_ui else start_ui(settings, controller, events)
+    # One log for the page and the API (who sent what), kept on disk; one set of metrics for both.
+    events = EventLog(store=EventStore(resolve_data_dir(settings)))
+    metrics = PendantMetrics(
+        controller,
+        mode="robot" if settings.robot_url else "sim",
+        model=settings.model,
+        robot_url=settings.robot_url,
+    )
+    metrics.watch(events)
+    api_app = make_api_app(settings, controller, started_at, events, metrics)
+    ui = None if settings.no_ui else start_ui(settings, controller, events, metrics)
     announce(settings)
     try:
         serve_api(settings, api_app)
     finally:
         if ui is not None:
             ui.stop()
+        if events.store is not None:
+            events.store.close()
     return 0
 
 

@@ -1,7 +1,8 @@
 """The pendant's event log: state changes, errors and every command with who sent it, newest last.
 
 One log per pendant process, shared by the web UI and the API server (threads and the event loop both write
-to it), kept in memory as a bounded ring: the dashboard shows its tail.
+to it), kept in memory as a bounded ring and, with an EventStore, on disk (SQLite: it survives restarts and
+is what the dashboard searches). Recording never waits for the disk.
 """
 
 from __future__ import annotations
@@ -13,6 +14,10 @@ from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from enum import StrEnum
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from pendant.monitoring.eventstore import EventStore
 
 log = logging.getLogger(__name__)
 
@@ -39,11 +44,22 @@ class Event:
 class EventLog:
     """A thread-safe ring of the last `capacity` events; `seq` tells readers whether anything is new."""
 
-    def __init__(self, capacity: int = DEFAULT_CAPACITY, now: Callable[[], float] = time.time) -> None:
+    def __init__(
+        self,
+        capacity: int = DEFAULT_CAPACITY,
+        now: Callable[[], float] = time.time,
+        store: EventStore | None = None,
+    ) -> None:
         self._events: deque[Event] = deque(maxlen=capacity)
         self._lock = threading.Lock()
         self._now = now
-        self._seq = 0
+        self.store = store
+        self._seq = store.last_id if store is not None else 0  # numbers go on across restarts
+        self._listeners: list[Callable[[Event], None]] = []
+
+    def on_record(self, listener: Callable[[Event], None]) -> None:
+        """Call `listener(event)` after each event is logged (metrics count them); it must be quick."""
+        self._listeners.append(listener)
 
     @property
     def seq(self) -> int:
@@ -55,6 +71,10 @@ class EventLog:
             self._seq += 1
             event = Event(self._seq, self._now(), kind, source, message)
             self._events.append(event)
+            if self.store is not None:
+                self.store.put(event.seq, event.wall_time, event.kind.value, source, message)
+        for listener in self._listeners:
+            listener(event)
         level = logging.WARNING if kind in (EventKind.ERROR, EventKind.REFUSED) else logging.INFO
         log.log(level, "%s %s: %s", kind.value, source, message)
         return event

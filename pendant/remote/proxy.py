@@ -13,6 +13,8 @@ A GET (idempotent) is retried once on a fresh connection when a kept-alive one t
 
 Run alone (`pendant --robot URL` builds the same app):
     python -m pendant.remote.proxy --robot http://192.168.1.50:8081 --port 8081
+
+The pendant also answers GET /metrics itself (Prometheus expects that path; it is not a PULSE one).
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ from starlette.responses import PlainTextResponse, Response
 from starlette.types import ASGIApp, Receive, Scope, Send
 
 from pendant.config import Settings
+from pendant.monitoring import EventStore, PendantMetrics, add_monitoring
 from pendant.remote.client import RemoteController
 from pendant.remote.health import health_router
 from pendant.remote.upstream import (
@@ -40,6 +43,7 @@ from pendant.remote.upstream import (
 )
 
 PENDANT_PREFIX = "/pendant/"  # served by the pendant itself, never forwarded
+PENDANT_PATHS = ("/metrics",)  # the pendant's too (Prometheus expects this path), not a PULSE path
 BAD_GATEWAY = 502
 
 # Headers that belong to one connection, not to the message (RFC 9110 7.6.1), plus the ones the proxy sets
@@ -81,7 +85,11 @@ class _Forwarder:
         self.prefix = urlsplit(robot_url).path.rstrip("/").encode()
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] != "http" or scope["path"].startswith(PENDANT_PREFIX):
+        if (
+            scope["type"] != "http"
+            or scope["path"].startswith(PENDANT_PREFIX)
+            or scope["path"] in PENDANT_PATHS
+        ):
             await self.app(scope, receive, send)
             return
         if self.on_request is not None:
@@ -141,6 +149,8 @@ def create_proxy_app(
     connect_timeout: float | None = None,
     read_timeout: float | None = None,
     started_at: float | None = None,
+    metrics: PendantMetrics | None = None,
+    store: EventStore | None = None,
 ) -> FastAPI:
     """An ASGI app serving the PULSE API by forwarding to the controller at `robot_url` (plain HTTP), plus
     GET /pendant/health. More pendant routes can be added to it under /pendant/.
@@ -148,6 +158,8 @@ def create_proxy_app(
     `controller`: the RemoteController the rest of the pendant (UI, programs) uses, so that the health route
     probes and reports that very link; by default the app makes its own (closed with the app).
     `connect_timeout`, `read_timeout`: seconds, by default the settings'.
+    `metrics`: served at GET /metrics (by default the app's own, reading the controller through the probe);
+    `store`: the persistent event log, served at GET /pendant/events.
     """
     robot_url = robot_url.rstrip("/")
     parts = urlsplit(robot_url)
@@ -182,6 +194,9 @@ def create_proxy_app(
     )
     app.include_router(health_router(settings, health_probe, started_at))
     app.add_middleware(_Forwarder, robot_url=robot_url, pool=pool, on_request=on_request)
+    if metrics is None:
+        metrics = PendantMetrics(health_probe, mode="robot", model=settings.model, robot_url=robot_url)
+    add_monitoring(app, metrics, store)
     app.state.robot_url = robot_url
     app.state.health_probe = health_probe
     app.state.upstream = pool  # its timeouts are the ones in force

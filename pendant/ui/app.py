@@ -21,8 +21,9 @@ from pendant.controller import Controller, ControllerError
 from pendant.eventlog import EventKind, EventLog
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import position_to_matrix
+from pendant.monitoring import PendantMetrics
 from pendant.program import ProgramWorkspace
-from pendant.telemetry import Telemetry
+from pendant.telemetry import ArmState, Telemetry, recordings_dir
 from pendant.ui.activity import ActivityLog, LoggedJogger
 from pendant.ui.commands import CommandRunner
 from pendant.ui.dashboard_panel import EVENTS_SHOWN, PlotData, plot_data, render_events, render_motor_table
@@ -60,6 +61,8 @@ class PendantUI:
         token: str | None = None,
         events: EventLog | None = None,
         programs_dir: str | None = None,
+        data_dir: str | None = None,
+        metrics: PendantMetrics | None = None,
     ) -> None:
         self.controller = controller
         self.arm = arm
@@ -69,14 +72,15 @@ class PendantUI:
         self.server.gui.configure_theme(control_width="large", show_logo=False)
         self.desk = ControlDesk(self.events, token=token)
         self.runner = CommandRunner(controller, gate=self.desk.gate)
-        self.activity = ActivityLog(self.events, self.desk)
+        self.activity = ActivityLog(self.events, self.desk, metrics)
         self.runner.on_submit = self.activity.command
         self._stop = threading.Event()
         self._wake = threading.Event()  # a jog started: show its first motion now, not at the next tick
         self.jogger = LoggedJogger(
             controller, arm, events=self.events, desk=self.desk, on_start=self._wake.set
         )
-        self.telemetry = Telemetry(controller)
+        self.telemetry = Telemetry(controller, recordings_folder=recordings_dir(data_dir))
+        self.events.on_record(self.telemetry.log_event)
         self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
         self.programs.on_change(lambda change: self.activity.program_changed(self.programs, change))
         if self.programs.store.restore_problem is not None:
@@ -93,6 +97,8 @@ class PendantUI:
         self.desk.on_change(self._control_changed)
         self.server.on_client_connect(self._connect)
         self.server.on_client_disconnect(self._disconnect)
+        if metrics is not None:
+            metrics.viewers.set_function(lambda: len(self._sessions()))
 
     def open_session(
         self, target: GuiTarget, *, client_id: int | None = None, url_token: str | None = None
@@ -163,7 +169,9 @@ class PendantUI:
     def refresh_dashboard(self, *, sample: bool = True, table: bool = True, plots: bool = True) -> None:
         """Read the motors once for everybody and push the shared renderings to every dashboard."""
         if sample:
-            self.telemetry.sample()
+            latest = self.latest
+            status = latest.motion_status.value if latest.motion_status is not None else None
+            self.telemetry.sample(ArmState(latest.position, latest.outputs, latest.inputs, status))
         table_html = render_motor_table(self.telemetry.latest) if table else None
         data: PlotData | None = None
         if plots:

@@ -1,0 +1,207 @@
+"""The event log on disk: one SQLite database (WAL) that survives restarts, bounded by age and by rows.
+
+Writes go through a queue to one writer thread, so logging an event (from the refresh loop, a stop, the API's
+event loop) never waits for the disk. Reads open their own connection: WAL lets them run beside the writer.
+"""
+
+from __future__ import annotations
+
+import logging
+import queue
+import sqlite3
+import threading
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+log = logging.getLogger(__name__)
+
+DB_NAME = "events.sqlite3"
+MAX_AGE_S = 30 * 24 * 3600.0  # a month of history
+MAX_ROWS = 500_000  # about 60 MB; the oldest go first
+PRUNE_EVERY = 1000  # rows written between two prunes
+QUEUE_MAX = 100_000  # events waiting for the writer; beyond that they are dropped (and counted)
+MAX_LIMIT = 1000  # rows one query may return
+MAX_SCAN = 50_000  # rows one folded query may read to fill its page
+TEXT_MAX_CHARS = 200  # a search string
+
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS events (
+    id INTEGER PRIMARY KEY,
+    time REAL NOT NULL,
+    kind TEXT NOT NULL,
+    source TEXT NOT NULL,
+    message TEXT NOT NULL
+);
+CREATE INDEX IF NOT EXISTS events_time ON events(time);
+CREATE INDEX IF NOT EXISTS events_kind ON events(kind, id);
+"""
+
+
+@dataclass(frozen=True)
+class StoredEvent:
+    """One row of a query: `count` > 1 when consecutive state changes were folded into the newest one."""
+
+    id: int
+    time: float
+    kind: str
+    source: str
+    message: str
+    count: int = 1
+    first_time: float | None = None  # the oldest of the folded ones
+
+
+@dataclass(frozen=True)
+class EventQuery:
+    """A search: events after `since` (epoch seconds) of these kinds, whose source / message contain `who` /
+    `text` (case-insensitive), newest first, at most `limit` rows (state runs folded into one when `fold`)."""
+
+    since: float | None = None
+    kinds: tuple[str, ...] = ()
+    who: str = ""
+    text: str = ""
+    limit: int = 100
+    fold: bool = False
+
+
+def _like(fragment: str) -> str:
+    escaped = fragment[:TEXT_MAX_CHARS].replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_")
+    return f"%{escaped}%"
+
+
+class EventStore:
+    """Append from any thread with `put`; query with `search`. `close` writes what is queued and stops."""
+
+    def __init__(self, folder: str | Path, *, max_age_s: float = MAX_AGE_S, max_rows: int = MAX_ROWS) -> None:
+        self.folder = Path(folder)
+        self.folder.mkdir(parents=True, exist_ok=True)
+        self.path = self.folder / DB_NAME
+        self.max_age_s = max_age_s
+        self.max_rows = max_rows
+        self.dropped = 0  # events lost because the writer fell QUEUE_MAX behind
+        self._queue: queue.Queue[tuple[int, float, str, str, str] | None] = queue.Queue(QUEUE_MAX)
+        with self._connect() as db:
+            db.execute("PRAGMA journal_mode=WAL")
+            db.executescript(_SCHEMA)
+            self.last_id: int = db.execute("SELECT COALESCE(MAX(id), 0) FROM events").fetchone()[0]
+        self._prune(self._connect())
+        self._thread = threading.Thread(target=self._write_loop, name="pendant-eventstore", daemon=True)
+        self._thread.start()
+
+    def _connect(self) -> sqlite3.Connection:
+        db = sqlite3.connect(self.path, timeout=5.0, check_same_thread=False)
+        db.execute("PRAGMA synchronous=NORMAL")  # WAL + NORMAL: durable across a crash of the process
+        return db
+
+    # --- writing --------------------------------------------------------------------------------
+    def put(self, event_id: int, wall_time: float, kind: str, source: str, message: str) -> None:
+        """Queue one event for the writer; never blocks."""
+        try:
+            self._queue.put_nowait((event_id, wall_time, kind, source, message))
+        except queue.Full:
+            self.dropped += 1
+
+    def flush(self, timeout: float = 2.0) -> bool:
+        """Wait until everything queued so far is on disk (tests, downloads); False on timeout."""
+        deadline = time.monotonic() + timeout
+        while self._queue.unfinished_tasks:
+            if time.monotonic() > deadline:
+                return False
+            time.sleep(0.005)
+        return True
+
+    def close(self) -> None:
+        if self._thread.is_alive():
+            self._queue.put(None)
+            self._thread.join(timeout=5.0)
+
+    def _write_loop(self) -> None:
+        db = self._connect()
+        written = 0
+        while True:
+            item = self._queue.get()
+            batch = [item]
+            while item is not None and len(batch) < 500:  # whatever else is waiting, in one transaction
+                try:
+                    item = self._queue.get_nowait()
+                except queue.Empty:
+                    break
+                batch.append(item)
+            rows = [row for row in batch if row is not None]
+            try:
+                with db:
+                    db.executemany("INSERT OR REPLACE INTO events VALUES (?, ?, ?, ?, ?)", rows)
+                written += len(rows)
+                if written >= PRUNE_EVERY:
+                    written = 0
+                    self._prune(db)
+            except sqlite3.Error:
+                log.exception("could not write %d events to %s", len(rows), self.path)
+            finally:
+                for _ in batch:
+                    self._queue.task_done()
+            if len(rows) < len(batch):  # the close() sentinel
+                db.close()
+                return
+
+    def _prune(self, db: sqlite3.Connection) -> None:
+        """Rotation: drop events older than max_age_s, then all but the newest max_rows."""
+        with db:
+            db.execute("DELETE FROM events WHERE time < ?", (time.time() - self.max_age_s,))
+            db.execute("DELETE FROM events WHERE id <= (SELECT MAX(id) FROM events) - ?", (self.max_rows,))
+
+    # --- reading --------------------------------------------------------------------------------
+    def search(self, query: EventQuery) -> list[StoredEvent]:
+        """Newest first. Folding reads at most MAX_SCAN rows to fill `limit` folded rows."""
+        limit = max(1, min(query.limit, MAX_LIMIT))
+        where, args = ["1=1"], []
+        if query.since is not None:
+            where.append("time >= ?")
+            args.append(query.since)
+        if query.kinds:
+            where.append(f"kind IN ({','.join('?' * len(query.kinds))})")
+            args.extend(query.kinds)
+        for column, fragment in (("source", query.who), ("message", query.text)):
+            if fragment:
+                where.append(f"{column} LIKE ? ESCAPE '\\'")
+                args.append(_like(fragment))
+        condition = " AND ".join(where)
+        sql = f"SELECT id, time, kind, source, message FROM events WHERE {condition} ORDER BY id DESC"
+        db = self._connect()
+        try:
+            if not query.fold:
+                return [StoredEvent(*row) for row in db.execute(f"{sql} LIMIT ?", (*args, limit))]
+            return _fold(db.execute(f"{sql} LIMIT ?", (*args, MAX_SCAN)), limit)
+        finally:
+            db.close()
+
+    def count(self) -> int:
+        db = self._connect()
+        try:
+            return int(db.execute("SELECT COUNT(*) FROM events").fetchone()[0])
+        finally:
+            db.close()
+
+
+def _fold(rows: Iterator[tuple[int, float, str, str, str]], limit: int) -> list[StoredEvent]:
+    """Consecutive state changes (newest first) become one row: the newest, with how many and since when."""
+    out: list[StoredEvent] = []
+    for row in rows:
+        event = StoredEvent(*row)
+        previous = out[-1] if out else None
+        if previous is not None and previous.kind == "state" and event.kind == "state":
+            out[-1] = StoredEvent(
+                previous.id,
+                previous.time,
+                previous.kind,
+                previous.source,
+                previous.message,
+                previous.count + 1,
+                event.time,
+            )
+            continue
+        if len(out) == limit:
+            break
+        out.append(event)
+    return out
