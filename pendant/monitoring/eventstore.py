@@ -25,6 +25,7 @@ QUEUE_MAX = 100_000  # events waiting for the writer; beyond that they are dropp
 MAX_LIMIT = 1000  # rows one query may return
 MAX_SCAN = 50_000  # rows one folded query may read to fill its page
 TEXT_MAX_CHARS = 200  # a search string
+BUSY_TIMEOUT_S = 5.0  # how long a write waits for a lock held by another connection
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS events (
@@ -90,7 +91,7 @@ class EventStore:
         self._thread.start()
 
     def _connect(self) -> sqlite3.Connection:
-        db = sqlite3.connect(self.path, timeout=5.0, check_same_thread=False)
+        db = sqlite3.connect(self.path, timeout=BUSY_TIMEOUT_S, check_same_thread=False)
         db.execute("PRAGMA synchronous=NORMAL")  # WAL + NORMAL: durable across a crash of the process
         return db
 
