@@ -20,7 +20,7 @@ from pendant.eventlog import Event
 from pendant.telemetry.history import MotorHistory
 from pendant.telemetry.mcap_file import McapFile
 from pendant.telemetry.recorder import CsvRecorder
-from pendant.telemetry.recordings import Recording, list_recordings, new_stem, prune, recordings_dir
+from pendant.telemetry.recordings import MAX_KEPT, Recording, list_recordings, new_stem, prune, recordings_dir
 
 SAMPLE_HZ = 10.0
 PENDING_EVENTS_MAX = 1000  # events waiting for the next sample to be written to the MCAP
@@ -114,7 +114,7 @@ class Telemetry:
             self._close_files()
             now, wall = self._now(), self._wall_now()
             self.recorder.start(now)
-            prune(self.recordings_folder)
+            prune(self.recordings_folder, keep=MAX_KEPT - 1)  # room for this one
             self.last_stem = new_stem(self.recordings_folder, wall)
             self._wall_offset = wall - now
             self._pending_events.clear()
