@@ -16,6 +16,8 @@ from dataclasses import dataclass
 from enum import StrEnum
 from typing import TYPE_CHECKING
 
+from pendant.eventquery import EventQuery, StoredEvent, fold_states
+
 if TYPE_CHECKING:
     from pendant.monitoring.eventstore import EventStore
 
@@ -84,3 +86,22 @@ class EventLog:
         with self._lock:
             events = list(self._events)
         return events if count is None else events[-count:]
+
+    @property
+    def searchable_seq(self) -> int:
+        """The newest event a search can find (on disk, with a store): a view redraws when it moves."""
+        return self.store.written_id if self.store is not None else self._seq
+
+    def search(self, query: EventQuery, cap: int | None = None) -> list[StoredEvent]:
+        """Newest first: the store's whole history, or the ring kept in memory without one."""
+        if self.store is not None:
+            return self.store.search(query) if cap is None else self.store.search(query, cap)
+        rows = (
+            StoredEvent(e.seq, e.wall_time, e.kind.value, e.source, e.message)
+            for e in reversed(self.recent())
+        )
+        matching = (row for row in rows if query.matches(row))
+        limit = query.limit if cap is None else min(query.limit, cap)
+        if query.fold:
+            return fold_states(matching, limit)
+        return [row for _, row in zip(range(limit), matching, strict=False)]

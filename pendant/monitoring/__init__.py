@@ -7,8 +7,9 @@ from pathlib import Path
 
 from fastapi import FastAPI
 
+from pendant.eventquery import EventQuery, StoredEvent
 from pendant.monitoring.events_api import EVENTS_PATH, events_router
-from pendant.monitoring.eventstore import EventQuery, EventStore, StoredEvent
+from pendant.monitoring.eventstore import EventStore
 from pendant.monitoring.metrics import METRICS_PATH, CommandMetrics, PendantMetrics, metrics_router
 
 DATA_DIR_ENV = "PENDANT_DATA_DIR"

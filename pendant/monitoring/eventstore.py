@@ -11,9 +11,9 @@ import queue
 import sqlite3
 import threading
 import time
-from collections.abc import Iterator
-from dataclasses import dataclass
 from pathlib import Path
+
+from pendant.eventquery import EventQuery, StoredEvent, fold_states
 
 log = logging.getLogger(__name__)
 
@@ -40,32 +40,6 @@ CREATE INDEX IF NOT EXISTS events_kind ON events(kind, id);
 """
 
 
-@dataclass(frozen=True)
-class StoredEvent:
-    """One row of a query: `count` > 1 when consecutive state changes were folded into the newest one."""
-
-    id: int
-    time: float
-    kind: str
-    source: str
-    message: str
-    count: int = 1
-    first_time: float | None = None  # the oldest of the folded ones
-
-
-@dataclass(frozen=True)
-class EventQuery:
-    """A search: events after `since` (epoch seconds) of these kinds, whose source / message contain `who` /
-    `text` (case-insensitive), newest first, at most `limit` rows (state runs folded into one when `fold`)."""
-
-    since: float | None = None
-    kinds: tuple[str, ...] = ()
-    who: str = ""
-    text: str = ""
-    limit: int = 100
-    fold: bool = False
-
-
 def _like(fragment: str) -> str:
     escaped = fragment[:TEXT_MAX_CHARS].replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_")
     return f"%{escaped}%"
@@ -81,11 +55,13 @@ class EventStore:
         self.max_age_s = max_age_s
         self.max_rows = max_rows
         self.dropped = 0  # events lost because the writer fell QUEUE_MAX behind
+        self.written_id = 0  # the newest event on disk: a view redraws when it moves
         self._queue: queue.Queue[tuple[int, float, str, str, str] | None] = queue.Queue(QUEUE_MAX)
         with self._connect() as db:
             db.execute("PRAGMA journal_mode=WAL")
             db.executescript(_SCHEMA)
             self.last_id: int = db.execute("SELECT COALESCE(MAX(id), 0) FROM events").fetchone()[0]
+        self.written_id = self.last_id
         self._prune(self._connect())
         self._thread = threading.Thread(target=self._write_loop, name="pendant-eventstore", daemon=True)
         self._thread.start()
@@ -134,6 +110,8 @@ class EventStore:
                 with db:
                     db.executemany("INSERT OR REPLACE INTO events VALUES (?, ?, ?, ?, ?)", rows)
                 written += len(rows)
+                if rows:
+                    self.written_id = max(self.written_id, max(row[0] for row in rows))
                 if written >= PRUNE_EVERY:
                     written = 0
                     self._prune(db)
@@ -153,9 +131,10 @@ class EventStore:
             db.execute("DELETE FROM events WHERE id <= (SELECT MAX(id) FROM events) - ?", (self.max_rows,))
 
     # --- reading --------------------------------------------------------------------------------
-    def search(self, query: EventQuery) -> list[StoredEvent]:
-        """Newest first. Folding reads at most MAX_SCAN rows to fill `limit` folded rows."""
-        limit = max(1, min(query.limit, MAX_LIMIT))
+    def search(self, query: EventQuery, cap: int = MAX_LIMIT) -> list[StoredEvent]:
+        """Newest first, at most `cap` rows whatever the query's limit (a download asks for more). Folding
+        reads at most MAX_SCAN rows to fill its page."""
+        limit = max(1, min(query.limit, cap))
         where, args = ["1=1"], []
         if query.since is not None:
             where.append("time >= ?")
@@ -173,7 +152,8 @@ class EventStore:
         try:
             if not query.fold:
                 return [StoredEvent(*row) for row in db.execute(f"{sql} LIMIT ?", (*args, limit))]
-            return _fold(db.execute(f"{sql} LIMIT ?", (*args, MAX_SCAN)), limit)
+            rows = db.execute(f"{sql} LIMIT ?", (*args, MAX_SCAN))
+            return fold_states((StoredEvent(*row) for row in rows), limit)
         finally:
             db.close()
 
@@ -183,26 +163,3 @@ class EventStore:
             return int(db.execute("SELECT COUNT(*) FROM events").fetchone()[0])
         finally:
             db.close()
-
-
-def _fold(rows: Iterator[tuple[int, float, str, str, str]], limit: int) -> list[StoredEvent]:
-    """Consecutive state changes (newest first) become one row: the newest, with how many and since when."""
-    out: list[StoredEvent] = []
-    for row in rows:
-        event = StoredEvent(*row)
-        previous = out[-1] if out else None
-        if previous is not None and previous.kind == "state" and event.kind == "state":
-            out[-1] = StoredEvent(
-                previous.id,
-                previous.time,
-                previous.kind,
-                previous.source,
-                previous.message,
-                previous.count + 1,
-                event.time,
-            )
-            continue
-        if len(out) == limit:
-            break
-        out.append(event)
-    return out

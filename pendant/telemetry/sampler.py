@@ -17,7 +17,7 @@ from pathlib import Path
 from pendant.controller import Controller, ControllerError
 from pendant.controller.types import INPUT_PORTS, OUTPUT_PORTS, MotorStatus, Position, SignalLevel
 from pendant.eventlog import Event
-from pendant.telemetry.history import MotorHistory
+from pendant.telemetry.history import HistoryWindow, MotorHistory
 from pendant.telemetry.mcap_file import McapFile
 from pendant.telemetry.recorder import CsvRecorder
 from pendant.telemetry.recordings import MAX_KEPT, Recording, list_recordings, new_stem, prune, recordings_dir
@@ -55,6 +55,7 @@ class Telemetry:
         self._now = now
         self._wall_now = wall_now
         self.history = MotorHistory()
+        self.long_history = MotorHistory.long()
         self.recorder = CsvRecorder()
         self.recordings_folder = recordings_folder if recordings_folder is not None else recordings_dir(None)
         self.mcap: McapFile | None = None
@@ -75,6 +76,7 @@ class Telemetry:
         now = self._now()
         with self._lock:
             self.history.append(now, motors)
+            self.long_history.append(now, motors)
             self.recorder.record(now, motors)
             self.latest = motors
             self.seq += 1
@@ -134,6 +136,11 @@ class Telemetry:
         self.mcap = None
         if self.last_stem is not None:
             (self.recordings_folder / f"{self.last_stem}.csv").write_bytes(self.recorder.to_csv())
+
+    def window(self, seconds: float) -> HistoryWindow:
+        """The last `seconds` of the motors: at full rate within a minute, at 2 Hz up to an hour."""
+        history = self.history if seconds <= self.history.seconds else self.long_history
+        return history.window(seconds)
 
     def recordings(self) -> list[Recording]:
         """The recordings in the folder, newest first (see recordings.list_recordings)."""

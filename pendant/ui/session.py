@@ -8,13 +8,16 @@ import numpy as np
 import viser
 
 from pendant.controller import Controller, MotionStatus
+from pendant.eventlog import EventLog
 from pendant.jog import Jogger
 from pendant.kinematics import ArmModel
 from pendant.program import ProgramWorkspace
 from pendant.sim import SimController
 from pendant.telemetry import Telemetry
 from pendant.ui.commands import CommandRunner, add_freeze_button, add_robot_commands
-from pendant.ui.dashboard_panel import DashboardPanel, PlotData
+from pendant.ui.dashboard_events import EventsRenderer
+from pendant.ui.dashboard_panel import DashboardPanel
+from pendant.ui.dashboard_plots import PlotSource
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.io_panel import IoPanel
 from pendant.ui.jog_panel import JogPanel
@@ -59,6 +62,7 @@ class ClientSession:
         current_tool: Callable[[], np.ndarray],
         desk: ControlDesk,
         telemetry: Telemetry,
+        events: EventLog,
         programs: ProgramWorkspace,
         client_id: int | None = None,
         url_token: str | None = None,
@@ -90,6 +94,7 @@ class ClientSession:
             self.dashboard = DashboardPanel(
                 target,
                 telemetry,
+                events,
                 may_record=desk.gate,
                 on_recording=on_recording if on_recording is not None else (lambda client, message: None),
             )
@@ -159,7 +164,7 @@ class ClientSession:
             self.target_panel.follow(snapshot.q, moving=snapshot.motion_status is MotionStatus.RUNNING)
 
     def show_dashboard(
-        self, *, table_html: str | None, plots: PlotData | None, events_html: str | None
+        self, *, table_html: str | None, plots: PlotSource | None, events: EventsRenderer | None
     ) -> None:
         """The dashboard's shared renderings (None: nothing new of that kind)."""
         if table_html is not None:
@@ -167,5 +172,5 @@ class ClientSession:
             self.dashboard.show_recording(locked=self.locked)
         if plots is not None:
             self.dashboard.show_plots(plots)
-        if events_html is not None:
-            self.dashboard.show_events(events_html)
+        if events is not None:
+            self.dashboard.show_events(events)
