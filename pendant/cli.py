@@ -25,7 +25,8 @@ from typing import TYPE_CHECKING
 from starlette.types import ASGIApp
 
 from pendant import __version__
-from pendant.access import TOKEN_HEADER, is_loopback_host, new_token, ui_url
+from pendant.access import TOKEN_HEADER, is_loopback_host, new_token
+from pendant.banner import announce
 from pendant.config import Settings
 from pendant.controller.protocol import Controller
 from pendant.eventlog import EventLog
@@ -210,20 +211,6 @@ def resolve_data_dir(settings: Settings) -> Path:
 
 def api_url(settings: Settings) -> str:
     return f"http://{settings.host}:{settings.api_port}"
-
-
-def announce(settings: Settings) -> None:
-    """Print where things are served, first thing, so a user (or a test) knows where to go."""
-    if not settings.no_ui:
-        print(f"PULSE pendant: http://{settings.host}:{settings.ui_port}", flush=True)
-    source = settings.robot_url or f"simulated {settings.model}"
-    print(f"PULSE REST API ({source}): {api_url(settings)}  (docs: {api_url(settings)}/docs)", flush=True)
-    if settings.token is not None:
-        print(f"Access token: {settings.token}", flush=True)
-        if not settings.no_ui:
-            print("Open the pendant (and take control) with this URL:", flush=True)
-            print(f"    {ui_url(settings.host, settings.ui_port, settings.token)}", flush=True)
-        print(f"API commands (PUT/POST) need the header  {TOKEN_HEADER}: {settings.token}", flush=True)
 
 
 def serve_api(settings: Settings, app: ASGIApp) -> None:

@@ -32,6 +32,7 @@ from pendant.ui.dashboard_events import render_events
 from pendant.ui.dashboard_panel import render_motor_table
 from pendant.ui.dashboard_plots import PlotData, plot_data
 from pendant.ui.gui_target import GuiTarget
+from pendant.ui.join_qr import join_urls
 from pendant.ui.roles import ControlDesk
 from pendant.ui.scene import ArmScene
 from pendant.ui.session import ClientSession
@@ -76,6 +77,7 @@ class PendantUI:
         self.events = events if events is not None else EventLog()
         self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
         self.server.gui.configure_theme(control_width="large", show_logo=False)
+        self.join_urls = join_urls(host, self.server.get_port())  # the QR code people in the room scan
         self.desk = ControlDesk(self.events, token=token)
         self.runner = CommandRunner(controller, gate=self.desk.gate)
         self.activity = ActivityLog(self.events, self.desk, metrics)
@@ -125,6 +127,7 @@ class PendantUI:
             programs=self.programs,
             client_id=client_id,
             url_token=url_token,
+            join_urls=self.join_urls,
             on_recording=lambda client, message: self.events.record(
                 EventKind.COMMAND, self.activity.who(client), message
             ),

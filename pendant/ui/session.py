@@ -21,6 +21,7 @@ from pendant.ui.dashboard_plots import PlotSource
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.io_panel import IoPanel
 from pendant.ui.jog_panel import JogPanel
+from pendant.ui.join_qr import add_join_button
 from pendant.ui.program_panel import ProgramPanel
 from pendant.ui.roles import ControlDesk, ControlPanel
 from pendant.ui.settings_panel import SettingsPanel
@@ -67,6 +68,7 @@ class ClientSession:
         client_id: int | None = None,
         url_token: str | None = None,
         on_recording: RecordingListener | None = None,
+        join_urls: list[str] | None = None,
     ) -> None:
         self.target = target
         self.client_id = client_id
@@ -98,6 +100,7 @@ class ClientSession:
                 may_record=desk.gate,
                 on_recording=on_recording if on_recording is not None else (lambda client, message: None),
             )
+            self.join = add_join_button(target, join_urls) if join_urls else None
         self.target_panel.reset_to_current()
         self._operator_only: list[viser.GuiInputHandle] = list(self._commanding_handles())
         self.locked = False
