@@ -203,10 +203,7 @@ def start_ui(
 
 
 def resolve_data_dir(settings: Settings) -> Path:
-    from pendant.program import programs_dir
-
-    programs = Path(settings.programs_dir) if settings.programs_dir else programs_dir()
-    return data_dir(settings.data_dir, programs)
+    return data_dir(settings.data_dir, settings.programs_dir)
 
 
 def api_url(settings: Settings) -> str:

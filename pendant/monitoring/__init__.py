@@ -16,13 +16,17 @@ DATA_DIR_ENV = "PENDANT_DATA_DIR"
 DATA_DIR_NAME = "pendant-data"
 
 
-def data_dir(flag: str | None, programs: Path) -> Path:
-    """`--data DIR`, else $PENDANT_DATA_DIR, else `pendant-data/` beside the programs folder."""
+def data_dir(flag: str | None, programs: str | None = None) -> Path:
+    """`--data DIR`, else $PENDANT_DATA_DIR, else `pendant-data/` beside the programs folder (`--programs`,
+    else $PENDANT_PROGRAMS_DIR, else ./programs)."""
     if flag:
         return Path(flag)
     if os.environ.get(DATA_DIR_ENV):
         return Path(os.environ[DATA_DIR_ENV])
-    return programs.resolve().parent / DATA_DIR_NAME
+    from pendant.program import programs_dir  # the program package is not needed by the API alone
+
+    folder = Path(programs) if programs else programs_dir()
+    return folder.resolve().parent / DATA_DIR_NAME
 
 
 def add_monitoring(app: FastAPI, metrics: PendantMetrics | None, store: EventStore | None) -> None:

@@ -13,7 +13,7 @@ import threading
 import time
 from pathlib import Path
 
-from pendant.eventquery import EventQuery, StoredEvent, fold_states
+from pendant.eventquery import FOLDED_KIND, EventQuery, StoredEvent, fold_states
 
 log = logging.getLogger(__name__)
 
@@ -23,7 +23,6 @@ MAX_ROWS = 500_000  # about 60 MB; the oldest go first
 PRUNE_EVERY = 1000  # rows written between two prunes
 QUEUE_MAX = 100_000  # events waiting for the writer; beyond that they are dropped (and counted)
 MAX_LIMIT = 1000  # rows one query may return
-MAX_SCAN = 50_000  # rows one folded query may read to fill its page
 TEXT_MAX_CHARS = 200  # a search string
 BUSY_TIMEOUT_S = 5.0  # how long a write waits for a lock held by another connection
 
@@ -132,8 +131,7 @@ class EventStore:
 
     # --- reading --------------------------------------------------------------------------------
     def search(self, query: EventQuery, cap: int = MAX_LIMIT) -> list[StoredEvent]:
-        """Newest first, at most `cap` rows whatever the query's limit (a download asks for more). Folding
-        reads at most MAX_SCAN rows to fill its page."""
+        """Newest first, at most `cap` rows whatever the query's limit (a download asks for more)."""
         limit = max(1, min(query.limit, cap))
         where, args = ["1=1"], []
         if query.since is not None:
@@ -152,8 +150,7 @@ class EventStore:
         try:
             if not query.fold:
                 return [StoredEvent(*row) for row in db.execute(f"{sql} LIMIT ?", (*args, limit))]
-            rows = db.execute(f"{sql} LIMIT ?", (*args, MAX_SCAN))
-            return fold_states((StoredEvent(*row) for row in rows), limit)
+            return _folded(db, condition, args, limit)
         finally:
             db.close()
 
@@ -163,3 +160,39 @@ class EventStore:
             return int(db.execute("SELECT COUNT(*) FROM events").fetchone()[0])
         finally:
             db.close()
+
+
+def _folded(db: sqlite3.Connection, condition: str, args: list[object], limit: int) -> list[StoredEvent]:
+    """Folded search without reading every state change: the page's other events through the index, then
+    per gap between two of them one COUNT of the state changes there (an index range on (kind, id))."""
+    columns = "id, time, kind, source, message"
+    others = [
+        StoredEvent(*row)
+        for row in db.execute(
+            f"SELECT {columns} FROM events WHERE {condition} AND kind != ? ORDER BY id DESC LIMIT ?",
+            (*args, FOLDED_KIND, limit),
+        )
+    ]
+    bounds = [None, *(event.id for event in others)]
+    if len(others) < limit:
+        bounds.append(0)  # the last gap reaches back to the start of the log
+    out: list[StoredEvent] = []
+    for i, event in enumerate([*others, None]):
+        if i + 1 < len(bounds):
+            upper, lower = bounds[i], bounds[i + 1]
+            newest = db.execute(
+                f"SELECT {columns} FROM events WHERE {condition} AND kind = ? AND id > ?"
+                + (" AND id < ?" if upper is not None else "")
+                + " ORDER BY id DESC LIMIT 1",
+                (*args, FOLDED_KIND, lower, *([upper] if upper is not None else [])),
+            ).fetchone()
+            if newest is not None:
+                count, first_time = db.execute(
+                    f"SELECT COUNT(*), MIN(time) FROM events WHERE {condition} AND kind = ?"
+                    " AND id > ? AND id <= ?",
+                    (*args, FOLDED_KIND, lower, newest[0]),
+                ).fetchone()
+                out.append(StoredEvent(*newest, count, first_time if count > 1 else None))
+        if event is not None:
+            out.append(event)
+    return fold_states(out, limit)

@@ -4,7 +4,6 @@ at most MAX_KEPT of them (the oldest are deleted when a new one starts)."""
 from __future__ import annotations
 
 import datetime as dt
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -13,10 +12,8 @@ PREFIX = "pendant-"
 SUFFIXES = (".mcap", ".csv")
 
 
-def recordings_dir(data_dir: str | Path | None) -> Path:
-    """`<data>/recordings`; without a data folder (a page built by a test), a fresh temporary one."""
-    if data_dir is None:
-        return Path(tempfile.mkdtemp(prefix="pendant-recordings-"))
+def recordings_dir(data_dir: str | Path) -> Path:
+    """`<data>/recordings` (created when missing)."""
     folder = Path(data_dir) / "recordings"
     folder.mkdir(parents=True, exist_ok=True)
     return folder

@@ -20,7 +20,7 @@ from pendant.eventlog import Event
 from pendant.telemetry.history import HistoryWindow, MotorHistory
 from pendant.telemetry.mcap_file import McapFile
 from pendant.telemetry.recorder import CsvRecorder
-from pendant.telemetry.recordings import MAX_KEPT, Recording, list_recordings, new_stem, prune, recordings_dir
+from pendant.telemetry.recordings import MAX_KEPT, Recording, list_recordings, new_stem, prune
 
 SAMPLE_HZ = 10.0
 PENDING_EVENTS_MAX = 1000  # events waiting for the next sample to be written to the MCAP
@@ -41,14 +41,15 @@ def _levels(levels: Mapping[int, SignalLevel], ports: tuple[int, ...]) -> list[f
 
 
 class Telemetry:
-    """Reads GET /status/motors once per call and feeds the shared history and the recording."""
+    """Reads GET /status/motors once per call and feeds the shared history and the recording (its files go
+    to `recordings_folder`, created when the first recording starts)."""
 
     def __init__(
         self,
         controller: Controller,
         now: Callable[[], float] = time.monotonic,
         *,
-        recordings_folder: Path | None = None,
+        recordings_folder: Path,
         wall_now: Callable[[], float] = time.time,
     ) -> None:
         self._controller = controller
@@ -57,7 +58,7 @@ class Telemetry:
         self.history = MotorHistory()
         self.long_history = MotorHistory.long()
         self.recorder = CsvRecorder()
-        self.recordings_folder = recordings_folder if recordings_folder is not None else recordings_dir(None)
+        self.recordings_folder = recordings_folder
         self.mcap: McapFile | None = None
         self.last_stem: str | None = None
         self.latest: list[MotorStatus] | None = None
@@ -116,6 +117,7 @@ class Telemetry:
             self._close_files()
             now, wall = self._now(), self._wall_now()
             self.recorder.start(now)
+            self.recordings_folder.mkdir(parents=True, exist_ok=True)
             prune(self.recordings_folder, keep=MAX_KEPT - 1)  # room for this one
             self.last_stem = new_stem(self.recordings_folder, wall)
             self._wall_offset = wall - now

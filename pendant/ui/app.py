@@ -24,6 +24,7 @@ from pendant.eventquery import EventQuery
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import position_to_matrix
 from pendant.monitoring import PendantMetrics
+from pendant.monitoring import data_dir as resolve_data_dir
 from pendant.program import ProgramWorkspace
 from pendant.telemetry import ArmState, Telemetry, recordings_dir
 from pendant.ui.activity import ActivityLog, LoggedJogger
@@ -87,7 +88,8 @@ class PendantUI:
         self.jogger = LoggedJogger(
             controller, arm, events=self.events, desk=self.desk, on_start=self._wake.set
         )
-        self.telemetry = Telemetry(controller, clock, recordings_folder=recordings_dir(data_dir))
+        recordings = recordings_dir(resolve_data_dir(data_dir, programs_dir))  # --data, env, beside programs
+        self.telemetry = Telemetry(controller, clock, recordings_folder=recordings)
         self.events.on_record(self.telemetry.log_event)
         self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
         self.programs.on_change(lambda change: self.activity.program_changed(self.programs, change))

@@ -158,3 +158,29 @@ def test_logging_never_waits_for_the_disk(tmp_path: Path) -> None:
     store.close()
     # A single write waiting for the lock would have taken the whole busy timeout.
     assert elapsed < BUSY_TIMEOUT_S, f"recording waited {elapsed:.3f} s for the disk"
+
+
+def test_the_store_folds_and_filters_as_the_memory_log_does(tmp_path: Path) -> None:
+    """The store's folded search (index counts per gap) agrees with folding every row one by one."""
+    import random
+
+    rng = random.Random(7)
+    store = EventStore(tmp_path)
+    stamp = time.time()  # one time for both logs (and recent: rotation drops what is older than 30 days)
+    on_disk, in_memory = EventLog(store=store, now=lambda: stamp), EventLog(capacity=5000, now=lambda: stamp)
+    kinds = [EventKind.STATE] * 6 + [EventKind.COMMAND, EventKind.ERROR, EventKind.REFUSED, EventKind.CONTROL]
+    for i in range(3000):
+        kind, who = rng.choice(kinds), rng.choice(["controller", "browser #1", "API 10.0.0.9"])
+        for log in (on_disk, in_memory):
+            log.record(kind, who, f"{kind.value} #{i}")
+    store.flush()
+    for query in (
+        EventQuery(fold=True, limit=40),
+        EventQuery(fold=True, limit=1000),
+        EventQuery(fold=True, kinds=("state", "error"), limit=50),
+        EventQuery(fold=True, kinds=("state",), limit=5),
+        EventQuery(fold=True, who="browser", limit=60),
+        EventQuery(fold=True, text="#1", limit=60),
+    ):
+        assert on_disk.search(query) == in_memory.search(query), query
+    store.close()
