@@ -24,19 +24,22 @@ import sys
 import time
 from collections.abc import Sequence
 from dataclasses import replace
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from starlette.types import ASGIApp
 
 from pendant import __version__
-from pendant.access import TOKEN_HEADER, is_loopback_host, new_token, ui_url
+from pendant.access import TOKEN_HEADER, is_loopback_host, new_token
 from pendant.access.http_guard import AccessRules
 from pendant.access.origin import OriginPolicy
 from pendant.access.remote import RemoteControl
-from pendant.access.token import token_problem, token_weakness
+from pendant.access.token import token_problem
+from pendant.banner import announce
 from pendant.config import Settings
 from pendant.controller.protocol import Controller
 from pendant.eventlog import EventLog
+from pendant.monitoring import EventStore, PendantMetrics, data_dir
 from pendant.paths import MODEL_NAMES
 
 if TYPE_CHECKING:
@@ -119,6 +122,12 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         metavar="DIR",
         help="folder of taught programs (default: $PENDANT_PROGRAMS_DIR, else ./programs)",
     )
+    parser.add_argument(
+        "--data",
+        metavar="DIR",
+        help="folder of the event log and recordings (default: $PENDANT_DATA_DIR, else pendant-data/ "
+        "beside the programs folder)",
+    )
     parser.add_argument("--no-ui", action="store_true", help="serve the PULSE REST API only")
     parser.add_argument(
         "--time-scale",
@@ -145,6 +154,7 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         no_ui=args.no_ui,
         token=args.token,
         programs_dir=args.programs,
+        data_dir=args.data,
         connect_timeout=args.connect_timeout,
         read_timeout=args.read_timeout,
         command_timeout=args.command_timeout,
@@ -216,12 +226,16 @@ def make_api_app(
     started_at: float,
     events: EventLog | None = None,
     access: AccessRules | None = None,
+    metrics: PendantMetrics | None = None,
 ) -> ASGIApp:
     """The app on the API port: the simulator's PULSE API, or a transparent proxy to the real controller;
-    both also answer GET /pendant/health. `access`: its guard (default: `access_rules(settings, events)`)."""
+    both also answer GET /pendant/health, GET /metrics and (with a stored log) GET /pendant/events.
+    `access`: its guard (default: `access_rules(settings, events)`)."""
+    from pendant.monitoring import add_monitoring
     from pendant.remote import health_router
 
     access = access if access is not None else access_rules(settings, events)
+    store = events.store if events is not None else None
     if settings.robot_url is not None:
         from pendant.remote import RemoteController, create_proxy_app
 
@@ -232,11 +246,16 @@ def make_api_app(
             controller=controller,
             started_at=started_at,
             access=access,
+            metrics=metrics,
+            store=store,
         )
     from pendant.api import create_app
 
     app = create_app(controller, access=access)
     app.include_router(health_router(settings, controller, started_at))
+    if metrics is None:
+        metrics = PendantMetrics(controller, mode="sim", model=settings.model, robot_url=None)
+    add_monitoring(app, metrics, store)
     return app
 
 
@@ -245,6 +264,7 @@ def start_ui(
     controller: Controller,
     events: EventLog | None = None,
     access: AccessRules | None = None,
+    metrics: PendantMetrics | None = None,
 ) -> PendantUI:
     """The pendant's page on its own port (viser serves it from its own thread), sharing the API's Host and
     Origin rules and Remote control switch."""
@@ -264,37 +284,17 @@ def start_ui(
         programs_dir=settings.programs_dir,
         origins=access.origins,
         remote=access.remote,
+        data_dir=str(resolve_data_dir(settings)),
+        metrics=metrics,
     ).start()
+
+
+def resolve_data_dir(settings: Settings) -> Path:
+    return data_dir(settings.data_dir, settings.programs_dir)
 
 
 def api_url(settings: Settings) -> str:
     return f"http://{settings.host}:{settings.api_port}"
-
-
-def announce(settings: Settings) -> None:
-    """Print where things are served, first thing, so a user (or a test) knows where to go."""
-    if not settings.no_ui:
-        print(f"PULSE pendant: http://{settings.host}:{settings.ui_port}", flush=True)
-    source = settings.robot_url or f"simulated {settings.model}"
-    if settings.time_scale != 1.0:
-        source += f", {settings.time_scale:g}x time"
-    print(f"PULSE REST API ({source}): {api_url(settings)}  (docs: {api_url(settings)}/docs)", flush=True)
-    if settings.token is not None:
-        print(f"Access token: {settings.token}", flush=True)
-        if not settings.no_ui:
-            print("Open the pendant (and take control) with this URL:", flush=True)
-            print(f"    {ui_url(settings.host, settings.ui_port, settings.token)}", flush=True)
-        print(
-            f"API commands need the header  {TOKEN_HEADER}: {settings.token}  (PUT /freeze does not)",
-            flush=True,
-        )
-        weakness = token_weakness(settings.token)
-        if weakness is not None:
-            print(
-                f"WARNING: this access token is easy to guess: {weakness}. Omit --token for a strong one",
-                file=sys.stderr,
-                flush=True,
-            )
 
 
 def serve_api(settings: Settings, app: ASGIApp) -> None:
@@ -314,16 +314,26 @@ def main(argv: Sequence[str] | None = None) -> int:
     settings = with_access_token(parse_settings(argv))
     started_at = time.monotonic()
     controller = make_controller(settings)
-    events = EventLog()  # one log for the page and the API: who sent what
+    # One log for the page and the API (who sent what), kept on disk; one set of metrics for both.
+    events = EventLog(store=EventStore(resolve_data_dir(settings)))
+    metrics = PendantMetrics(
+        controller,
+        mode="robot" if settings.robot_url else "sim",
+        model=settings.model,
+        robot_url=settings.robot_url,
+    )
+    metrics.watch(events)
     access = access_rules(settings, events)  # one switch and one set of rules for both ports
-    api_app = make_api_app(settings, controller, started_at, events, access)
-    ui = None if settings.no_ui else start_ui(settings, controller, events, access)
+    api_app = make_api_app(settings, controller, started_at, events, access, metrics)
+    ui = None if settings.no_ui else start_ui(settings, controller, events, access, metrics)
     announce(settings)
     try:
         serve_api(settings, api_app)
     finally:
         if ui is not None:
             ui.stop()
+        if events.store is not None:
+            events.store.close()
     return 0
 
 

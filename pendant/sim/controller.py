@@ -95,6 +95,7 @@ MAX_PLAN_ATTEMPTS = 3
 MSG_QUEUE_BUSY = (
     f"the command queue changed while the move was planned, {MAX_PLAN_ATTEMPTS} times: send it again"
 )
+OVERHEAT_STATOR_C = 110.0  # PUT /sim/fault/overheat
 
 
 @functools.cache
@@ -428,6 +429,12 @@ class SimController:
             fault = Fault(fault)
             self._motions.stop(self._now())
             self._mode = Mode(fault.value)
+
+    def overheat(self, stator_c: float = OVERHEAT_STATOR_C) -> None:
+        """The stator windings are suddenly this hot (a fault to test alarms on); they cool from there."""
+        with self._lock:
+            self._motions.integrate_thermal(self._now())
+            self._motions.servos.stator_c[:] = stator_c
 
     def reset(self) -> None:
         """Back to the power-on state: home pose, IDLE, IO low, default tool and base, cool servos."""

@@ -27,6 +27,7 @@ class FaultName(StrEnum):
     emergency = "emergency"
     no_response = "no_response"
     motion_failed = "motion_failed"
+    overheat = "overheat"
 
 
 FaultPath = Annotated[
@@ -35,7 +36,9 @@ FaultPath = Annotated[
         description=(
             "error: the arm stops, frozen, status ERROR (PUT /recover brings it back). emergency: status "
             "EMERGENCY, every PULSE call answers 503 until /sim/reset. no_response: every PULSE call answers "
-            "500 until /sim/reset. motion_failed: the running motion fails, status MOTION_FAILED."
+            "500 until /sim/reset. motion_failed: the running motion fails, status MOTION_FAILED. "
+            "overheat: the stator windings jump to 110 °C, then cool as the thermal model says (about 80 s "
+            "above 80 °C)."
         )
     ),
 ]
@@ -98,7 +101,10 @@ def sim_router(sim: SimController) -> APIRouter:
     async def inject_fault(fault: FaultPath) -> TextResponse:
         from pendant.sim import Fault
 
-        sim.inject_fault(Fault[fault.name.upper()])
+        if fault is FaultName.overheat:
+            sim.overheat()
+        else:
+            sim.inject_fault(Fault[fault.name.upper()])
         return empty_result()
 
     @router.get(
