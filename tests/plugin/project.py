@@ -25,6 +25,8 @@ def run_project(
     path = [str(REPO_ROOT), *([str(site)] if site is not None else [])]
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(path)}
     env.pop("PYTEST_ADDOPTS", None)
+    for name in [n for n in env if n.startswith("PYTEST_XDIST_")]:  # this suite's own worker, if any
+        env.pop(name)
     plugin = ["-p", "pendant.testing"] if by_name else []
     return subprocess.run(
         [sys.executable, "-m", "pytest", *plugin, "-q", "-p", "no:cacheprovider", *args],
