@@ -12,6 +12,7 @@ import httpx
 import pytest
 
 from pendant.api.errors import MSG_TIMEOUT
+from pendant.api.limits import BODY_LIMITS, too_large_message
 from pendant.controller.types import GRIPPER_TIMEOUT_MAX_MS, TOOL_NAME_MAX
 
 from .server import running_pendant
@@ -98,3 +99,11 @@ def test_the_documentation_pages_load_everything_from_the_pendant(api: httpx.Cli
     spec = re.search(r"""(?:url|spec-url)\s*[=:]\s*['"]([^'"]*openapi\.json)['"]""", html.text)
     assert spec is not None and api.get(spec.group(1)).status_code == 200
     json.loads(api.get("/openapi.json").text)
+
+
+@pytest.mark.parametrize(("method", "path"), sorted(BODY_LIMITS))
+def test_each_body_limit_is_documented_with_its_413(api: httpx.Client, method: str, path: str) -> None:
+    operation = api.get("/openapi.json").json()["paths"][path][method.lower()]
+    limit = BODY_LIMITS[(method, path)]
+    assert f"at most {limit} bytes" in operation["requestBody"]["description"]
+    assert too_large_message(limit) in operation["responses"]["413"]["content"]["text/plain"]["examples"]
