@@ -8,6 +8,8 @@ process's open files (the usual limit is 1,024): every new connection then faile
 - a request must arrive in full (headers and body) within `REQUEST_READ_TIMEOUT_S` of the moment the server
   started waiting for it (connection opened, or previous answer sent), else the connection is closed;
 - an idle keep-alive connection is closed after `KEEP_ALIVE_TIMEOUT_S`;
+- a request head (request line and headers) is at most `MAX_HEAD_BYTES` (uvicorn's httptools protocol has no
+  limit of its own): beyond, 431 and the connection closed;
 - at most `max_connections` are open: a new one beyond that closes the connection that has waited longest
   for its request (never one whose request is being handled), so a new client, a stop, always gets in.
 
@@ -26,10 +28,13 @@ from typing import Any
 
 from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
 
+from pendant.api.wire import text_literal
+
 KEEP_ALIVE_TIMEOUT_S = 5.0
 # The largest allowed body (128 KiB) takes well under a second even over a slow link.
 REQUEST_READ_TIMEOUT_S = 10.0
 MAX_CONNECTIONS = 1000
+MAX_HEAD_BYTES = 64 * 1024
 # Files the rest of the process needs (the UI's websockets, program files, logs, libraries).
 RESERVED_FILES = 256
 MIN_CONNECTIONS = 64
@@ -67,6 +72,8 @@ class GuardedHttpProtocol(HttpToolsProtocol):
         super().__init__(*args, **kwargs)
         self._read_deadline: asyncio.TimerHandle | None = None
         self.waiting_since: float | None = None  # None while a request is being handled
+        self._head_bytes = 0  # received since the server started waiting, until the head is complete
+        self._reading_head = True
 
     def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]
         super().connection_made(transport)
@@ -77,6 +84,25 @@ class GuardedHttpProtocol(HttpToolsProtocol):
     def connection_lost(self, exc: Exception | None) -> None:
         self._stop_waiting()
         super().connection_lost(exc)
+
+    def data_received(self, data: bytes) -> None:
+        super().data_received(data)
+        if self._reading_head:
+            self._head_bytes += len(data)
+            if self._head_bytes > MAX_HEAD_BYTES and not self.transport.is_closing():
+                self._refuse_head()
+
+    def on_headers_complete(self) -> None:
+        self._reading_head = False
+        super().on_headers_complete()
+
+    def _refuse_head(self) -> None:
+        body = text_literal(f"Request head too large: at most {MAX_HEAD_BYTES} bytes")
+        self.transport.write(
+            b"HTTP/1.1 431 Request Header Fields Too Large\r\ncontent-type: text/plain; charset=utf-8\r\n"
+            b"connection: close\r\ncontent-length: %d\r\n\r\n%s" % (len(body), body)
+        )
+        self.transport.close()
 
     def on_message_complete(self) -> None:
         self._stop_waiting()  # the request is in: what follows is the app's time, not the client's
@@ -89,6 +115,7 @@ class GuardedHttpProtocol(HttpToolsProtocol):
 
     def _start_waiting(self) -> None:
         self._stop_waiting()
+        self._head_bytes, self._reading_head = 0, True
         self.waiting_since = time.monotonic()
         self._read_deadline = self.loop.call_later(self.request_read_timeout_s, self._read_timed_out)
 
