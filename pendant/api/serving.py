@@ -23,8 +23,7 @@ from __future__ import annotations
 import asyncio
 import resource
 import sys
-import time
-from typing import Any
+from typing import Any, ClassVar
 
 from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
 
@@ -67,11 +66,13 @@ class GuardedHttpProtocol(HttpToolsProtocol):
 
     max_connections = MAX_CONNECTIONS
     request_read_timeout_s = REQUEST_READ_TIMEOUT_S
+    # The connections waiting for a request, longest-waiting first (a dict keeps insertion order): evicting
+    # one is O(1), however many there are. One per server: guarded_protocol() gives each class its own.
+    waiting: ClassVar[dict[GuardedHttpProtocol, None]] = {}
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self._read_deadline: asyncio.TimerHandle | None = None
-        self.waiting_since: float | None = None  # None while a request is being handled
         self._head_bytes = 0  # received since the server started waiting, until the head is complete
         self._reading_head = True
 
@@ -116,11 +117,11 @@ class GuardedHttpProtocol(HttpToolsProtocol):
     def _start_waiting(self) -> None:
         self._stop_waiting()
         self._head_bytes, self._reading_head = 0, True
-        self.waiting_since = time.monotonic()
+        self.waiting[self] = None
         self._read_deadline = self.loop.call_later(self.request_read_timeout_s, self._read_timed_out)
 
     def _stop_waiting(self) -> None:
-        self.waiting_since = None
+        self.waiting.pop(self, None)
         if self._read_deadline is not None:
             self._read_deadline.cancel()
             self._read_deadline = None
@@ -131,13 +132,8 @@ class GuardedHttpProtocol(HttpToolsProtocol):
             self.transport.close()
 
     def _close_longest_waiting(self) -> None:
-        waiting = [
-            c
-            for c in self.connections
-            if c is not self and isinstance(c, GuardedHttpProtocol) and c.waiting_since is not None
-        ]
-        if waiting:
-            oldest = min(waiting, key=lambda c: c.waiting_since or 0.0)
+        oldest = next((c for c in self.waiting if c is not self), None)
+        if oldest is not None:
             oldest._stop_waiting()
             oldest.transport.close()
 
@@ -147,7 +143,11 @@ def guarded_protocol(
 ) -> type[GuardedHttpProtocol]:
     """The protocol class to give uvicorn (`http=`): at most `max_connections`, each request read in
     `request_read_timeout_s`."""
-    settings = {"max_connections": max_connections, "request_read_timeout_s": request_read_timeout_s}
+    settings = {
+        "max_connections": max_connections,
+        "request_read_timeout_s": request_read_timeout_s,
+        "waiting": {},
+    }
     return type("GuardedHttpProtocol", (GuardedHttpProtocol,), settings)
 
 
