@@ -211,10 +211,15 @@ class FreezeProbe:
 
 
 def measure(probe: FreezeProbe, seconds: float, period_s: float) -> list[float]:
+    """Seconds per PUT /freeze; one that got no answer within FREEZE_TIMEOUT_S counts as that long."""
     times: list[float] = []
     deadline = time.monotonic() + seconds
     while time.monotonic() < deadline:
-        times.append(probe.freeze())
+        try:
+            times.append(probe.freeze())
+        except (OSError, RuntimeError):  # no answer in time, or not 200
+            times.append(FREEZE_TIMEOUT_S)
+            probe.sock = None
         time.sleep(period_s)
     return times
 
@@ -222,9 +227,10 @@ def measure(probe: FreezeProbe, seconds: float, period_s: float) -> list[float]:
 def report(phase: str, times: list[float]) -> None:
     ms = sorted(t * 1000 for t in times)
     p99 = ms[min(len(ms) - 1, round(0.99 * (len(ms) - 1)))]
+    failed = sum(t >= FREEZE_TIMEOUT_S * 1000 for t in ms)
     print(
         f"{phase:12s} PUT /freeze n={len(ms):4d}  p50 {statistics.median(ms):7.2f} ms  "
-        f"p99 {p99:7.2f} ms  max {ms[-1]:7.2f} ms",
+        f"p99 {p99:7.2f} ms  max {ms[-1]:7.2f} ms  failed or > {FREEZE_TIMEOUT_S:g} s: {failed}",
         flush=True,
     )
 

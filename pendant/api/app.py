@@ -13,7 +13,7 @@ from pendant.access.http_guard import AccessGuard, AccessRules
 from pendant.api import docs
 from pendant.api.availability import UnavailableFirst
 from pendant.api.errors import install_error_handlers
-from pendant.api.limits import BodySizeLimit
+from pendant.api.limits import BODY_LIMITS, BodySizeLimit, body_limit, too_large_message
 from pendant.api.routers.base import base_router
 from pendant.api.routers.gripper import gripper_router
 from pendant.api.routers.pose import pose_router
@@ -129,9 +129,14 @@ def _openapi(app: FastAPI) -> dict[str, Any]:
         routes=app.routes,
         tags=app.openapi_tags,
     )
-    for path_item in schema.get("paths", {}).values():
-        for operation in path_item.values():
+    for path, path_item in schema.get("paths", {}).items():
+        for method, operation in path_item.items():
             operation.get("responses", {}).pop("422", None)
+            if (method.upper(), path) in BODY_LIMITS:  # the documented body has a size limit: say so
+                limit = body_limit(method.upper(), path)
+                too_large = docs.error(413, "Request body too large", too_large_message(limit))
+                operation["responses"].update({str(status): answer for status, answer in too_large.items()})
+                operation["requestBody"]["description"] += f" (at most {limit} bytes)"
     components = schema.setdefault("components", {}).setdefault("schemas", {})
     for unused in ("HTTPValidationError", "ValidationError"):
         components.pop(unused, None)

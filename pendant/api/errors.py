@@ -30,6 +30,7 @@ from pendant.controller.errors import (
     PreconditionFailed,
 )
 from pendant.controller.types import (
+    GRIPPER_TIMEOUT_MAX_MS,
     INPUT_PORTS,
     OUTPUT_PORTS,
     SPEED_MAX,
@@ -37,8 +38,6 @@ from pendant.controller.types import (
     TCP_MAX_VELOCITY_MAX,
     TCP_MAX_VELOCITY_MIN,
 )
-
-INT32_MAX = 2**31 - 1
 
 MSG_SPEED = f"speed must be a number from {SPEED_MIN:g} to {SPEED_MAX:g} (percent of the maximum speed)"
 MSG_SPEED_MISSING = (
@@ -56,7 +55,7 @@ MSG_TCP_MAX_VELOCITY = (
 )
 MSG_TYPE = "type must be JOINT or LINEAR"
 MSG_MOTION_TYPE = "motionType must be JOINT or LINEAR"
-MSG_TIMEOUT = f"timeout must be a whole number of milliseconds from 0 to {INT32_MAX}"
+MSG_TIMEOUT = f"timeout must be a whole number of milliseconds from 0 to {GRIPPER_TIMEOUT_MAX_MS}"
 MSG_OUTPUT_PORT = f"port must be a digital output: {' or '.join(map(str, OUTPUT_PORTS))}"
 MSG_INPUT_PORT = f"port must be a digital input: {INPUT_PORTS[0]} to {INPUT_PORTS[-1]}"
 MSG_FAULT = "fault must be error, emergency, no_response or motion_failed"

@@ -18,10 +18,11 @@ from fastapi import Path, Query, Request
 from fastapi.concurrency import run_in_threadpool
 from pydantic import Field, TypeAdapter, ValidationError
 
-from pendant.api.errors import INT32_MAX, MSG_SPEED_MISSING, ParameterError
+from pendant.api.errors import MSG_SPEED_MISSING, ParameterError
 from pendant.controller.errors import BadRequest
 from pendant.controller.types import (
     DEFAULT_GRIPPER_TIMEOUT_MS,
+    GRIPPER_TIMEOUT_MAX_MS,
     INPUT_PORTS,
     OUTPUT_PORTS,
     SPEED_MAX,
@@ -147,10 +148,10 @@ TimeoutQuery = Annotated[
     int,
     Query(
         ge=0,
-        le=INT32_MAX,
+        le=GRIPPER_TIMEOUT_MAX_MS,
         description=(
-            f"How long (ms) the arm waits for the gripper, default {DEFAULT_GRIPPER_TIMEOUT_MS}. "
-            "Values above 0 are recommended."
+            f"How long (ms) the arm waits for the gripper, 0 to {GRIPPER_TIMEOUT_MAX_MS}, default "
+            f"{DEFAULT_GRIPPER_TIMEOUT_MS}. Values above 0 are recommended."
         ),
     ),
 ]

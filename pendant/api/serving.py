@@ -8,6 +8,8 @@ process's open files (the usual limit is 1,024): every new connection then faile
 - a request must arrive in full (headers and body) within `REQUEST_READ_TIMEOUT_S` of the moment the server
   started waiting for it (connection opened, or previous answer sent), else the connection is closed;
 - an idle keep-alive connection is closed after `KEEP_ALIVE_TIMEOUT_S`;
+- a request head (request line and headers) is at most `MAX_HEAD_BYTES` (uvicorn's httptools protocol has no
+  limit of its own): beyond, 431 and the connection closed;
 - at most `max_connections` are open: a new one beyond that closes the connection that has waited longest
   for its request (never one whose request is being handled), so a new client, a stop, always gets in.
 
@@ -21,15 +23,17 @@ from __future__ import annotations
 import asyncio
 import resource
 import sys
-import time
-from typing import Any
+from typing import Any, ClassVar
 
 from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
+
+from pendant.api.wire import text_literal
 
 KEEP_ALIVE_TIMEOUT_S = 5.0
 # The largest allowed body (128 KiB) takes well under a second even over a slow link.
 REQUEST_READ_TIMEOUT_S = 10.0
 MAX_CONNECTIONS = 1000
+MAX_HEAD_BYTES = 64 * 1024
 # Files the rest of the process needs (the UI's websockets, program files, logs, libraries).
 RESERVED_FILES = 256
 MIN_CONNECTIONS = 64
@@ -62,11 +66,15 @@ class GuardedHttpProtocol(HttpToolsProtocol):
 
     max_connections = MAX_CONNECTIONS
     request_read_timeout_s = REQUEST_READ_TIMEOUT_S
+    # The connections waiting for a request, longest-waiting first (a dict keeps insertion order): evicting
+    # one is O(1), however many there are. One per server: guarded_protocol() gives each class its own.
+    waiting: ClassVar[dict[GuardedHttpProtocol, None]] = {}
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self._read_deadline: asyncio.TimerHandle | None = None
-        self.waiting_since: float | None = None  # None while a request is being handled
+        self._head_bytes = 0  # received since the server started waiting, until the head is complete
+        self._reading_head = True
 
     def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]
         super().connection_made(transport)
@@ -77,6 +85,25 @@ class GuardedHttpProtocol(HttpToolsProtocol):
     def connection_lost(self, exc: Exception | None) -> None:
         self._stop_waiting()
         super().connection_lost(exc)
+
+    def data_received(self, data: bytes) -> None:
+        super().data_received(data)
+        if self._reading_head:
+            self._head_bytes += len(data)
+            if self._head_bytes > MAX_HEAD_BYTES and not self.transport.is_closing():
+                self._refuse_head()
+
+    def on_headers_complete(self) -> None:
+        self._reading_head = False
+        super().on_headers_complete()
+
+    def _refuse_head(self) -> None:
+        body = text_literal(f"Request head too large: at most {MAX_HEAD_BYTES} bytes")
+        self.transport.write(
+            b"HTTP/1.1 431 Request Header Fields Too Large\r\ncontent-type: text/plain; charset=utf-8\r\n"
+            b"connection: close\r\ncontent-length: %d\r\n\r\n%s" % (len(body), body)
+        )
+        self.transport.close()
 
     def on_message_complete(self) -> None:
         self._stop_waiting()  # the request is in: what follows is the app's time, not the client's
@@ -89,11 +116,12 @@ class GuardedHttpProtocol(HttpToolsProtocol):
 
     def _start_waiting(self) -> None:
         self._stop_waiting()
-        self.waiting_since = time.monotonic()
+        self._head_bytes, self._reading_head = 0, True
+        self.waiting[self] = None
         self._read_deadline = self.loop.call_later(self.request_read_timeout_s, self._read_timed_out)
 
     def _stop_waiting(self) -> None:
-        self.waiting_since = None
+        self.waiting.pop(self, None)
         if self._read_deadline is not None:
             self._read_deadline.cancel()
             self._read_deadline = None
@@ -104,13 +132,8 @@ class GuardedHttpProtocol(HttpToolsProtocol):
             self.transport.close()
 
     def _close_longest_waiting(self) -> None:
-        waiting = [
-            c
-            for c in self.connections
-            if c is not self and isinstance(c, GuardedHttpProtocol) and c.waiting_since is not None
-        ]
-        if waiting:
-            oldest = min(waiting, key=lambda c: c.waiting_since or 0.0)
+        oldest = next((c for c in self.waiting if c is not self), None)
+        if oldest is not None:
             oldest._stop_waiting()
             oldest.transport.close()
 
@@ -120,7 +143,11 @@ def guarded_protocol(
 ) -> type[GuardedHttpProtocol]:
     """The protocol class to give uvicorn (`http=`): at most `max_connections`, each request read in
     `request_read_timeout_s`."""
-    settings = {"max_connections": max_connections, "request_read_timeout_s": request_read_timeout_s}
+    settings = {
+        "max_connections": max_connections,
+        "request_read_timeout_s": request_read_timeout_s,
+        "waiting": {},
+    }
     return type("GuardedHttpProtocol", (GuardedHttpProtocol,), settings)
 
 

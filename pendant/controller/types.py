@@ -45,10 +45,13 @@ class Pose(_Strict):
     angles: Annotated[list[FiniteFloat], Field(min_length=6, max_length=6)]
 
 
+TOOL_NAME_MAX = 128  # characters: a name, not a document (a 10 MB name cost the page a core, issue #16)
+
+
 class Tool(_Strict):
     """The work tool: its name, the TCP offset from the flange, and its radius in metres."""
 
-    name: str
+    name: Annotated[str, Field(max_length=TOOL_NAME_MAX)]
     point: Point
     rotation: Rotation
     radius: FiniteFloat
@@ -114,6 +117,11 @@ class MotionType(StrEnum):
 SPEED_MIN, SPEED_MAX = 1.0, 100.0
 TCP_MAX_VELOCITY_MIN, TCP_MAX_VELOCITY_MAX = 0.001, 2.0
 DEFAULT_GRIPPER_TIMEOUT_MS = 500
+# The arm stays idle this long at most waiting for the gripper: a minute is far beyond any gripper, and a
+# queue blocked for days by one command (2147483647 ms: 24.8 days) is a typo, not a wait.
+GRIPPER_TIMEOUT_MAX_MS = 60_000
+# The controller plans a run of at most this many waypoints (PUT /poses/run, /positions/run).
+MAX_RUN_WAYPOINTS = 100
 OUTPUT_PORTS = (1, 2)
 INPUT_PORTS = (1, 2, 3, 4)
 

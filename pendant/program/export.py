@@ -9,6 +9,7 @@ network it sends the pendant's access token (--token or $PULSE_PENDANT_TOKEN) wi
 from __future__ import annotations
 
 import pprint
+import re
 from datetime import UTC, datetime
 
 from pendant.access.token import TOKEN_HEADER
@@ -81,21 +82,27 @@ def program_operations(program: Program) -> list[dict[str, object]]:
 
 def export_script(program: Program) -> str:
     """Python source of a script running `program` on the controller given by argv or $PULSE_URL."""
-    operations = pprint.pformat(program_operations(program), width=110, sort_dicts=False)
-    stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
-    return (
-        # The name lands inside a docstring: no quotes or backslashes that could end or bend it.
-        _TEMPLATE.replace("__NAME__", program.name.replace("\\", "/").replace('"', "'"))
-        .replace("__STAMP__", stamp)
-        .replace("__DEFAULT_URL__", DEFAULT_URL)
-        .replace("__TOKEN_HEADER__", TOKEN_HEADER)
-        .replace("__TOKEN_ENV__", TOKEN_ENV)
-        .replace("__OPERATIONS__", operations)
-        .replace("__POLL_S__", repr(POLL_S))
-        .replace("__START_GRACE_S__", repr(START_GRACE_S))
-        .replace("__TOL_DEG__", repr(ARRIVAL_TOL_DEG))
-        .replace("__TOL_M__", repr(ARRIVAL_TOL_M))
-    )
+    values = {
+        "__NAME__": docstring_safe(program.name),
+        "__STAMP__": datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC"),
+        "__DEFAULT_URL__": DEFAULT_URL,
+        "__TOKEN_HEADER__": TOKEN_HEADER,
+        "__TOKEN_ENV__": TOKEN_ENV,
+        "__OPERATIONS__": pprint.pformat(program_operations(program), width=110, sort_dicts=False),
+        "__POLL_S__": repr(POLL_S),
+        "__START_GRACE_S__": repr(START_GRACE_S),
+        "__TOL_DEG__": repr(ARRIVAL_TOL_DEG),
+        "__TOL_M__": repr(ARRIVAL_TOL_M),
+    }
+    # One pass: a name that happens to read "__OPERATIONS__" stays a name, never a place to paste into.
+    placeholders = re.compile("|".join(map(re.escape, values)))
+    return placeholders.sub(lambda match: values[match.group(0)], _TEMPLATE)
+
+
+def docstring_safe(text: str) -> str:
+    """`text` as it may stand inside the script's docstring: no quote or backslash that could end or bend
+    it, no control character, NUL or lone surrogate that would stop the script from compiling or saving."""
+    return "".join(c if c.isprintable() and c not in '"\\' else "?" for c in text)
 
 
 _TEMPLATE = '''#!/usr/bin/env python3

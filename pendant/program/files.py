@@ -17,14 +17,14 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
-from pendant.program.models import SCHEMA_VERSION, Program, describe_problems
+from pendant.program.models import PROGRAM_NAME_MAX, SCHEMA_VERSION, Program, describe_problems
 
 DEFAULT_PROGRAMS_DIR = Path("programs")  # relative to the pendant's working directory
 PROGRAMS_DIR_ENV = "PENDANT_PROGRAMS_DIR"
 SUFFIX = ".json"
 AUTOSAVE_FILE = ".autosave.json"  # a dot file: never listed as a program
 AUTOSAVE_REFUSED_PREFIX = ".autosave.refused."  # + UTC time + ".json": every refused autosave is kept
-NAME_MAX = 64
+NAME_MAX = PROGRAM_NAME_MAX
 _NAME_OK = re.compile(r"[A-Za-z0-9 _.\-]+")
 MAX_FILE_BYTES = 5_000_000  # a program of thousands of steps is ~1 MB; anything bigger is not a program
 
@@ -161,7 +161,12 @@ class ProgramStore:
         """Write `program` as `name` (replacing it); returns the program carrying that name."""
         clean = sanitize_name(name)
         named = program.model_copy(update={"name": clean, "schema_version": SCHEMA_VERSION})
-        atomic_write(self.path_of(clean), dump_program(named))
+        data = dump_program(named)
+        if len(data) > MAX_FILE_BYTES:  # never save what parse_program would refuse to load back
+            raise ProgramFileError(
+                f"This program is too big to save ({len(data)} bytes, at most {MAX_FILE_BYTES})"
+            )
+        atomic_write(self.path_of(clean), data)
         return named
 
     def delete(self, name: str) -> None:

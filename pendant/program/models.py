@@ -14,6 +14,7 @@ from pydantic_core import ErrorDetails
 
 from pendant.controller.types import (
     DEFAULT_GRIPPER_TIMEOUT_MS,
+    GRIPPER_TIMEOUT_MAX_MS,
     INPUT_PORTS,
     OUTPUT_PORTS,
     SPEED_MAX,
@@ -29,6 +30,10 @@ DEFAULT_SPEED_PERCENT = 20.0
 DEFAULT_INPUT_TIMEOUT_MS = 5000
 MAX_WAIT_MS = 3_600_000  # an hour: anything longer is a typo, not a program
 WAYPOINT_NAME_MAX = 40
+PROGRAM_NAME_MAX = 64
+# A program is saved only if it can be loaded back: 2,000 steps of the longest kind (a move, 40-character
+# name) take ~1.6 MB as saved, under the 5 MB a file may have (pendant.program.files.MAX_FILE_BYTES).
+MAX_STEPS = 2000
 
 
 class _Frozen(BaseModel):
@@ -66,7 +71,7 @@ class GripperAction(StrEnum):
 class GripperStep(_Frozen):
     kind: Literal["gripper"] = "gripper"
     action: GripperAction
-    timeout_ms: Millis = DEFAULT_GRIPPER_TIMEOUT_MS
+    timeout_ms: Annotated[int, Field(ge=0, le=GRIPPER_TIMEOUT_MAX_MS)] = DEFAULT_GRIPPER_TIMEOUT_MS
 
 
 class OutputStep(_Frozen):
@@ -94,8 +99,8 @@ class Program(_Frozen):
     """What a program file holds. `schema_version` lets a newer pendant's files be refused, not misread."""
 
     schema_version: int = Field(default=SCHEMA_VERSION, ge=1)  # files start at version 1
-    name: str = "untitled"
-    steps: tuple[Step, ...] = ()
+    name: Annotated[str, Field(max_length=PROGRAM_NAME_MAX)] = "untitled"
+    steps: Annotated[tuple[Step, ...], Field(max_length=MAX_STEPS)] = ()
 
     def waypoint_names(self) -> list[str]:
         return [step.waypoint.name for step in self.steps if isinstance(step, MoveStep)]

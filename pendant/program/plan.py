@@ -1,5 +1,8 @@
 """How a program is executed: consecutive moves of one type and speed become one blended call.
 
+A blended call holds at most MAX_RUN_WAYPOINTS moves, the most the controller plans at once (more is refused
+with 412 before the arm moves): a longer stretch becomes several calls, one after the other.
+
 The runner and the exported script both execute this grouping, so they move the arm the same way.
 """
 
@@ -7,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from pendant.controller.types import MotionParams, MotionType
+from pendant.controller.types import MAX_RUN_WAYPOINTS, MotionParams, MotionType
 from pendant.program.models import MoveStep, Step
 
 
@@ -57,6 +60,7 @@ def plan_segments(steps: tuple[Step, ...] | list[Step], *, blend: bool = True) -
                 and isinstance(last, MoveGroup)
                 and last.motion is step.motion
                 and last.moves[0].speed == step.speed
+                and len(last.moves) < MAX_RUN_WAYPOINTS
             ):
                 segments[-1] = MoveGroup(last.first, (*last.moves, step))
             else:

@@ -33,10 +33,12 @@ from pendant.program import (
     WaitStep,
     describe_step,
 )
+from pendant.program.files import MAX_FILE_BYTES
 from pendant.program.models import DEFAULT_INPUT_TIMEOUT_MS, MAX_WAIT_MS
 from pendant.ui.commands import CommandRunner, notify_refusal
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.program_scene import ProgramScene
+from pendant.ui.upload_limit import limit_uploads
 
 log = logging.getLogger(__name__)
 
@@ -125,6 +127,7 @@ class ProgramPanel:
             self.upload = gui.add_upload_button(
                 "Upload .json", icon=viser.Icon.UPLOAD, mime_type="application/json"
             )
+            limit_uploads(gui, MAX_FILE_BYTES)  # no larger file is a program: refuse it before it is kept
 
         self.scene = ProgramScene(target, arm)
         self._ghost = (

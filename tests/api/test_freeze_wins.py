@@ -9,6 +9,7 @@ are doing, and memory stays bounded.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import resource
 import socket
@@ -21,7 +22,7 @@ import pytest
 
 from pendant.api import create_app
 from pendant.api.limits import DOCUMENT_BODY_LIMIT, RUN_BODY_LIMIT, too_large_message
-from pendant.api.serving import connection_cap, guarded_protocol
+from pendant.api.serving import MAX_HEAD_BYTES, connection_cap, guarded_protocol
 from pendant.sim import SimController
 from tests.remote.uvicorn_thread import serve_in_thread
 
@@ -125,6 +126,18 @@ def test_1100_idle_connections_do_not_stop_freeze(api: httpx.Client, pendant: tu
     finally:
         for connection in idle:
             connection.close()
+    assert api.put("/freeze").status_code == 200
+
+
+def test_a_request_head_over_the_limit_is_refused_with_431(api: httpx.Client, pendant: tuple) -> None:
+    port = int(pendant[1].rsplit(":", 1)[1])
+    with socket.create_connection((LOOPBACK, port), timeout=10.0) as connection:
+        # The server may answer and close before the end: the answer is still there to read.
+        with contextlib.suppress(OSError):
+            connection.sendall(b"GET /pose HTTP/1.1\r\nHost: t\r\nX-Big: " + b"a" * (4 * MAX_HEAD_BYTES))
+        answer = connection.recv(4096)
+    assert answer.startswith(b"HTTP/1.1 431")
+    assert answer.endswith(b'"Request head too large: at most %d bytes"' % MAX_HEAD_BYTES)
     assert api.put("/freeze").status_code == 200
 
 

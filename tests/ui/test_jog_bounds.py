@@ -28,38 +28,37 @@ def operator() -> FakeBrowser:
     return FakeBrowser(OPERATOR)
 
 
-@pytest.mark.parametrize("step", FORGED_STEPS)
 @pytest.mark.parametrize("frame", ["Joint", "Base"])
 def test_a_forged_step_is_refused_and_the_arm_does_not_move(
-    ui: ClientSession, operator: FakeBrowser, sim: SimController, clock: FakeClock, step: str, frame: str
+    ui: ClientSession, operator: FakeBrowser, sim: SimController, clock: FakeClock, frame: str
 ) -> None:
     fire(ui.jog.frame, operator, frame)
-    fire(ui.jog.step, operator, step)
     before = pose_deg(sim)
     label = "J1+" if frame == "Joint" else "X+"
-    fire(button(ui, label), operator)
-    finish_motion(sim, clock)
-    np.testing.assert_array_equal(pose_deg(sim), before)
-    assert sim.get_motion_status() is MotionStatus.IDLE
-    assert operator.notifications == [
-        f"{label} refused: Jog step must be one of Continuous, 0.1, 1, 10 (mm or °)"
-    ]
+    for step in FORGED_STEPS:
+        fire(ui.jog.step, operator, step)
+        fire(button(ui, label), operator)
+        finish_motion(sim, clock)
+        np.testing.assert_array_equal(pose_deg(sim), before, err_msg=f"step {step!r}")
+        assert sim.get_motion_status() is MotionStatus.IDLE
+    refusal = f"{label} refused: Jog step must be one of Continuous, 0.1, 1, 10 (mm or °)"
+    assert operator.notifications == [refusal] * len(FORGED_STEPS)
 
 
-@pytest.mark.parametrize("speed", FORGED_SPEEDS)
 def test_a_forged_speed_is_refused_for_steps_and_holds(
-    ui: ClientSession, operator: FakeBrowser, sim: SimController, clock: FakeClock, speed: object
+    ui: ClientSession, operator: FakeBrowser, sim: SimController, clock: FakeClock
 ) -> None:
-    fire(ui.jog.speed, operator, speed)
     before = pose_deg(sim)
-    fire(ui.jog.step, operator, "10")
-    fire(button(ui, "J1+"), operator)
-    fire(ui.jog.step, operator, "Continuous")
-    confirm_hold(button(ui, "J1+"), operator)
-    finish_motion(sim, clock)
-    np.testing.assert_array_equal(pose_deg(sim), before)
-    assert sim.get_motion_status() is MotionStatus.IDLE
-    assert len(operator.notifications) == 2
+    for speed in FORGED_SPEEDS:
+        fire(ui.jog.speed, operator, speed)
+        fire(ui.jog.step, operator, "10")
+        fire(button(ui, "J1+"), operator)
+        fire(ui.jog.step, operator, "Continuous")
+        confirm_hold(button(ui, "J1+"), operator)
+        finish_motion(sim, clock)
+        np.testing.assert_array_equal(pose_deg(sim), before, err_msg=f"speed {speed!r}")
+        assert sim.get_motion_status() is MotionStatus.IDLE
+    assert len(operator.notifications) == 2 * len(FORGED_SPEEDS)
     assert all(n.startswith("J1+ refused: Jog speed must be") for n in operator.notifications)
 
 

@@ -9,11 +9,11 @@ from pendant.api.params import TOOL, json_body, read_body
 from pendant.api.wire import JSONBytesResponse, model_result
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSITION
 from pendant.controller.protocol import Controller
-from pendant.controller.types import Tool
+from pendant.controller.types import TOOL_NAME_MAX, Tool
 
 _TOOL_DESCRIPTION = (
-    "name: any name; point x, y, z (metres) and rotation roll, pitch, yaw (radians): the TCP of the tool; "
-    "radius: the tool's radius in metres (>= 0)."
+    f"name: up to {TOOL_NAME_MAX} characters; point x, y, z (metres) and rotation roll, pitch, yaw "
+    "(radians): the TCP of the tool; radius: the tool's radius in metres (>= 0)."
 )
 
 

@@ -1,0 +1,48 @@
+"""/docs and /redoc render in a real browser with no network beyond the pendant (issue #16, finding 9: they
+loaded Swagger UI from a CDN and were blank offline). Every request to another host is aborted and counted."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from urllib.parse import urlsplit
+
+import pytest
+
+from tests.api.server import running_pendant
+
+RENDER_TIMEOUT_MS = 30_000
+SHOWN = "Setting a new arm pose"
+REDOCLY_FOOTER_LOGO = "https://cdn.redoc.ly/redoc/logo-mini.svg"
+
+
+@pytest.fixture(scope="module")
+def api_url() -> Iterator[str]:
+    with running_pendant() as url:
+        yield url
+
+
+@pytest.mark.parametrize("page_path", ["/docs", "/redoc"])
+def test_the_api_documentation_renders_offline(browser, api_url: str, page_path: str) -> None:  # type: ignore[no-untyped-def]
+    page = browser.new_page()
+    elsewhere: list[str] = []
+
+    def offline(route) -> None:  # type: ignore[no-untyped-def]
+        if urlsplit(route.request.url).hostname == "127.0.0.1":
+            route.continue_()
+        else:
+            elsewhere.append(route.request.url)
+            route.abort()
+
+    page.route("**/*", offline)
+    try:
+        page.goto(api_url + page_path)
+        # An operation of the API, as each page shows it: Swagger UI's summary line, ReDoc's heading.
+        operation = page.get_by_text(SHOWN, exact=True).first
+        if page_path == "/redoc":
+            operation = page.get_by_role("heading", name=SHOWN)
+        operation.wait_for(timeout=RENDER_TIMEOUT_MS)
+    finally:
+        page.close()
+    # ReDoc's bundle shows its maker's logo in its footer ("API docs by Redocly") from the maker's CDN:
+    # offline, that one image is missing and nothing else. Anything more would be a page needing the network.
+    assert [url for url in elsewhere if url != REDOCLY_FOOTER_LOGO] == []

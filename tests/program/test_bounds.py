@@ -1,0 +1,152 @@
+"""Programs bounded so that what the pendant accepts it can also run, save, load and export (issue #16,
+findings 6 and 9): more than 100 consecutive moves of one type and speed became one run the controller
+refused (412 at step 1); an 8,000-step program saved but could not be loaded back; a name containing `\"\"\"`
+exported a script that did not compile."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import httpx
+import numpy as np
+import pytest
+from pydantic import ValidationError
+
+from pendant.controller import MotionType, Pose
+from pendant.controller.types import MAX_RUN_WAYPOINTS
+from pendant.program import (
+    EditError,
+    MoveStep,
+    Program,
+    ProgramRunner,
+    ProgramWorkspace,
+    RunState,
+    WaitStep,
+    Waypoint,
+    export_script,
+    plan_segments,
+    program_operations,
+)
+from pendant.program.files import MAX_FILE_BYTES, dump_program
+from pendant.program.models import MAX_STEPS, PROGRAM_NAME_MAX, WAYPOINT_NAME_MAX
+from tests.api.server import running_pendant
+
+LONG_RUN = 2 * MAX_RUN_WAYPOINTS + 50
+ANGLE_TOL_DEG = 1e-6
+SCRIPT_TIMEOUT_S = 60.0
+HOSTILE_NAMES = ['a"""b', "c'''d", "back\\slash", "__OPERATIONS__", "nul\x00x", "new\nline", "tab\tend"]
+
+
+@pytest.fixture(scope="module")
+def api_url() -> Iterator[str]:
+    with running_pendant() as url:
+        yield url
+
+
+def sweep(
+    template: Waypoint, count: int, degrees_each: float, name: Callable[[int], str] = str
+) -> list[MoveStep]:
+    """`count` JOINT moves at one speed, J1 turning `degrees_each` per move from `template`'s pose."""
+    start = template.pose.angles
+    return [
+        MoveStep(
+            waypoint=template.model_copy(
+                update={
+                    "name": name(i),
+                    "pose": Pose(angles=[start[0] + degrees_each * (i + 1), *start[1:]]),
+                }
+            ),
+            speed=100.0,
+        )
+        for i in range(count)
+    ]
+
+
+def test_a_long_stretch_of_moves_becomes_runs_the_controller_accepts(sim, clock, waypoints) -> None:
+    steps = sweep(waypoints["A"], LONG_RUN, 0.1)
+    segments = plan_segments(steps)
+    assert [len(s.moves) for s in segments] == [MAX_RUN_WAYPOINTS, MAX_RUN_WAYPOINTS, 50]  # type: ignore[union-attr]
+    runs = [o for o in program_operations(Program(steps=tuple(steps))) if o["op"] == "run_poses"]
+    assert [len(o["targets"]) for o in runs] == [MAX_RUN_WAYPOINTS, MAX_RUN_WAYPOINTS, 50]  # type: ignore[arg-type]
+    progress = ProgramRunner(sim, sleep=clock.advance, now=clock.now).run(Program(steps=tuple(steps)))
+    assert progress.state is RunState.FINISHED, progress.message
+    np.testing.assert_allclose(sim.get_pose().angles, steps[-1].waypoint.pose.angles, atol=ANGLE_TOL_DEG)
+
+
+def exported(program: Program, tmp_path: Path) -> Path:
+    """The program's script, written as the page's Export saves it, and compiled."""
+    script = tmp_path / "exported.py"
+    script.write_bytes(export_script(program).encode())
+    compile(script.read_bytes(), str(script), "exec")
+    return script
+
+
+def run_exported(program: Program, tmp_path: Path, api_url: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, str(exported(program, tmp_path)), api_url],
+        capture_output=True,
+        text=True,
+        timeout=SCRIPT_TIMEOUT_S,
+        check=False,
+    )
+
+
+def test_the_exported_script_runs_more_than_100_moves_in_runs(
+    waypoints, tmp_path: Path, api_url: str
+) -> None:
+    steps = sweep(waypoints["A"], MAX_RUN_WAYPOINTS + 5, 0.02)
+    done = run_exported(Program(steps=tuple(steps)), tmp_path, api_url)
+    assert done.returncode == 0, done.stderr
+    angles = httpx.get(f"{api_url}/pose").json()["angles"]
+    np.testing.assert_allclose(angles, steps[-1].waypoint.pose.angles, atol=ANGLE_TOL_DEG)
+
+
+def test_names_with_quotes_or_control_characters_export_a_script_that_runs(
+    waypoints, tmp_path: Path, api_url: str
+) -> None:
+    steps = (*sweep(waypoints["B"], len(HOSTILE_NAMES), 1.0, name=lambda i: HOSTILE_NAMES[i]), WaitStep(ms=1))
+    for name in HOSTILE_NAMES:
+        exported(Program(name=name, steps=steps), tmp_path)
+    done = run_exported(Program(name=HOSTILE_NAMES[0], steps=steps), tmp_path, api_url)
+    assert done.returncode == 0, done.stderr
+    angles = httpx.get(f"{api_url}/pose").json()["angles"]
+    np.testing.assert_allclose(angles, steps[-2].waypoint.pose.angles, atol=ANGLE_TOL_DEG)
+
+
+def many_moves(template: Waypoint, count: int) -> tuple[MoveStep, ...]:
+    """`count` moves with the longest names, alternating JOINT and LINEAR: the biggest steps to save."""
+    return tuple(
+        MoveStep(
+            waypoint=template.model_copy(update={"name": f"{i:0{WAYPOINT_NAME_MAX}d}"}),
+            motion=MotionType.LINEAR if i % 2 else MotionType.JOINT,
+            speed=33.3333333333,
+        )
+        for i in range(count)
+    )
+
+
+def test_the_largest_program_saves_and_loads_back(
+    waypoints, make_workspace: Callable[[], ProgramWorkspace]
+) -> None:
+    workspace = make_workspace()
+    largest = Program(name="n" * PROGRAM_NAME_MAX, steps=many_moves(waypoints["C"], MAX_STEPS))
+    assert len(dump_program(largest)) <= MAX_FILE_BYTES
+    workspace.upload("largest.json", dump_program(largest))
+    saved = workspace.save_as("largest")
+    make_workspace().load(saved)  # a restarted pendant reads it back
+    reloaded = make_workspace()
+    reloaded.load(saved)
+    assert reloaded.program.steps == largest.steps
+    with pytest.raises(EditError, match=f"at most {MAX_STEPS}"):
+        reloaded.insert_step(WaitStep(ms=1))
+    assert reloaded.program.steps == largest.steps
+
+
+def test_a_program_beyond_the_step_limit_cannot_be_made(waypoints) -> None:
+    with pytest.raises(ValidationError, match=f"at most {MAX_STEPS}"):
+        Program(steps=many_moves(waypoints["C"], 8000))
+    with pytest.raises(ValidationError):
+        Program(name="n" * (PROGRAM_NAME_MAX + 1))
