@@ -236,6 +236,7 @@ def start_ui(
         programs_dir=settings.programs_dir,
         origins=access.origins,
         remote=access.remote,
+        attempts=access.attempts,
     ).start()
 
 

@@ -19,6 +19,7 @@ import viser
 from pendant.access import TOKEN_QUERY
 from pendant.access.origin import OriginPolicy
 from pendant.access.remote import RemoteControl
+from pendant.access.throttle import FailedAttempts
 from pendant.controller import Controller, ControllerError
 from pendant.eventlog import EventKind, EventLog
 from pendant.kinematics import ArmModel
@@ -52,6 +53,7 @@ class PendantUI:
     control. `events`: the event log, shared with the API server when both run in one process.
     `origins`: the Host and Origin rules for page loads and websockets (None: none). `remote`: the Remote
     control switch shared with the API (by default on: nothing else in this process moves the arm).
+    `attempts`: wrong tokens per address, shared with the API's guard.
     """
 
     def __init__(
@@ -67,6 +69,7 @@ class PendantUI:
         programs_dir: str | None = None,
         origins: OriginPolicy | None = None,
         remote: RemoteControl | None = None,
+        attempts: FailedAttempts | None = None,
     ) -> None:
         self.controller = controller
         self.arm = arm
@@ -75,7 +78,7 @@ class PendantUI:
         with guarded_viser_server(origins):
             self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
         self.server.gui.configure_theme(control_width="large", show_logo=False)
-        self.desk = ControlDesk(self.events, token=token)
+        self.desk = ControlDesk(self.events, token=token, attempts=attempts)
         self.remote = remote if remote is not None else RemoteControl(enabled=True)
         self.remote.holder = lambda: self.desk.name(self.desk.operator)
         self.runner = CommandRunner(controller, gate=self.desk.gate)
