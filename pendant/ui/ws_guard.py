@@ -33,11 +33,17 @@ NO_FOREIGN_FRAMES = (("Content-Security-Policy", "frame-ancestors 'self'"), ("X-
 _patching = threading.Lock()  # one ViserServer built under the wrapper at a time
 
 
+def _one(request: Request, name: str) -> str | None:
+    """The header's value; several values are joined, which no rule accepts (no browser sends two)."""
+    values = request.headers.get_all(name)
+    return ", ".join(values) if values else None
+
+
 def guard_process_request(policy: OriginPolicy, inner: ProcessRequest | None) -> ProcessRequest:
     """`inner` behind the policy: a refused handshake gets a `text/plain` 403 and never reaches it."""
 
     async def process_request(connection: ServerConnection, request: Request) -> Response | None:
-        refusal = policy.handshake_refusal(request.headers.get("Host"), request.headers.get("Origin"))
+        refusal = policy.handshake_refusal(_one(request, "Host"), _one(request, "Origin"))
         if refusal is not None:
             status, message = refusal
             return connection.respond(status, message + "\n")
