@@ -6,12 +6,14 @@ from typing import Any
 
 from fastapi import FastAPI
 from fastapi.openapi.utils import get_openapi
+from fastapi_offline import FastAPIOffline
 
 from pendant import __version__
 from pendant.access.http_guard import AccessGuard, AccessRules
 from pendant.api import docs
 from pendant.api.availability import UnavailableFirst
 from pendant.api.errors import install_error_handlers
+from pendant.api.limits import BodySizeLimit
 from pendant.api.routers.base import base_router
 from pendant.api.routers.gripper import gripper_router
 from pendant.api.routers.pose import pose_router
@@ -78,7 +80,8 @@ def create_app(
     `access`: the whole guard (Host and Origin rules, Remote control; see pendant.access.http_guard), which
     `token` and `events` are shorthands for.
     """
-    app = FastAPI(
+    # /docs and /redoc from Swagger UI and ReDoc files installed with the package: they work offline.
+    app = FastAPIOffline(
         title="PULSE REST API",
         version=__version__,
         description=DESCRIPTION,
@@ -106,9 +109,10 @@ def create_app(
     app.add_middleware(DirectDispatch, table=direct_endpoints(routers))
     if sim_type is not None and isinstance(controller, sim_type):
         app.add_middleware(UnavailableFirst, check_alive=controller.check_alive)
+    app.add_middleware(BodySizeLimit)  # before any body is read
     rules = access if access is not None else AccessRules(token=token, events=events)
     if rules.active:
-        app.add_middleware(AccessGuard, rules=rules)  # added last: runs first
+        app.add_middleware(AccessGuard, rules=rules)  # added last: runs first (no body needed to refuse)
     app.openapi = lambda: _openapi(app)  # type: ignore[method-assign]
     app.state.controller = controller
     return app

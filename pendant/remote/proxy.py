@@ -16,6 +16,8 @@ Nothing is queued or re-sent later.
 
 Run alone (`pendant --robot URL` builds the same app):
     python -m pendant.remote.proxy --robot http://192.168.1.50:8081 --port 8081
+
+The pendant also answers GET /metrics itself (Prometheus expects that path; it is not a PULSE one).
 """
 
 from __future__ import annotations
@@ -33,7 +35,9 @@ from starlette.types import ASGIApp, Receive, Scope, Send
 
 from pendant.access.http_guard import AccessGuard, AccessRules
 from pendant.access.origin import OriginPolicy
+from pendant.api.limits import BodySizeLimit
 from pendant.config import Settings
+from pendant.monitoring import EventStore, PendantMetrics, add_monitoring
 from pendant.remote.client import RemoteController
 from pendant.remote.health import health_router
 from pendant.remote.upstream import (
@@ -45,6 +49,7 @@ from pendant.remote.upstream import (
 )
 
 PENDANT_PREFIX = "/pendant/"  # served by the pendant itself, never forwarded
+PENDANT_PATHS = ("/metrics",)  # the pendant's too (Prometheus expects this path), not a PULSE path
 BAD_GATEWAY = 502
 GATEWAY_TIMEOUT = 504
 IDEMPOTENT_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
@@ -96,7 +101,11 @@ class _Forwarder:
         self.prefix = urlsplit(robot_url).path.rstrip("/").encode()
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] != "http" or scope["path"].startswith(PENDANT_PREFIX):
+        if (
+            scope["type"] != "http"
+            or scope["path"].startswith(PENDANT_PREFIX)
+            or scope["path"] in PENDANT_PATHS
+        ):
             await self.app(scope, receive, send)
             return
         if self.on_request is not None:
@@ -175,6 +184,8 @@ def create_proxy_app(
     command_timeout: float | None = None,
     started_at: float | None = None,
     access: AccessRules | None = None,
+    metrics: PendantMetrics | None = None,
+    store: EventStore | None = None,
 ) -> FastAPI:
     """An ASGI app serving the PULSE API by forwarding to the controller at `robot_url` (plain HTTP), plus
     GET /pendant/health. More pendant routes can be added to it under /pendant/.
@@ -183,6 +194,8 @@ def create_proxy_app(
     probes and reports that very link; by default the app makes its own (closed with the app).
     `connect_timeout`, `read_timeout` (reads), `command_timeout` (everything else): seconds, by default the
     settings'. `access`: the pendant's guard (token, Host and Origin rules, Remote control), run first.
+    `metrics`: served at GET /metrics (by default the app's own, reading the controller through the probe);
+    `store`: the persistent event log, served at GET /pendant/events.
     """
     robot_url = robot_url.rstrip("/")
     parts = urlsplit(robot_url)
@@ -220,8 +233,12 @@ def create_proxy_app(
     app.add_middleware(
         _Forwarder, robot_url=robot_url, pool=pool, on_request=on_request, command_timeout=command_timeout
     )
+    app.add_middleware(BodySizeLimit)  # no body, GET's included, is buffered past its limit
     if access is not None and access.active:
-        app.add_middleware(AccessGuard, rules=access)  # added last: runs first, /pendant/ routes included
+        app.add_middleware(AccessGuard, rules=access)  # /pendant/ routes included
+    if metrics is None:
+        metrics = PendantMetrics(health_probe, mode="robot", model=settings.model, robot_url=robot_url)
+    add_monitoring(app, metrics, store)  # outermost: refusals are counted too
     app.state.robot_url = robot_url
     app.state.health_probe = health_probe
     app.state.upstream = pool  # its timeouts are the ones in force
@@ -235,7 +252,7 @@ def _bad_gateway(message: str) -> Response:
 
 def main(argv: list[str] | None = None) -> int:
     """`python -m pendant.remote.proxy --robot URL [--host H] [--port N]`: the proxy alone, no UI."""
-    import uvicorn
+    from pendant.api.serving import serve
 
     parser = argparse.ArgumentParser(description="Serve the PULSE API as a proxy to a real controller.")
     parser.add_argument("--robot", required=True, help="the controller's URL, e.g. http://192.168.1.50:8081")
@@ -255,7 +272,7 @@ def main(argv: list[str] | None = None) -> int:
         command_timeout=args.command_timeout,
     )
     app = create_proxy_app(args.robot, settings=settings, access=AccessRules(origins=OriginPolicy(args.host)))
-    uvicorn.run(app, host=args.host, port=args.port, log_level="warning", access_log=False)
+    serve(app, args.host, args.port)
     return 0
 
 

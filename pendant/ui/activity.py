@@ -1,5 +1,6 @@
 """Who did what, for the event log: every command from a browser (or refused), jogs, program failures and
-the controller's state changes. The pendant's page wires these into its runner, jogger and refresh loop."""
+the controller's state changes. The pendant's page wires these into its runner, jogger and refresh loop.
+With metrics, the same happenings are counted for Prometheus (commands, program runs, motion failures)."""
 
 from __future__ import annotations
 
@@ -13,12 +14,15 @@ from pendant.controller import Controller, ControllerError, MotionStatus, Precon
 from pendant.eventlog import EventKind, EventLog
 from pendant.jog import Jogger, JogRequest
 from pendant.kinematics import ArmModel
+from pendant.monitoring import PendantMetrics
 from pendant.program import Change, ProgramWorkspace, RunState
 from pendant.ui.commands import CommandRefused
 from pendant.ui.roles import ControlDesk
 from pendant.ui.snapshot import Snapshot
 
 _ALARM_STATES = {MotionStatus.ERROR, MotionStatus.EMERGENCY, MotionStatus.MOTION_FAILED}
+_MOTION_FAILED_STATES = {MotionStatus.ERROR, MotionStatus.MOTION_FAILED}  # a motion that did not finish
+_RUN_ACTIVE = {RunState.RUNNING, RunState.PAUSED}
 
 
 class LoggedJogger(Jogger):
@@ -96,10 +100,16 @@ class LoggedJogger(Jogger):
 class ActivityLog:
     """Writes to `events` what the page's commands, programs and the controller do."""
 
-    def __init__(self, events: EventLog, desk: ControlDesk) -> None:
+    def __init__(self, events: EventLog, desk: ControlDesk, metrics: PendantMetrics | None = None) -> None:
         self._events = events
         self._desk = desk
+        self._metrics = metrics
         self._failure_logged: str | None = None
+        self._run_state = RunState.IDLE
+
+    def _count(self, label: str, status: str, *, failed: bool) -> None:
+        if self._metrics is not None:
+            self._metrics.count_command("page", label, status, failed=failed, motion=False)
 
     def who(self, client: viser.ClientHandle | None) -> str:
         return "pendant" if client is None else self._desk.name(client.client_id)
@@ -115,13 +125,16 @@ class ActivityLog:
         who = self.who(client)
         if refusal is not None:
             self._events.record(EventKind.REFUSED, who, f"{label}: {refusal}")
+            self._count(label, "refused", failed=True)
             return
         self._events.record(EventKind.COMMAND, who, label)
         if future is None:
+            self._count(label, "sent", failed=False)
             return
 
         def failed(done: Future[object]) -> None:
             error = done.exception() if not done.cancelled() else None
+            self._count(label, "sent" if error is None else "failed", failed=error is not None)
             if isinstance(error, ControllerError):
                 self._events.record(EventKind.ERROR, who, f"{label} failed: {error.message}")
             elif error is not None and not isinstance(error, CommandRefused):
@@ -134,6 +147,13 @@ class ActivityLog:
         if change is not Change.RUN:
             return
         progress = programs.progress
+        if self._metrics is not None and progress.state is not self._run_state:
+            if progress.state in _RUN_ACTIVE and self._run_state not in _RUN_ACTIVE:
+                self._metrics.program_runs.inc()
+            elif progress.state is RunState.FAILED:
+                self._metrics.program_failures.inc()
+                self._metrics.motion_failures.labels("program").inc()
+        self._run_state = progress.state
         if progress.state is not RunState.FAILED:
             self._failure_logged = None
             return
@@ -148,4 +168,6 @@ class ActivityLog:
         if after.motion_status is not None and after.motion_status != before.motion_status:
             was = before.motion_status.value if before.motion_status is not None else "offline"
             kind = EventKind.ERROR if after.motion_status in _ALARM_STATES else EventKind.STATE
+            if self._metrics is not None and after.motion_status in _MOTION_FAILED_STATES:
+                self._metrics.motion_failures.labels("controller").inc()
             self._events.record(kind, "controller", f"{was} → {after.motion_status.value}")
