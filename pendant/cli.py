@@ -284,6 +284,7 @@ def start_ui(
         programs_dir=settings.programs_dir,
         origins=access.origins,
         remote=access.remote,
+        attempts=access.attempts,
         data_dir=str(resolve_data_dir(settings)),
         metrics=metrics,
     ).start()

@@ -64,6 +64,11 @@ def _headers(scope: Scope) -> dict[bytes, bytes]:
     return {key: value for key, value in scope["headers"] if key in wanted}
 
 
+def _address(scope: Scope) -> str:
+    client = scope.get("client")
+    return client[0] if client else "unknown"
+
+
 def _text(value: bytes | None) -> str | None:
     return value.decode("latin-1") if value is not None else None
 
@@ -116,7 +121,7 @@ class AccessGuard:
         if token is None:
             return None
         attempts = self.rules.attempts
-        address = scope["client"][0] if scope.get("client") else "unknown"
+        address = _address(scope)
         wait = attempts.wait_before_check(address)
         if wait is None:
             return TOO_MANY_REQUESTS, (
@@ -146,7 +151,9 @@ class AccessGuard:
         events = self.rules.events
         if events is not None:
             who = self._who(scope, headers)
-            unlogged = self.rules.bursts.note(who)
+            unlogged = self.rules.bursts.note(
+                _address(scope)
+            )  # by address: a changing user agent is one client
             if unlogged is not None:
                 more = (
                     f" ({unlogged} earlier refusals of this client not logged one by one)" if unlogged else ""

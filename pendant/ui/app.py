@@ -20,6 +20,7 @@ import viser
 from pendant.access import TOKEN_QUERY
 from pendant.access.origin import OriginPolicy
 from pendant.access.remote import RemoteControl
+from pendant.access.throttle import FailedAttempts
 from pendant.controller import Controller, ControllerError
 from pendant.eventlog import EventKind, EventLog
 from pendant.eventquery import EventQuery
@@ -58,8 +59,9 @@ class PendantUI:
     control. `events`: the event log, shared with the API server when both run in one process (and kept on
     disk when it has a store). `origins`: the Host and Origin rules for page loads and websockets (None:
     none). `remote`: the Remote control switch shared with the API (by default on: nothing else in this
-    process moves the arm). `data_dir`: where recordings are kept. `metrics`: counted for GET /metrics.
-    `clock`: the telemetry's time (the simulator's own when it runs on a fake clock).
+    process moves the arm). `attempts`: wrong tokens per address, shared with the API's guard. `data_dir`:
+    where recordings are kept. `metrics`: counted for GET /metrics. `clock`: the telemetry's time (the
+    simulator's own when it runs on a fake clock).
     """
 
     def __init__(
@@ -75,6 +77,7 @@ class PendantUI:
         programs_dir: str | None = None,
         origins: OriginPolicy | None = None,
         remote: RemoteControl | None = None,
+        attempts: FailedAttempts | None = None,
         data_dir: str | None = None,
         metrics: PendantMetrics | None = None,
         clock: Callable[[], float] = time.monotonic,
@@ -87,7 +90,7 @@ class PendantUI:
             self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
         self.server.gui.configure_theme(control_width="large", show_logo=False)
         self.join_urls = join_urls(host, self.server.get_port())  # the QR code people in the room scan
-        self.desk = ControlDesk(self.events, token=token)
+        self.desk = ControlDesk(self.events, token=token, attempts=attempts)
         self.remote = remote if remote is not None else RemoteControl(enabled=True)
         self.remote.holder = lambda: self.desk.name(self.desk.operator)
         self.runner = CommandRunner(controller, gate=self.desk.gate)

@@ -24,6 +24,7 @@ import viser
 
 from pendant.access import tokens_match
 from pendant.access.remote import RemoteControl
+from pendant.access.throttle import FailedAttempts
 from pendant.eventlog import EventKind, EventLog
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.html import inset
@@ -31,6 +32,7 @@ from pendant.ui.html import inset
 MSG_VIEWER = "This browser is a viewer: press Take control first"
 MSG_NO_TOKEN = "This pendant needs its access token to take control"
 MSG_WRONG_TOKEN = "Wrong access token"
+MSG_TOO_MANY = "Too many wrong access tokens from this address: wait a few seconds and try again"
 
 ControlListener = Callable[[int | None], None]
 
@@ -43,9 +45,20 @@ def browser_name(client_id: int, address: str | None = None) -> str:
 class ControlDesk:
     """Who the operator is (a browser's client id, or None), and the rules to change it. Thread-safe."""
 
-    def __init__(self, events: EventLog, *, token: str | None = None, auto_grant: bool | None = None) -> None:
+    def __init__(
+        self,
+        events: EventLog,
+        *,
+        token: str | None = None,
+        auto_grant: bool | None = None,
+        attempts: FailedAttempts | None = None,
+    ) -> None:
         self._events = events
         self._token = token
+        # Wrong tokens typed into pages, per address: shared with the API's guard, so a guesser gains
+        # nothing by switching from one to the other. A page is never made to wait: it is told to.
+        self._attempts = attempts if attempts is not None else FailedAttempts()
+        self._addresses: dict[int, str] = {}
         self._auto_grant = token is None if auto_grant is None else auto_grant
         self._operator: int | None = None
         self._names: dict[int, str] = {}  # in the order they joined
@@ -77,6 +90,7 @@ class ControlDesk:
     def join(self, client_id: int, address: str | None = None) -> None:
         with self._lock:
             self._names[client_id] = browser_name(client_id, address)
+            self._addresses[client_id] = address or "unknown"
             grant = self._auto_grant and self._operator is None
             if grant:
                 self._operator = client_id
@@ -89,6 +103,7 @@ class ControlDesk:
             name = self.name(client_id)
             was_operator = self._operator == client_id
             self._names.pop(client_id, None)
+            self._addresses.pop(client_id, None)
             self._trusted.discard(client_id)
             if was_operator:
                 self._operator = self._successor()
@@ -114,16 +129,21 @@ class ControlDesk:
             if self._operator == client_id:
                 return None
             reason: str | None = None
+            address = self._addresses.get(client_id, "unknown")
             if self._token is not None and not offered_token:
                 reason = MSG_NO_TOKEN
+            elif self._token is not None and self._attempts.wait_before_check(address) != 0.0:
+                reason = MSG_TOO_MANY
             elif self._token is not None and not tokens_match(offered_token, self._token):
                 reason = MSG_WRONG_TOKEN
+                self._attempts.failed(address)
             elif self._operator is not None:
                 reason = f"{self.name(self._operator)} has control: ask them to release it"
             if reason is None:
                 self._operator = client_id
                 if self._token is not None:
                     self._trusted.add(client_id)
+                    self._attempts.succeeded(address)
         if reason is not None:
             self._events.record(EventKind.REFUSED, name, f"Take control refused: {reason}")
             return reason

@@ -5,7 +5,8 @@ viser 1.1.1 builds its websockets server inside `ViserServer(...)` (viser/infra/
 `process_request=viser_http_server` and offers no hook of its own. `guarded_viser_server` wraps
 `websockets.asyncio.server.serve` only while a ViserServer is being built (its constructor waits until the
 server listens), putting the policy in front of whatever `process_request` viser (or another wrapper, such
-as a customised page) passes: the hook composes, and nothing else is patched.
+as a customised page) passes: the hook composes, and nothing else is patched. Its HTTP answers also say that
+no page of another origin may frame the pendant (clickjacking: a framed pendant has the pendant's own origin).
 """
 
 from __future__ import annotations
@@ -23,15 +24,26 @@ from websockets.http11 import Request, Response
 from pendant.access.origin import OriginPolicy
 
 ProcessRequest = Callable[[ServerConnection, Request], Awaitable[Response | None] | Response | None]
+ProcessResponse = Callable[
+    [ServerConnection, Request, Response], Awaitable[Response | None] | Response | None
+]
+# Only the pendant's own pages may frame it.
+NO_FOREIGN_FRAMES = (("Content-Security-Policy", "frame-ancestors 'self'"), ("X-Frame-Options", "SAMEORIGIN"))
 
 _patching = threading.Lock()  # one ViserServer built under the wrapper at a time
+
+
+def _one(request: Request, name: str) -> str | None:
+    """The header's value; several values are joined, which no rule accepts (no browser sends two)."""
+    values = request.headers.get_all(name)
+    return ", ".join(values) if values else None
 
 
 def guard_process_request(policy: OriginPolicy, inner: ProcessRequest | None) -> ProcessRequest:
     """`inner` behind the policy: a refused handshake gets a `text/plain` 403 and never reaches it."""
 
     async def process_request(connection: ServerConnection, request: Request) -> Response | None:
-        refusal = policy.handshake_refusal(request.headers.get("Host"), request.headers.get("Origin"))
+        refusal = policy.handshake_refusal(_one(request, "Host"), _one(request, "Origin"))
         if refusal is not None:
             status, message = refusal
             return connection.respond(status, message + "\n")
@@ -41,6 +53,24 @@ def guard_process_request(policy: OriginPolicy, inner: ProcessRequest | None) ->
         return await answer if inspect.isawaitable(answer) else answer
 
     return process_request
+
+
+def guard_process_response(inner: ProcessResponse | None) -> ProcessResponse:
+    """`inner`, then the anti-framing headers on every plain HTTP answer (the page and its files)."""
+
+    async def process_response(
+        connection: ServerConnection, request: Request, response: Response
+    ) -> Response | None:
+        if inner is not None:
+            answer = inner(connection, request, response)
+            replaced = await answer if inspect.isawaitable(answer) else answer
+            response = replaced if replaced is not None else response
+        if response.status_code != 101:  # a websocket's switch has no page to frame
+            for name, value in NO_FOREIGN_FRAMES:
+                response.headers[name] = value
+        return response
+
+    return process_response
 
 
 @contextlib.contextmanager
@@ -53,10 +83,18 @@ def guarded_viser_server(policy: OriginPolicy | None) -> Iterator[None]:
         original = ws_server.serve
 
         def serve(
-            handler: Any, *args: Any, process_request: ProcessRequest | None = None, **kwargs: Any
+            handler: Any,
+            *args: Any,
+            process_request: ProcessRequest | None = None,
+            process_response: ProcessResponse | None = None,
+            **kwargs: Any,
         ) -> Any:
             return original(
-                handler, *args, process_request=guard_process_request(policy, process_request), **kwargs
+                handler,
+                *args,
+                process_request=guard_process_request(policy, process_request),
+                process_response=guard_process_response(process_response),
+                **kwargs,
             )
 
         ws_server.serve = serve  # type: ignore[misc,assignment]

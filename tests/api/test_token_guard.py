@@ -201,3 +201,21 @@ def _start_and_read(flags: list[str]) -> str:
         process.wait(10)
         reader.join(5)
     return "".join(lines)
+
+
+def test_the_proxy_logs_refusals_and_commands_with_the_client_and_the_controllers_status() -> None:
+    events = EventLog()
+    sim = SimController("pulse75", FakeClock())
+    with (
+        serve_in_thread(create_app(sim)) as controller_url,
+        serve_in_thread(
+            create_proxy_app(controller_url, access=AccessRules(token=TOKEN, events=events))
+        ) as url,
+        httpx.Client(base_url=url, headers={"User-Agent": "cell-script/1.0"}) as client,
+    ):
+        assert client.put("/relax").status_code == 401
+        assert client.put("/relax", headers={TOKEN_HEADER: quote(TOKEN)}).status_code == 200
+    refused, accepted = events.recent()
+    assert refused.kind is EventKind.REFUSED and "PUT /relax: 401" in refused.message
+    assert accepted.kind is EventKind.COMMAND and accepted.message == "PUT /relax -> 200"
+    assert accepted.source == "API 127.0.0.1 (cell-script/1.0)"

@@ -24,8 +24,13 @@ TOOL = {"name": "evil", "radius": 0.0, "position": {"point": {"x": 0, "y": 0, "z
 BASE = {"point": {"x": 0.3, "y": 0, "z": 0}, "rotation": {"roll": 0, "pitch": 0, "yaw": 0}}
 POSE = {"angles": [40.0, -90.0, 90.0, -90.0, -90.0, 0.0]}
 
-ATTACK_PAGE = """<!doctype html><html><body><h1>Cute cats</h1><script>
+ATTACK_PAGE = """<!doctype html><html><body><h1>Cute cats</h1>
+<iframe id="pendant" width="800" height="600"></iframe><script>
 window.done = (async () => {{
+  const frame = document.getElementById("pendant");
+  const framed = new Promise((resolve) => {{ frame.onload = resolve; }});
+  frame.src = "http://127.0.0.1:{ui_port}/";  // clickjacking: the pendant under a page of ours
+  await framed;
   const api = "http://127.0.0.1:{api_port}";
   const sent = [];
   const post = async (method, path, body) => {{
@@ -108,10 +113,14 @@ def test_a_page_from_another_origin_cannot_change_or_drive_the_arm(
             page.goto(url)
             page.wait_for_function("() => window.done !== undefined", timeout=RESULT_TIMEOUT_MS)
             outcome = page.evaluate("() => window.done")  # awaits the attack's promise
+            framed_url = page.frames[1].url  # a refused frame shows the browser's error page instead
             page.screenshot(path=str(ARTIFACTS / "cross-origin-attack.png"))
         finally:
             page.close()
     assert outcome["sent"] == ["/tool", "/base", "/poses/run?speed=100"]  # the browser did send them
+    assert not framed_url.startswith(f"http://127.0.0.1:{pendant.ui_port}"), (
+        "the pendant let itself be framed"
+    )
     assert outcome["socket"] == "refused", "a foreign page's websocket was accepted (it would be a browser)"
     assert state(pendant) == before, "a foreign page changed the tool, the base or the arm"
 

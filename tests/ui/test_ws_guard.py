@@ -1,0 +1,76 @@
+"""The page's port (viser's websocket server) with the pendant's Host and Origin rules: a websocket from a
+page of another origin never becomes a browser of the pendant (let alone its operator), a rebound host name
+gets no page, and clients without an Origin (scripts, tests) connect as before. Real sockets on loopback."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import httpx
+import pytest
+import viser
+from websockets.exceptions import InvalidStatus
+from websockets.sync.client import connect
+
+from pendant.access.origin import OriginPolicy
+from pendant.sim import SimController
+from pendant.ui.app import PendantUI
+from tests.api.server import free_port
+
+SUBPROTOCOL = f"viser-v{viser.__version__}"
+
+
+@pytest.fixture
+def page(sim: SimController) -> Iterator[PendantUI]:
+    ui = PendantUI(
+        sim,
+        sim.arm,
+        host="127.0.0.1",
+        port=free_port(),
+        mode_line="Simulator · pulse75",
+        origins=OriginPolicy("127.0.0.1"),
+    )
+    yield ui
+    ui.stop()
+
+
+def ws_url(page: PendantUI) -> str:
+    return f"ws://127.0.0.1:{page.server.get_port()}/"
+
+
+def test_a_websocket_from_another_origin_is_refused_and_nobody_gets_control(page: PendantUI) -> None:
+    with pytest.raises(InvalidStatus) as refused:
+        connect(ws_url(page), origin="http://evil.example", subprotocols=[SUBPROTOCOL], open_timeout=5)
+    assert refused.value.response.status_code == 403
+    assert b"Cross-origin request refused" in refused.value.response.body
+    assert page.desk.operator is None  # on main it became the operator and could jog
+
+
+def test_a_rebound_host_name_gets_neither_the_page_nor_a_websocket(page: PendantUI) -> None:
+    port = page.server.get_port()
+    answer = httpx.get(f"http://127.0.0.1:{port}/", headers={"Host": f"evil.example:{port}"})
+    assert answer.status_code == 403
+    assert "--allowed-host" in answer.text
+    upgrade = {
+        "Host": "evil.example",
+        "Connection": "Upgrade",
+        "Upgrade": "websocket",
+        "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ==",
+        "Sec-WebSocket-Version": "13",
+        "Sec-WebSocket-Protocol": SUBPROTOCOL,
+    }
+    assert httpx.get(f"http://127.0.0.1:{port}/", headers=upgrade).status_code == 403
+    with pytest.raises(InvalidStatus) as refused:  # a second Host header besides the right one
+        connect(ws_url(page), additional_headers={"Host": "evil.example"}, open_timeout=5)
+    assert refused.value.response.status_code == 403
+    assert page.desk.operator is None
+
+
+def test_the_pendants_own_page_and_clients_without_an_origin_connect(page: PendantUI) -> None:
+    port = page.server.get_port()
+    served = httpx.get(f"http://localhost:{port}/")
+    assert served.status_code == 200 and "text/html" in served.headers["content-type"]
+    assert served.headers["content-security-policy"] == "frame-ancestors 'self'"
+    for origin in (f"http://127.0.0.1:{port}", f"http://localhost:{port}", None):
+        with connect(ws_url(page), origin=origin, subprotocols=[SUBPROTOCOL], open_timeout=5) as socket:  # type: ignore[arg-type]
+            assert socket.recv(timeout=5)  # viser's first messages: it is a connected browser
