@@ -21,7 +21,8 @@ def test_dashboard_plots_log_and_join_qr(page, pendant: Pendant) -> None:
     text = legend.inner_text()
     assert re.search(r"J1 -?\d+\.\d °", text), text
     assert "--" not in text
-    page.locator("#event-log").get_by_text("PUT /signal/output/1/high -> 200").first.wait_for(timeout=TIMEOUT_MS)
+    logged = page.locator("#event-log").get_by_text("PUT /signal/output/1/high -> 200")
+    logged.first.wait_for(timeout=TIMEOUT_MS)  # newest first (the log on disk may hold earlier runs')
     page.screenshot(path=str(ARTIFACTS / "dashboard.png"), full_page=True)
 
     page.get_by_role("button", name="Join from a tablet (QR)").click()
