@@ -18,7 +18,7 @@ from pendant.telemetry.history import HistoryWindow
 from pendant.ui.gui_target import GuiTarget
 
 PLOT_HEIGHT_PX = 240
-MAX_POINTS = 600  # per series and plot: more than the panel has pixels across
+MAX_POINTS = 300  # per series and plot: about the panel's width in pixels (as many as the 60 s plots had)
 # New legend values rebuild the chart in the browser (uplot-react recreates it when its series change):
 # while the arm moves, the legend follows every 4th redraw (2 s), the lines every redraw.
 LEGEND_EVERY_N_DRAWS = 4
