@@ -40,6 +40,7 @@ from pendant.config import Settings
 from pendant.controller.protocol import Controller
 from pendant.eventlog import EventLog
 from pendant.monitoring import EventStore, PendantMetrics, data_dir
+from pendant.monitoring.state_watch import StateWatch
 from pendant.paths import MODEL_NAMES
 
 if TYPE_CHECKING:
@@ -327,12 +328,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     access = access_rules(settings, events)  # one switch and one set of rules for both ports
     api_app = make_api_app(settings, controller, started_at, events, access, metrics)
     ui = None if settings.no_ui else start_ui(settings, controller, events, access, metrics)
+    # Without the page's refresh loop, a thread of its own logs the arm's state changes.
+    watch = StateWatch(controller, events, metrics).start() if ui is None else None
     announce(settings)
     try:
         serve_api(settings, api_app)
     finally:
         if ui is not None:
             ui.stop()
+        if watch is not None:
+            watch.stop()
         if events.store is not None:
             events.store.close()
     return 0

@@ -15,7 +15,8 @@ from fastapi import APIRouter, Query
 from starlette.responses import Response
 
 from pendant.eventlog import EventKind
-from pendant.monitoring.eventstore import MAX_LIMIT, TEXT_MAX_CHARS, EventQuery, EventStore
+from pendant.eventquery import EventQuery, StoredEvent
+from pendant.monitoring.eventstore import MAX_LIMIT, TEXT_MAX_CHARS, EventStore
 
 EVENTS_PATH = "/pendant/events"
 DEFAULT_LIMIT = 100
@@ -45,11 +46,11 @@ def parse_kinds(values: list[str]) -> tuple[str, ...]:
     unknown = [kind for kind in kinds if kind not in KIND_NAMES]
     if unknown:
         raise ValueError(f"kind must be one of {', '.join(KIND_NAMES)} (got {unknown[0][:20]!r})")
-    return kinds
+    return tuple(dict.fromkeys(kinds))  # each once: at most five, however often the query repeats them
 
 
-def event_json(event: object) -> dict[str, object]:
-    row = asdict(event)  # type: ignore[call-overload]
+def event_json(event: StoredEvent) -> dict[str, object]:
+    row = asdict(event)
     row["iso_time"] = dt.datetime.fromtimestamp(row["time"], dt.UTC).isoformat()
     return row
 

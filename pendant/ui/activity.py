@@ -21,7 +21,6 @@ from pendant.ui.roles import ControlDesk
 from pendant.ui.snapshot import Snapshot
 
 _ALARM_STATES = {MotionStatus.ERROR, MotionStatus.EMERGENCY, MotionStatus.MOTION_FAILED}
-_MOTION_FAILED_STATES = {MotionStatus.ERROR, MotionStatus.MOTION_FAILED}  # a motion that did not finish
 _RUN_ACTIVE = {RunState.RUNNING, RunState.PAUSED}
 
 
@@ -168,6 +167,6 @@ class ActivityLog:
         if after.motion_status is not None and after.motion_status != before.motion_status:
             was = before.motion_status.value if before.motion_status is not None else "offline"
             kind = EventKind.ERROR if after.motion_status in _ALARM_STATES else EventKind.STATE
-            if self._metrics is not None and after.motion_status in _MOTION_FAILED_STATES:
+            if self._metrics is not None and after.motion_status is MotionStatus.MOTION_FAILED:
                 self._metrics.motion_failures.labels("controller").inc()
             self._events.record(kind, "controller", f"{was} → {after.motion_status.value}")

@@ -18,7 +18,10 @@ from pendant.telemetry.history import HistoryWindow
 from pendant.ui.gui_target import GuiTarget
 
 PLOT_HEIGHT_PX = 240
-MAX_POINTS = 600  # per series and plot: more than the panel has pixels across
+MAX_POINTS = 300  # per series and plot: about the panel's width in pixels (as many as the 60 s plots had)
+# New legend values rebuild the chart in the browser (uplot-react recreates it when its series change):
+# while the arm moves, the legend follows every 4th redraw (2 s), the lines every redraw.
+LEGEND_EVERY_N_DRAWS = 4
 JOINT_COLOURS = ("#e03131", "#2f9e44", "#1971c2", "#f08c00", "#9c36b5", "#0c8599")
 ALL_JOINTS = "All joints"
 JOINT_CHOICES = (ALL_JOINTS, "J1", "J2", "J3", "J4", "J5", "J6")
@@ -88,7 +91,8 @@ class PlotView:
             )
         self._source: PlotSource | None = None
         self._data: PlotData | None = None
-        self.joint.on_update(lambda _: self._draw())
+        self._draws = 0
+        self.joint.on_update(lambda _: self._draw())  # a new choice of joints shows at once
         self.window.on_update(lambda _: self._rescale())
         self.paused.on_update(lambda _: self._follow())
 
@@ -111,13 +115,17 @@ class PlotView:
         data = self._data
         if data is None:
             return
+        self._draws += 1
+        legend_due = self._draws % LEGEND_EVERY_N_DRAWS == 1 or not self._labels
         for key, handle in self.plots.items():
             if len(data[key][0]) < 2:
                 continue
             handle.data = data[key]
             series = self._series(key, [float(values[-1]) for values in data[key][1:]])
             labels = tuple((s["label"], s.get("show", True)) for s in series)
-            if labels != self._labels.get(key):  # only what changed goes to the browser
+            previous = self._labels.get(key)
+            shown_changed = previous is None or [v for _, v in previous] != [v for _, v in labels]
+            if labels != previous and (legend_due or shown_changed):  # only what changed goes to the browser
                 handle.series = series
                 self._labels[key] = labels
 

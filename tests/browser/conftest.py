@@ -7,6 +7,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -38,11 +39,12 @@ class Pendant:
 def running_pendant(*flags: str, env: dict[str, str] | None = None) -> Iterator[Pendant]:
     """A `pendant` process (simulator, UI and API on free loopback ports) with extra `flags`."""
     ui_port, api_port = free_port(), free_port()
+    data = tempfile.TemporaryDirectory(prefix="pendant-data-")  # its event log and recordings
     process = subprocess.Popen(
         [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port), *flags],
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
-        env={**os.environ, "PYTHONUNBUFFERED": "1", **(env or {})},
+        env={**os.environ, "PYTHONUNBUFFERED": "1", "PENDANT_DATA_DIR": data.name, **(env or {})},
     )
     try:
         wait_until(lambda: answers(f"http://127.0.0.1:{api_port}/pose"), START_TIMEOUT_S, "the API")
@@ -54,6 +56,8 @@ def running_pendant(*flags: str, env: dict[str, str] | None = None) -> Iterator[
             process.wait(timeout=10)
         except subprocess.TimeoutExpired:
             process.kill()
+            process.wait(timeout=10)
+        data.cleanup()
 
 
 @pytest.fixture(scope="module")

@@ -56,15 +56,14 @@ def test_program_runs_failures_and_alarms_are_counted(
     runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]
     assert workspace.progress.state is RunState.FAILED
 
-    activity.state_changed(
-        Snapshot(0.0, motion_status=MotionStatus.IDLE), Snapshot(0.1, motion_status=MotionStatus.ERROR)
-    )
+    idle, failed = MotionStatus.IDLE, MotionStatus.MOTION_FAILED
+    activity.state_changed(Snapshot(0.0, motion_status=idle), Snapshot(0.1, motion_status=failed))
     counts = scraped(metrics)
     assert counts["pendant_program_runs_total"] == 2
     assert counts["pendant_program_failures_total"] == 1
     assert counts['pendant_motion_failures_total{source="program"}'] == 1
     assert counts['pendant_motion_failures_total{source="controller"}'] == 1
-    assert counts['pendant_events_total{kind="error"}'] == 2  # the program's failure and the ERROR state
+    assert counts['pendant_events_total{kind="error"}'] == 2  # the program's failure and MOTION_FAILED
 
 
 def test_viewers_and_page_commands_are_counted(sim: SimController) -> None:

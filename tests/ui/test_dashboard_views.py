@@ -20,7 +20,7 @@ from pendant.eventlog import EventKind, EventLog
 from pendant.monitoring import EventStore
 from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.dashboard_plots import PLOT_HEIGHT_PX, UNITS
+from pendant.ui.dashboard_plots import MAX_POINTS, PLOT_HEIGHT_PX, UNITS
 from pendant.ui.session import ClientSession
 from tests.api.server import free_port
 
@@ -102,7 +102,7 @@ def test_longer_windows_reach_back_an_hour_and_pause_holds_the_picture(
     t = angle.data[0]
     assert angle.axes[0]["label"] == "min ago" and angle.scales["x"]["range"] == (-5.0, 0.0)
     assert t[0] <= -3.9 and t[-1] == 0.0, "four minutes of history, in minutes"
-    assert len(t) <= 600
+    assert len(t) <= MAX_POINTS
 
     fire(ui.dashboard.plot_view.paused, viewer, True)
     held = [np.array(a) for a in angle.data]
