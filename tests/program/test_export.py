@@ -19,7 +19,6 @@ from pendant.controller.types import OUTPUT_PORTS
 from pendant.program import (
     GripperAction,
     GripperStep,
-    MoveStep,
     OutputStep,
     Program,
     ProgramRunner,
@@ -32,6 +31,7 @@ from pendant.program import (
 from pendant.program.export import TOKEN_ENV
 from pendant.sim import MonotonicClock, SimController
 from tests.api.server import running_pendant
+from tests.program.conftest import move, program_of
 from tests.remote.uvicorn_thread import serve_in_thread
 
 ANGLE_TOL_DEG = 1e-6
@@ -48,21 +48,19 @@ def api_url() -> Iterator[str]:
 
 def pick_and_place(waypoints) -> Program:  # type: ignore[no-untyped-def]
     a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
-    return Program(
+    return program_of(
+        move(a, speed=100.0),
+        GripperStep(action=GripperAction.CLOSE, timeout_ms=100),
+        OutputStep(port=1, level=SignalLevel.HIGH),
+        move(b, motion=MotionType.LINEAR, speed=100.0),
+        move(c, motion=MotionType.LINEAR, speed=100.0),
+        WaitInputStep(port=1, level=SignalLevel.LOW, timeout_ms=500),
+        GripperStep(action=GripperAction.OPEN, timeout_ms=100),
+        OutputStep(port=2, level=SignalLevel.HIGH),
+        WaitStep(ms=50),
+        move(a, speed=100.0),
+        move(b, speed=100.0),
         name="pick & place",
-        steps=(
-            MoveStep(waypoint=a, speed=100.0),
-            GripperStep(action=GripperAction.CLOSE, timeout_ms=100),
-            OutputStep(port=1, level=SignalLevel.HIGH),
-            MoveStep(waypoint=b, motion=MotionType.LINEAR, speed=100.0),
-            MoveStep(waypoint=c, motion=MotionType.LINEAR, speed=100.0),
-            WaitInputStep(port=1, level=SignalLevel.LOW, timeout_ms=500),
-            GripperStep(action=GripperAction.OPEN, timeout_ms=100),
-            OutputStep(port=2, level=SignalLevel.HIGH),
-            WaitStep(ms=50),
-            MoveStep(waypoint=a, speed=100.0),
-            MoveStep(waypoint=b, speed=100.0),
-        ),
     )
 
 
@@ -117,12 +115,10 @@ def test_a_refused_step_exits_1_with_the_step_and_the_controller_message(
 ) -> None:
     a = waypoints["A"]
     far = a.model_copy(update={"name": "Far", "pose": Pose(angles=[0.0, -90.0, 400.0, -90.0, -90.0, 0.0])})
-    program = Program(
-        steps=(
-            WaitStep(ms=10),
-            MoveStep(waypoint=far, speed=100.0),
-            OutputStep(port=1, level=SignalLevel.LOW),
-        )
+    program = program_of(
+        WaitStep(ms=10),
+        move(far, speed=100.0),
+        OutputStep(port=1, level=SignalLevel.LOW),
     )
     script = tmp_path / "refused.py"
     script.write_text(export_script(program))
@@ -166,12 +162,10 @@ def test_the_exported_script_sends_an_exposed_pendants_token(
 ) -> None:
     sim, url = guarded_api
     a, b = waypoints["A"], waypoints["B"]
-    program = Program(
-        steps=(
-            MoveStep(waypoint=a, speed=100.0),
-            OutputStep(port=1, level=SignalLevel.HIGH),
-            MoveStep(waypoint=b, speed=100.0),
-        )
+    program = program_of(
+        move(a, speed=100.0),
+        OutputStep(port=1, level=SignalLevel.HIGH),
+        move(b, speed=100.0),
     )
     script = tmp_path / "guarded.py"
     script.write_text(export_script(program))

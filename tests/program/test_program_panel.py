@@ -85,19 +85,19 @@ def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path)
     assert len(panel.scene._markers) == 2
 
     fire(panel.select, browser, "1. Move J to P1 @ 20%")
-    fire(panel.speed, browser, 80.0)
+    fire(panel.form.speed, browser, 80.0)
     fire(panel.add, browser, "Set DO")  # after the selected step
     steps = workspace.program.steps
     assert isinstance(steps[0], MoveStep) and steps[0].speed == 80.0
     assert steps[1] == OutputStep(port=1, level=SignalLevel.HIGH)
-    fire(panel.name, browser, "P1")  # typing alone renames nothing
+    fire(panel.waypoints.name, browser, "P1")  # typing alone renames nothing
     fire(panel.select, browser, "3. Move J to P2 @ 20%")
-    fire(panel.name, browser, "place")
-    fire(panel.rename, browser)
+    fire(panel.waypoints.name, browser, "place")
+    fire(panel.waypoints.rename, browser)
     assert workspace.program.waypoint_names() == ["P1", "place"]
 
-    fire(panel.file_name, browser, "cell 4")
-    fire(panel.files, browser, "Save as")
+    fire(panel.file_section.file_name, browser, "cell 4")
+    fire(panel.file_section.files, browser, "Save as")
     assert (tmp_path / "programs" / "cell 4.json").is_file()
     assert browser.notifications[-1]["title"] == "Saved"
     assert "`cell 4.json`" in panel.title.content
@@ -109,10 +109,10 @@ def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path)
     np.testing.assert_allclose(sim.get_pose().angles, POSE_B_DEG, atol=ANGLE_TOL_DEG)
     assert sim.get_output(1) is SignalLevel.HIGH
 
-    fire(panel.download, browser)
+    fire(panel.file_section.download, browser)
     name, content = browser.downloads[-1]
-    assert name == "cell 4.json" and json.loads(content)["steps"][2]["waypoint"]["name"] == "place"
-    fire(panel.export, browser)
+    assert name == "cell 4.json" and json.loads(content)["steps"][2]["waypoint"] == "place"
+    fire(panel.file_section.export, browser)
     assert browser.downloads[-1][0] == "cell_4.py"
 
 
@@ -121,8 +121,10 @@ def test_a_refused_upload_is_explained_and_changes_nothing(setup, sim) -> None: 
     browser = FakeClient()
     record(panel, browser)
     before = workspace.program
-    panel.upload._impl.value = viser.UploadedFile(name="future.json", content=b'{"schema_version": 7}')  # type: ignore[attr-defined]
-    fire(panel.upload, browser)
+    panel.file_section.upload._impl.value = viser.UploadedFile(
+        name="future.json", content=b'{"schema_version": 7}'
+    )  # type: ignore[attr-defined]
+    fire(panel.file_section.upload, browser)
     assert workspace.program == before
     assert browser.notifications[-1]["title"] == "Upload refused"
     assert "newer pendant" in browser.notifications[-1]["body"]
@@ -150,7 +152,7 @@ def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, 
     panel = ProgramPanel(server, workspace, runner, arm=sim.arm)
     try:
         assert workspace.program.steps == ()
-        assert "could not be restored" in panel.file_status.content
+        assert "could not be restored" in panel.file_section.status.content
         kept = list(folder.glob(".autosave.refused.*.json"))
         assert len(kept) == 1 and kept[0].read_text() == "{ half a program"
     finally:
