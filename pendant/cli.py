@@ -6,6 +6,10 @@
 serves the pendant's page and the PULSE REST API (the simulator's, or a proxy to the real arm at --robot);
 with --no-ui, the API alone on the controller's own port.
 
+    pendant run PROGRAM.json [--robot URL] [--loops N]
+
+runs a saved program without a browser (pendant.program.headless).
+
 Bound to loopback (the default) nobody else can reach it. Bound to anything else (`--host 0.0.0.0`) it
 has an access token (`--token`, or a fresh one printed at start-up with a ready-to-open URL carrying it):
 taking control in the page needs it, and so does every PUT/POST on the API (header X-Pendant-Token).
@@ -204,7 +208,12 @@ def serve_api(settings: Settings, app: ASGIApp) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    settings = with_access_token(parse_settings(argv))
+    args = list(sys.argv[1:] if argv is None else argv)
+    if args[:1] == ["run"]:  # `pendant run PROGRAM.json ...`: a saved program, no browser
+        from pendant.program.headless import main as run_program
+
+        return run_program(args[1:])
+    settings = with_access_token(parse_settings(args))
     started_at = time.monotonic()
     controller = make_controller(settings)
     events = EventLog()  # one log for the page and the API: who sent what
