@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pendant.controller.types import MotionType
 from pendant.program.models import (
+    DEFAULT_PALLET_NAME,
     CallStep,
     CommentStep,
     GripperAtWaypoint,
@@ -75,7 +76,7 @@ def describe_step(step: Step) -> str:
             return f"Call {step.program}"
         case PalletStep():
             grid = f"{step.rows}x{step.columns}" + (f"x{step.layers}" if step.layers > 1 else "")
-            return (
-                f"Pallet {step.name} {grid} from {', '.join(step.corners)} (approach {step.approach_mm:g} mm)"
-            )
+            name = "" if step.name == DEFAULT_PALLET_NAME else f" {step.name}"
+            corners = ", ".join(step.corners)
+            return f"Pallet{name} {grid} from {corners} (approach {step.approach_mm:g} mm)"
     raise TypeError(f"not a step: {step!r}")

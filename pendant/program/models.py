@@ -29,6 +29,7 @@ SCHEMA_VERSION = 2
 DEFAULT_SPEED_PERCENT = 20.0
 DEFAULT_INPUT_TIMEOUT_MS = 5000
 DEFAULT_APPROACH_MM = 50.0
+DEFAULT_PALLET_NAME = "Pallet"
 MAX_WAIT_MS = 3_600_000  # an hour: anything longer is a typo, not a program
 WAYPOINT_NAME_MAX = 40
 COMMENT_MAX = 200
@@ -181,7 +182,7 @@ class PalletStep(_Frozen):
     """
 
     kind: Literal["pallet"] = "pallet"
-    name: WaypointName = "Pallet"
+    name: WaypointName = DEFAULT_PALLET_NAME
     corners: tuple[WaypointName, WaypointName, WaypointName]
     rows: GridCount = 2
     columns: GridCount = 2
