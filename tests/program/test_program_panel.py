@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -158,3 +159,72 @@ def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, 
     finally:
         panel.close()
         runner.shutdown()
+
+
+def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(setup, sim, tmp_path) -> None:  # type: ignore[no-untyped-def]
+    panel, workspace = setup
+    browser = FakeClient()
+    files = panel.file_section
+    for _ in range(3):
+        record(panel, browser)
+    fire(panel.select, browser, "2. Move J to P2 @ 20%")
+    # "4\." is no Markdown list item: the numbers stay 1, 2, 3 around the bold (selected) line.
+    assert re.findall(r"(\d+)\\\.", panel.steps_view.content) == ["1", "2", "3"]
+    assert "**● 2\\." in panel.steps_view.content
+    assert "Delete step" in panel.order.options and "Delete file" in files.files.options
+
+    before = workspace.program
+    fire(files.files, browser, "New")  # unsaved work: it asks first
+    assert workspace.program == before and files.question.visible and files.confirm.visible
+    assert "Discard the unsaved changes" in files.question.content
+    fire(files.confirm, browser, "Cancel")
+    assert workspace.program == before and not files.question.visible
+    fire(files.files, browser, "New")
+    fire(files.confirm, browser, "Yes")
+    assert workspace.program.steps == ()
+    fire(panel.history, browser, "Undo")  # the discarded program comes back
+    assert workspace.program == before
+
+    fire(files.file_name, browser, "keep me")
+    fire(files.files, browser, "Save as")
+    fire(files.saved, browser, "keep me")
+    fire(files.files, browser, "Delete file")  # a file: always asked
+    assert (tmp_path / "programs" / "keep me.json").is_file()
+    assert "Delete the file keep me.json?" in files.question.content
+    fire(files.confirm, browser, "Yes")
+    assert not (tmp_path / "programs" / "keep me.json").exists()
+
+    fire(panel.select, browser, "2. Move J to P2 @ 20%")
+    fire(panel.order, browser, "Delete step")
+    assert workspace.program.uses_of("P2") == 0
+    fire(panel.history, browser, "Undo")
+    assert workspace.program.uses_of("P2") == 1
+    fire(panel.history, browser, "Redo")
+    assert workspace.program.uses_of("P2") == 0
+
+
+def test_run_from_the_selected_step_and_retry_a_failed_one(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]
+    panel, workspace = setup
+    browser = FakeClient()
+    teach(sim, clock, POSE_A_DEG, "ignored")
+    record(panel, browser)
+    fire(panel.add, browser, "Wait DI")  # DI1 HIGH, 5 s: nobody sets it, so it fails
+    fire(panel.add, browser, "Set DO")
+    teach(sim, clock, POSE_B_DEG, "ignored")
+    record(panel, browser)
+    sim.reset()
+    fire(panel.select, browser, "2. Wait DI1 HIGH (timeout 5000 ms)")
+    fire(panel.run_section.run_from, browser)
+    workspace.runner._worker.join(timeout=WAIT_S)
+    progress = workspace.progress
+    assert progress.state is RunState.FAILED and progress.failed_step == 1
+    assert sim.get_pose().angles == pytest.approx([0.0, -90.0, 90.0, -90.0, -90.0, 0.0])  # step 1 skipped
+    assert panel.run_section.retry.visible and "✖ 2\\." in panel.steps_view.content
+
+    sim.set_input(1, SignalLevel.HIGH)
+    fire(panel.run_section.retry, browser)
+    workspace.runner._worker.join(timeout=WAIT_S)
+    assert workspace.progress.state is RunState.FINISHED
+    assert sim.get_output(1) is SignalLevel.HIGH
+    np.testing.assert_allclose(sim.get_pose().angles, POSE_B_DEG, atol=ANGLE_TOL_DEG)
+    assert not panel.run_section.retry.visible
