@@ -115,7 +115,9 @@ def test_teach_and_run_a_pallet_pick_and_place(page, pendant: Pendant) -> None:
     move_to(pendant, PLACE_DEG)
     np.testing.assert_allclose(tcp(pendant), p4, atol=POSITION_TOL_M)  # it ended 50 mm above P4
 
-    name_box = page.get_by_label("Save as name")
+    # The text box in the row labelled "Save as name" (viser's label is not tied to its input).
+    label = page.get_by_text("Save as name", exact=True)
+    name_box = label.locator("xpath=ancestor::div[.//input][1]//input").first
     name_box.fill("cell")
     name_box.press("Enter")
     click(page, "Save as")
