@@ -12,14 +12,23 @@ import numpy as np
 import pytest
 import viser
 
-from pendant.controller import SignalLevel
-from pendant.program import MoveStep, OutputStep, ProgramRunner, ProgramStore, ProgramWorkspace, RunState
+from pendant.controller import MotionType, SignalLevel
+from pendant.program import (
+    MoveStep,
+    Offset,
+    OutputStep,
+    PalletStep,
+    ProgramRunner,
+    ProgramStore,
+    ProgramWorkspace,
+    RunState,
+)
 from pendant.sim import FakeClock, SimController
 from pendant.ui.commands import CommandRunner
 from pendant.ui.program_panel import ProgramPanel
 from tests.api.server import free_port
 
-from .conftest import POSE_A_DEG, POSE_B_DEG, teach
+from .conftest import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, teach
 
 ANGLE_TOL_DEG = 1e-6
 WAIT_S = 10.0
@@ -228,3 +237,19 @@ def test_run_from_the_selected_step_and_retry_a_failed_one(setup, sim, clock) ->
     assert sim.get_output(1) is SignalLevel.HIGH
     np.testing.assert_allclose(sim.get_pose().angles, POSE_B_DEG, atol=ANGLE_TOL_DEG)
     assert not panel.run_section.retry.visible
+
+
+def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]
+    panel, workspace = setup
+    for pose in (POSE_A_DEG, POSE_B_DEG, POSE_C_DEG):
+        teach(sim, clock, pose, "ignored")
+        workspace.add_waypoint(sim.get_pose(), sim.get_position())
+    workspace.insert_step(MoveStep(waypoint="P1", motion=MotionType.LINEAR, offset=Offset(z=50.0)))
+    workspace.insert_step(PalletStep(corners=("P1", "P2", "P3"), rows=3, columns=4, approach_mm=30.0))
+    cells = [node for node in panel.scene._nodes if node.name == "/program/pallet_cells"]
+    assert len(cells) == 1 and cells[0].points.shape == (12, 3)  # type: ignore[attr-defined]
+    p1 = workspace.program.waypoint("P1").position.point
+    marker_points = [np.asarray(marker.position) for marker, _ in panel.scene._markers]
+    above_p1 = np.array([p1.x, p1.y, p1.z + 0.05])
+    assert min(float(np.linalg.norm(p - above_p1)) for p in marker_points) < 1e-4  # the relative target
+    assert any(abs(float(p[2]) - (p1.z + 0.03)) < 1e-4 for p in marker_points)  # above the first cell
