@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from pendant.controller.types import Position
+from pendant.controller.types import Point, Position, Rotation
 from pendant.kinematics.transforms import matrix_to_position, position_to_matrix, rpy_to_matrix
 from pendant.program.models import Frame, Offset
 
@@ -14,12 +14,19 @@ MM = 1e-3
 ROUND_DECIMALS = 9  # nanometres / nano-radians: no float noise (-9.5e-15) in targets or exported files
 
 
+def _r(value: float) -> float:
+    return round(value, ROUND_DECIMALS) + 0.0  # + 0.0: no -0.0 either
+
+
+def at(x: float, y: float, z: float, rotation: Rotation) -> Position:
+    """A position from finite computed numbers, rounded so that computed zeros are 0.0, not -9.5e-15."""
+    turn = Rotation(roll=_r(rotation.roll), pitch=_r(rotation.pitch), yaw=_r(rotation.yaw))
+    return Position(point=Point(x=_r(x), y=_r(y), z=_r(z)), rotation=turn)
+
+
 def clean(position: Position) -> Position:
-    """`position` rounded so that computed zeros are 0.0, not -9.5e-15."""
-    data = position.model_dump()
-    for group in ("point", "rotation"):
-        data[group] = {k: round(v, ROUND_DECIMALS) + 0.0 for k, v in data[group].items()}
-    return Position.model_validate(data)
+    p = position.point
+    return at(p.x, p.y, p.z, position.rotation)
 
 
 def offset_position(position: Position, offset: Offset) -> Position:
@@ -39,9 +46,8 @@ def offset_position(position: Position, offset: Offset) -> Position:
 
 def lifted(position: Position, height_m: float) -> Position:
     """`position` raised by `height_m` along the base z axis (a pallet's approach point)."""
-    data = position.model_dump()
-    data["point"]["z"] += height_m
-    return clean(Position.model_validate(data))
+    p = position.point
+    return at(p.x, p.y, p.z + height_m, position.rotation)
 
 
 def pallet_cells(
@@ -57,8 +63,6 @@ def pallet_cells(
     for layer in range(layers):
         for row in range(rows):
             for column in range(columns):
-                point = origin + row * along_column + column * along_row
-                data = corners[0].model_dump()
-                data["point"] = {"x": point[0], "y": point[1], "z": point[2] + layer * layer_height_m}
-                cells.append(clean(Position.model_validate(data)))
+                x, y, z = (origin + row * along_column + column * along_row).tolist()
+                cells.append(at(x, y, z + layer * layer_height_m, corners[0].rotation))
     return cells

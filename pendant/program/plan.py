@@ -28,6 +28,7 @@ from pendant.program.models import (
     Step,
     WaitInputStep,
     WaitStep,
+    Waypoint,
     WaypointAction,
     children,
 )
@@ -154,6 +155,7 @@ class _Compiler:
     blend: bool
     actions_in_path: bool
     calls: list[str] = field(default_factory=list)
+    tables: dict[int, dict[str, Waypoint]] = field(default_factory=dict)
     next_line: int = 0
 
     def program(self, program: Program, steps: tuple[Step, ...], line: int | None) -> tuple[Node, ...]:
@@ -173,6 +175,13 @@ class _Compiler:
             elif node is not None:
                 nodes.append(node)
         return tuple(nodes)
+
+    def table(self, program: Program) -> dict[str, Waypoint]:
+        """The program's waypoints by name (built once per program: a plan may have thousands of moves)."""
+        key = id(program)
+        if key not in self.tables:
+            self.tables[key] = {w.name: w for w in program.waypoints}
+        return self.tables[key]
 
     def _joins(self, last: Node, node: MoveGroup) -> bool:
         # Today's controllers run actions only after a stop: a waypoint with actions ends its group.
@@ -204,7 +213,7 @@ class _Compiler:
             case IfStep():
                 return Branch(line, step.port, step.level, inner(step.then), inner(step.otherwise))
             case PalletStep():
-                corners = tuple(program.waypoint(name).position for name in step.corners)
+                corners = tuple(self.table(program)[name].position for name in step.corners)
                 cells = pallet_cells(corners, step.rows, step.columns, step.layers, step.layer_height_mm * MM)  # type: ignore[arg-type]
                 return Pallet(
                     line, step.name, tuple(cells), step.approach_mm * MM, step.speed, inner(step.body)
@@ -214,7 +223,7 @@ class _Compiler:
         raise TypeError(f"not a step: {step!r}")
 
     def target(self, program: Program, step: MoveStep, line: int) -> Target:
-        waypoint = program.waypoint(step.waypoint)
+        waypoint = self.table(program)[step.waypoint]
         if step.offset is None and step.motion is MotionType.JOINT:
             return Target(line, step.waypoint, waypoint.pose, waypoint.position, step.blend_mm, step.actions)
         position = (
