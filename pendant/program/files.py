@@ -69,6 +69,8 @@ def parse_program(data: bytes, source: str) -> Program:
         document = json.loads(data)
     except (UnicodeDecodeError, json.JSONDecodeError) as error:
         raise ProgramFileError(f"{source} is not a JSON document: {error}") from error
+    except RecursionError as error:
+        raise ProgramFileError(f"{source} nests too deeply to be a program") from error
     if not isinstance(document, dict):
         raise ProgramFileError(f"{source} is not a program (expected a JSON object)")
     version = document.get("schema_version")
@@ -88,6 +90,8 @@ def parse_program(data: bytes, source: str) -> Program:
         return Program.model_validate(migrate(document))
     except ValidationError as error:
         raise ProgramFileError(f"{source} is not a valid program: {describe_problems(error)}") from error
+    except RecursionError as error:
+        raise ProgramFileError(f"{source} nests too deeply to be a program") from error
 
 
 FLOAT_DECIMALS = 9  # nanometres and nano-radians: a recorded 0 is written 0.0, not -9.5e-15

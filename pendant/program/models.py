@@ -37,6 +37,7 @@ MAX_LOOP_TIMES = 1_000_000
 MAX_GRID = 100  # rows, columns or layers of a pallet
 MAX_OFFSET_MM = 2000.0  # a relative move further than the arm reaches is a typo
 MAX_BLEND_MM = 500.0
+MAX_NESTING = 16  # Loops in Ifs in Pallets ...: deeper is not a program a person taught
 
 
 class _Frozen(BaseModel):
@@ -232,6 +233,10 @@ def walk(steps: tuple[Step, ...]) -> list[Step]:
     return found
 
 
+def _depth(steps: tuple[Step, ...]) -> int:
+    return max((1 + max((_depth(inner) for _, inner in children(s)), default=0) for s in steps), default=0)
+
+
 def referenced_waypoints(step: Step) -> list[str]:
     if isinstance(step, MoveStep):
         return [step.waypoint]
@@ -254,6 +259,8 @@ class Program(_Frozen):
         duplicates = sorted({n for n in names if names.count(n) > 1})
         if duplicates:
             raise ValueError(f"waypoint names must be unique: {', '.join(map(repr, duplicates))}")
+        if _depth(self.steps) > MAX_NESTING:
+            raise ValueError(f"steps nest more than {MAX_NESTING} deep")
         known = set(names)
         for step in walk(self.steps):
             for name in referenced_waypoints(step):

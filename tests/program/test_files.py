@@ -238,3 +238,12 @@ def test_a_recorded_waypoint_survives_the_process_being_killed(tmp_path: Path) -
     assert restarted.program.waypoint_names() == ["P1"]
     assert restarted.program.waypoint("P1").pose.angles[0] == 10.0
     assert restarted.dirty
+
+
+@pytest.mark.parametrize("depth", [17, 5000])
+def test_steps_nested_too_deeply_are_refused_with_a_message(tmp_path: Path, depth: int) -> None:
+    # Written as text: json.dumps itself cannot nest 5,000 deep.
+    steps = '{"kind": "loop", "times": 1, "body": [' * depth + "]}" * depth
+    (tmp_path / "deep.json").write_text(f'{{"schema_version": 2, "name": "deep", "steps": [{steps}]}}')
+    with pytest.raises(ProgramFileError, match="nest"):
+        ProgramStore(tmp_path).load("deep")
