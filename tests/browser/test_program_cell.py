@@ -78,7 +78,6 @@ def near_place_then_sensor(pendant: Pendant, done: object) -> None:
 
 
 def test_teach_and_run_a_pallet_pick_and_place(page, pendant: Pendant) -> None:
-    pendant.api.put("/sim/reset").raise_for_status()
     take_control = page.get_by_role("button", name="Take control")
     if take_control.is_enabled():
         take_control.click()
@@ -133,7 +132,8 @@ def test_teach_and_run_a_pallet_pick_and_place(page, pendant: Pendant) -> None:
     assert [s["offset"] is not None for s in loop["body"] if s["kind"] == "move"] == [True, False, True]
 
     # The same file, headless, against the same controller.
-    pendant.api.put("/sim/reset").raise_for_status()
+    pendant.api.put("/sim/signal/input/1/low").raise_for_status()  # a full tray again
+    move_to(pendant, CORNERS_DEG[0])
     env = {**os.environ, "PYTHONPATH": str(REPO_ROOT)}
     process = subprocess.Popen(
         [sys.executable, "-m", "pendant", "run", str(saved), "--robot", str(pendant.api.base_url)],
