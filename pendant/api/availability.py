@@ -11,7 +11,7 @@ from pendant.api.errors import error_response
 from pendant.controller.errors import ControllerError
 
 # Served by the pendant, not the controller: they answer whatever state the arm is in.
-NOT_THE_CONTROLLERS = ("/sim/", "/pendant/", "/docs", "/redoc", "/openapi.json")
+NOT_THE_CONTROLLERS = ("/sim/", "/pendant/", "/metrics", "/docs", "/redoc", "/openapi.json")
 
 
 class UnavailableFirst:

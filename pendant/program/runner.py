@@ -242,6 +242,9 @@ class ProgramRunner:
         )
 
     def _failed(self, run: _Run, failure: NodeFailed) -> RunProgress:
+        # Stop the arm where it is: the rest of a blended group must not run on while the page says "failed"
+        # (a controller error mid-run, a read that failed, a refused step). Retry sends what is left.
+        self._freeze_quietly()
         listed = lines(run.program.steps)
         what_of = lambda i: describe_step(listed[i].step) if i < len(listed) else "?"  # noqa: E731
         if failure.last_line > failure.line:  # the controller refuses a blended run whole

@@ -31,7 +31,7 @@ LOW_REACH_WRIST_TURNED = Pose(angles=[0.0, -10.0, -20.0, 90.0, -90.0, 0.0])
 
 
 def _snapshot(sim: SimController) -> tuple[object, ...]:
-    return sim.get_pose(), sim.get_motion_status(), len(sim._queue), sim.gripper_opening()
+    return sim.get_pose(), sim.get_motion_status(), len(sim._motions.queue), sim.gripper_opening()
 
 
 def _assert_refused(

@@ -67,7 +67,7 @@ def test_power_on_is_idle_at_home(sim: SimController) -> None:
 def test_idle_running_idle(sim: SimController, clock: FakeClock) -> None:
     sim.set_pose(TARGET, JOINT_50)
     assert sim.get_motion_status() is MotionStatus.RUNNING
-    duration = sim._queue[0].duration
+    duration = sim._motions.queue[0].duration
     clock.advance(duration * 0.999)
     assert sim.get_motion_status() is MotionStatus.RUNNING
     clock.advance(duration * 0.002)
