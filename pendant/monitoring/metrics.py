@@ -17,7 +17,7 @@ from starlette.responses import Response
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from pendant import __version__
-from pendant.access.token import MUTATING_METHODS
+from pendant.access.token import changes_robot
 from pendant.controller.protocol import Controller
 from pendant.eventlog import Event, EventLog
 from pendant.monitoring.controller_metrics import ControllerCollector
@@ -109,7 +109,7 @@ class CommandMetrics:
         self.metrics = metrics
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] != "http" or scope["method"] not in MUTATING_METHODS:
+        if scope["type"] != "http" or not changes_robot(scope["method"]):
             await self.app(scope, receive, send)
             return
         path: str = scope["path"]
