@@ -214,7 +214,8 @@ def test_a_failed_run_resumes_at_the_failed_step_and_not_before(sim, clock, wayp
     sim.set_input(3, SignalLevel.HIGH)  # the operator fixed the cause
     resumed = runner.resume()
     assert resumed.state is RunState.FINISHED
-    assert recording.names() == ["run_poses", "set_output", "run_poses"]  # nothing before it ran again
+    # The failure froze the arm; nothing before the failed step ran again.
+    assert recording.names() == ["run_poses", "set_output", "freeze", "run_poses"]
     np.testing.assert_allclose(angles(sim), b.pose.angles, atol=ANGLE_TOL_DEG)
 
 
