@@ -9,7 +9,7 @@ the step list (lines number the step tree depth first, as it is listed).
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import Future
 
 import viser
@@ -122,6 +122,16 @@ class ProgramPanel:
     def locked(self, locked: bool) -> None:
         self.run_section.locked = locked
         self.run_section.redraw()
+
+    def commanding_handles(self) -> Iterator[viser.GuiInputHandle]:
+        """The controls only the operator may use (the session disables them, or hides button groups, for
+        a viewer). Run, Step and Retry follow `locked`; the Yes/Cancel row shows only with a question."""
+        yield from (self.record, self.add, self.add_structure, self.order, self.history)
+        w = self.waypoints
+        yield from (w.name, w.rename, w.reteach, w.go_to, w.teach_new, w.delete)
+        yield from self.form.fields
+        f = self.file_section
+        yield from (self.run_section.loops, f.file_name, f.files, f.upload)
 
     def close(self) -> None:
         """Stop following the workspace (the browser left)."""

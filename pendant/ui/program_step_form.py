@@ -125,8 +125,8 @@ class StepForm:
             ),
         }
         # Handles are not hashable: unique by identity, in form order.
-        self._fields = list({id(h): h for group in self._groups.values() for h in group}.values())
-        for handle in self._fields:
+        self.fields = list({id(h): h for group in self._groups.values() for h in group}.values())
+        for handle in self.fields:
             handle.on_update(self._on_field)
 
     def _on_field(self, event: viser.GuiEvent) -> None:
@@ -140,7 +140,7 @@ class StepForm:
     def show(self, step: Step | None) -> None:
         """Show the fields of `step`'s kind, filled in (called while the host is syncing)."""
         shown = {id(h) for h in self._groups.get(type(step), ())}
-        for handle in self._fields:
+        for handle in self.fields:
             handle.visible = id(handle) in shown
         if isinstance(step, MoveStep):
             offset = step.offset
