@@ -33,10 +33,11 @@ class Outcome(StrEnum):
 class NodeFailed(Exception):
     """A node failed; the stack still points at it, so `run` again retries it."""
 
-    def __init__(self, line: int, last_line: int, reason: str) -> None:
+    def __init__(self, line: int, last_line: int, reason: str, targets: str = "") -> None:
         self.line = line
         self.last_line = last_line  # > line when a blended group was refused whole
         self.reason = reason
+        self.targets = targets  # that group's waypoints, "A, B, Far"
 
 
 @dataclass
@@ -110,7 +111,8 @@ class Interpreter:
                     frame.target = failure.target
                     first = node.targets[failure.target]
                     last = node.targets[-1] if failure.whole else first
-                    raise NodeFailed(first.line, last.line, failure.reason) from failure
+                    targets = node.describe(failure.target)
+                    raise NodeFailed(first.line, last.line, failure.reason, targets) from failure
                 raise NodeFailed(node.line, node.line, failure.reason) from failure
             except Interrupted as interrupted:
                 if isinstance(node, MoveGroup):
@@ -169,12 +171,19 @@ class Interpreter:
                         return None
                     continue
                 return None
-            if frame.loop is not None and _continues(frame.loop, frame.passes + 1, executor):
+            if frame.loop is not None and self._loop_continues(frame.loop, frame.passes + 1, executor):
                 frame.passes += 1
                 frame.index = 0
                 continue
             self.stack.pop()
             self.stack[-1].index += 1
+
+    def _loop_continues(self, loop: Loop, passes: int, executor: NodeExecutor) -> bool:
+        """The check at the end of a pass: a failed input read fails the Loop's line (a retry re-reads)."""
+        try:
+            return _continues(loop, passes, executor)
+        except StepFailed as failure:
+            raise NodeFailed(loop.line, loop.line, failure.reason) from failure
 
 
 def _continues(loop: Loop, passes: int, executor: NodeExecutor) -> bool:

@@ -224,7 +224,7 @@ class ProgramRunner:
             return self._interrupted(run)
         except NodeFailed as failure:
             return self._failed(run, failure)
-        except ControllerError as error:  # a read outside any node (e.g. a loop's input): the current line
+        except ControllerError as error:  # not expected (every read is a node's), but never left uncaught
             line = interpreter.line or 0
             return self._failed(run, NodeFailed(line, line, error.message))
         if outcome is Outcome.STEPPED and interpreter.line is not None:
@@ -245,13 +245,12 @@ class ProgramRunner:
         # Stop the arm where it is: the rest of a blended group must not run on while the page says "failed"
         # (a controller error mid-run, a read that failed, a refused step). Retry sends what is left.
         self._freeze_quietly()
-        listed = lines(run.program.steps)
-        what_of = lambda i: describe_step(listed[i].step) if i < len(listed) else "?"  # noqa: E731
         if failure.last_line > failure.line:  # the controller refuses a blended run whole
-            names = run.interpreter.stack[-1].nodes[run.interpreter.stack[-1].index]
-            what = f"Steps {failure.line + 1}-{failure.last_line + 1} (blended moves to {names.describe()})"
+            what = f"Steps {failure.line + 1}-{failure.last_line + 1} (blended moves to {failure.targets})"
         else:
-            what = f"Step {failure.line + 1} ({what_of(failure.line)})"
+            listed = lines(run.program.steps)
+            step = describe_step(listed[failure.line].step) if failure.line < len(listed) else "?"
+            what = f"Step {failure.line + 1} ({step})"
         return self._finish(
             state=RunState.FAILED,
             step_index=failure.line,

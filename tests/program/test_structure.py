@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pendant.controller import MotionType, Pose, SignalLevel
+from pendant.controller import MotionType, NotResponding, Pose, SignalLevel
 from pendant.kinematics.transforms import position_to_matrix
 from pendant.program import (
     CallStep,
@@ -250,3 +250,34 @@ def test_a_refused_pose_inside_a_loop_names_its_line(sim, clock, waypoints) -> N
     result = ProgramRunner(sim, sleep=clock.advance, now=clock.now).run(program)
     assert result.state is RunState.FAILED and result.failed_step == 2
     assert result.message == "Step 3 (Move J to Far @ 50%) failed: Unreachable Pose"
+
+
+class FailingInput:
+    """The simulator, whose input reads fail (a controller that stopped answering) after `after` reads."""
+
+    def __init__(self, sim: SimController, after: int) -> None:
+        self._sim, self._left = sim, after
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(self._sim, name)
+
+    def get_input(self, port: int) -> SignalLevel:
+        self._left -= 1
+        if self._left < 0:
+            raise NotResponding()
+        return self._sim.get_input(port)
+
+
+def test_a_failed_input_read_at_the_end_of_a_pass_fails_the_loop_and_a_retry_reads_again(
+    sim, clock, waypoints
+) -> None:
+    a = waypoints["A"]
+    loop = LoopStep(mode=LoopMode.UNTIL, port=1, level=SignalLevel.HIGH, body=(move(a).step,))
+    flaky = FailingInput(sim, after=1)  # the check before the first pass answers, the next does not
+    runner = ProgramRunner(flaky, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
+    failed = runner.run(program_of(CommentStep(text="cell"), loop, extra=(a,)))
+    assert failed.state is RunState.FAILED and failed.failed_step == 1
+    assert failed.message.startswith("Step 2 (Loop until DI1 HIGH) failed: ")
+    flaky._left = 10
+    sim.set_input(1, SignalLevel.HIGH)
+    assert runner.resume().state is RunState.FINISHED
