@@ -27,6 +27,7 @@ CORNERS_DEG = (
 )
 PLACE_DEG = [45.0, -95.0, 95.0, -90.0, -90.0, 0.0]
 POSITION_TOL_M = 0.002
+CLICK_TIMEOUT_MS = 90_000
 # The steps as listed (nesting is checked in the saved file: the list indents with em spaces).
 EXPECTED_STEPS = [
     "Loop until DI1 HIGH",
@@ -78,6 +79,8 @@ def near_place_then_sensor(pendant: Pendant, done: object) -> None:
 
 
 def test_teach_and_run_a_pallet_pick_and_place(page, pendant: Pendant) -> None:
+    # Some thirty clicks on a page drawn by software WebGL: a loaded machine may take a while per click.
+    page.set_default_timeout(CLICK_TIMEOUT_MS)
     take_control = page.get_by_role("button", name="Take control")
     if take_control.is_enabled():
         take_control.click()
