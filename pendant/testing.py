@@ -4,7 +4,7 @@ Active wherever the package is installed (a `pytest11` entry point), or with `py
 
     def test_pick(pulse_sim):
         run_my_robot_code(pulse_sim.url)         # any client: Rozum's SDK, httpx, your own
-        pulse_sim.fault("error")                  # error, emergency, no_response, motion_failed, ...
+        pulse_sim.fault("error")                  # emergency, no_response, motion_failed, overheat, ...
         pulse_sim.set_input(1, "high")
         pulse_sim.at(2.0, "emergency")            # at simulated time 2 s
         pulse_sim.on_waypoint(2, "error")         # when the current run reaches its 2nd waypoint
@@ -35,9 +35,12 @@ if TYPE_CHECKING:
 DEFAULT_MODEL = "pulse75"
 DEFAULT_TIME_SCALE = 10.0
 # Every fault kind the fixture knows; those the simulator does not have yet are refused with a message.
-FAULT_KINDS = ("error", "emergency", "no_response", "motion_failed", "twisted", "protective_stop")
+FAULT_KINDS = ("error", "emergency", "no_response", "motion_failed", "overheat", "twisted", "protective_stop")
 # Kinds played by a simulator method rather than a `Fault` member, when the simulator has that method.
-FAULT_METHODS = {"protective_stop": "stop"}  # POST /stop, as the PULSE 1.8 simulator names it
+FAULT_METHODS = {
+    "overheat": "overheat",  # as PUT /sim/fault/overheat
+    "protective_stop": "stop",  # POST /stop, as the PULSE 1.8 simulator names it
+}
 ENVIRONMENT_PATH = "/environment"
 MARKER = "pulse_sim"
 _OPTIONS = {
@@ -118,7 +121,7 @@ class PulseSim:
         return self._server.script.origin
 
     def fault(self, kind: str) -> None:
-        """Make the controller fail now: error, emergency, no_response, motion_failed, twisted,
+        """Make the controller fail now: error, emergency, no_response, motion_failed, overheat, twisted,
         protective_stop (see `fault_kinds()` for those this simulator has)."""
         self._fault_action(kind)()
 

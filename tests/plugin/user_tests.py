@@ -63,12 +63,12 @@ def test_b_starts_from_power_on(pulse_sim, api):
 
 def test_every_fault_that_refuses_motion(pulse_sim, api):
     have = pulse_sim.fault_kinds()
-    assert {"error", "emergency", "no_response", "motion_failed"} <= set(have)
+    assert {"error", "emergency", "no_response", "motion_failed", "overheat"} <= set(have)
     for kind in FAULT_KINDS:
         if kind not in have:
             with pytest.raises(PulseSimError, match="not in this simulator yet"):
                 pulse_sim.fault(kind)
-    for kind in (k for k in have if k != "motion_failed"):
+    for kind in (k for k in have if k not in ("motion_failed", "overheat")):
         pulse_sim.controller.reset()
         pulse_sim.fault(kind)
         refused = api.put("/pose", params=SLOW, json={"angles": FAR})
@@ -83,6 +83,13 @@ def test_error_message_and_recover(pulse_sim, api):
     assert (refused.status_code, refused.json()) == (500, "Robot does not respond")
     assert motion_status(api) == "ERROR"
     assert api.put("/recover").json() == "SUCCESS"
+
+
+def test_overheat_heats_the_stators(pulse_sim, api):
+    cold = max(m["statorTemperature"] for m in api.get("/status/motors").json())
+    pulse_sim.fault("overheat")
+    hot = max(m["statorTemperature"] for m in api.get("/status/motors").json())
+    assert cold < 40.0 < 100.0 < hot
 
 
 def test_unknown_fault_is_refused(pulse_sim):
@@ -187,9 +194,11 @@ def test_a_function_as_the_action(pulse_sim, api):
 def test_a_60_s_motion_takes_a_fraction_of_it(pulse_sim, api):
     api.put("/pose", params=SLOW, json={"angles": FAR}).raise_for_status()
     (motion,) = pulse_sim.controller.queued_motions()
-    before, wall0 = api.get("/sim/clock").json(), time.monotonic()
+    wall0 = time.monotonic()  # before the first read and after the second: the server's span is inside
+    before = api.get("/sim/clock").json()
     assert wait_while_running(api) == "IDLE"
-    after, wall = api.get("/sim/clock").json(), time.monotonic() - wall0
+    after = api.get("/sim/clock").json()
+    wall = time.monotonic() - wall0
     assert motion.duration > 55.0
     assert angles(api) == pytest.approx(FAR, abs=1e-6)
     simulated = after["time"] - before["time"]
