@@ -1,5 +1,8 @@
-"""Teach and play back: waypoints and programs (pydantic), versioned JSON files, the runner, Python export."""
+"""Teach and play back: a waypoint table and a step tree (pydantic), versioned JSON files, the runner (one
+interpreter for the page and `pendant run`), Python export."""
 
+from pendant.program.describe import describe_step
+from pendant.program.editing import EditError
 from pendant.program.export import export_script, program_operations
 from pendant.program.files import (
     DEFAULT_PROGRAMS_DIR,
@@ -13,32 +16,51 @@ from pendant.program.files import (
 )
 from pendant.program.models import (
     SCHEMA_VERSION,
+    CallStep,
+    CommentStep,
+    Frame,
     GripperAction,
+    GripperAtWaypoint,
     GripperStep,
+    IfStep,
+    LoopMode,
+    LoopStep,
     MoveStep,
+    Offset,
+    OutputAction,
     OutputStep,
+    PalletStep,
     Program,
     Step,
     WaitInputStep,
     WaitStep,
     Waypoint,
-    describe_step,
 )
-from pendant.program.plan import MoveGroup, SingleStep, plan_segments
+from pendant.program.plan import PlanError, compile_program
 from pendant.program.runner import ProgramRunner, RunnerBusy, RunProgress, RunState
-from pendant.program.workspace import Change, EditError, ProgramWorkspace
+from pendant.program.workspace import Change, ProgramWorkspace
 
 __all__ = [
     "DEFAULT_PROGRAMS_DIR",
     "PROGRAMS_DIR_ENV",
     "SCHEMA_VERSION",
+    "CallStep",
     "Change",
+    "CommentStep",
     "EditError",
+    "Frame",
     "GripperAction",
+    "GripperAtWaypoint",
     "GripperStep",
-    "MoveGroup",
+    "IfStep",
+    "LoopMode",
+    "LoopStep",
     "MoveStep",
+    "Offset",
+    "OutputAction",
     "OutputStep",
+    "PalletStep",
+    "PlanError",
     "Program",
     "ProgramFileError",
     "ProgramRunner",
@@ -47,16 +69,15 @@ __all__ = [
     "RunProgress",
     "RunState",
     "RunnerBusy",
-    "SingleStep",
     "Step",
     "WaitInputStep",
     "WaitStep",
     "Waypoint",
     "atomic_write",
+    "compile_program",
     "describe_step",
     "export_script",
     "parse_program",
-    "plan_segments",
     "program_operations",
     "programs_dir",
     "sanitize_name",

@@ -13,74 +13,112 @@ import re
 from datetime import UTC, datetime
 
 from pendant.access.token import TOKEN_HEADER
-from pendant.controller.types import MotionType
-from pendant.program.models import (
-    GripperStep,
-    OutputStep,
-    Program,
-    WaitInputStep,
-    WaitStep,
-    describe_step,
-)
-from pendant.program.plan import MoveGroup, plan_segments
-from pendant.program.runner import ARRIVAL_TOL_DEG, ARRIVAL_TOL_M, POLL_S, START_GRACE_S
+from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS, MotionType
+from pendant.program.describe import describe_step
+from pendant.program.files import rounded
+from pendant.program.models import GripperStep, OutputStep, Program, WaitInputStep, WaitStep
+from pendant.program.motion import ARRIVAL_TOL_DEG, ARRIVAL_TOL_M, POLL_S, START_GRACE_S
+from pendant.program.plan import Branch, Loader, Loop, MoveGroup, Node, Pallet, Single, compile_program
 
 DEFAULT_URL = "http://127.0.0.1:8081"
 TOKEN_ENV = "PULSE_PENDANT_TOKEN"
+Operation = dict[str, object]
 
 
-def program_operations(program: Program) -> list[dict[str, object]]:
-    """The program as a flat list of controller operations (plain data: str, int, float, list, dict)."""
-    operations: list[dict[str, object]] = []
-    for segment in plan_segments(program.steps):
-        if isinstance(segment, MoveGroup):
-            numbers = [i + 1 for i in segment.indices]
-            what = "; ".join(describe_step(move) for move in segment.moves)
-            if segment.motion is MotionType.JOINT:
-                operations.append(
-                    {
-                        "op": "run_poses",
-                        "steps": numbers,
-                        "what": what,
-                        "speed": segment.moves[0].speed,
-                        "targets": [[float(a) for a in move.waypoint.pose.angles] for move in segment.moves],
-                    }
-                )
-            else:
-                operations.append(
-                    {
-                        "op": "run_positions",
-                        "steps": numbers,
-                        "what": what,
-                        "speed": segment.moves[0].speed,
-                        "targets": [move.waypoint.position.model_dump(mode="json") for move in segment.moves],
-                    }
-                )
-            continue
-        step, base = segment.step, {"steps": [segment.index + 1], "what": describe_step(segment.step)}
-        match step:
-            case GripperStep():
-                operations.append(
-                    {"op": "gripper", **base, "action": step.action.value, "timeout_ms": step.timeout_ms}
-                )
-            case OutputStep():
-                operations.append({"op": "output", **base, "port": step.port, "level": step.level.value})
-            case WaitInputStep():
-                operations.append(
-                    {
-                        "op": "wait_input",
-                        **base,
-                        "port": step.port,
-                        "level": step.level.value,
-                        "timeout_ms": step.timeout_ms,
-                    }
-                )
-            case WaitStep():
-                operations.append({"op": "wait", **base, "ms": step.ms})
-    return operations
+def program_operations(program: Program, load: Loader | None = None) -> list[Operation]:
+    """The program as a tree of controller operations (plain data: str, int, float, list, dict): the same
+    plan the runner executes (pendant.program.plan), with Call steps inlined by `load`."""
+    return [_operation(node) for node in compile_program(program, load)]
 
 
-def export_script(program: Program) -> str:
+def _operations(nodes: tuple[Node, ...]) -> list[Operation]:
+    return [_operation(node) for node in nodes]
+
+
+def _operation(node: Node) -> Operation:
+    match node:
+        case MoveGroup():
+            numbers = sorted({t.line + 1 for t in node.targets})
+            what = "; ".join(
+                f"Move {'J' if node.motion is MotionType.JOINT else 'L'} to {t.name}" for t in node.targets
+            )
+            operation: Operation = {
+                "op": "run_poses" if node.by_angles else "run_positions",
+                "steps": numbers,
+                "what": f"{what} @ {node.speed:g}%",
+                "speed": node.speed,
+                "motion": node.motion.value,
+                "targets": [
+                    [float(a) for a in t.pose.angles] if t.pose is not None else _position(t.position)
+                    for t in node.targets
+                ],
+            }
+            actions = [a.model_dump(mode="json") for a in node.targets[-1].actions]
+            if actions:  # stop-and-set: done once the arm is at the last waypoint
+                operation["actions"] = actions
+            return rounded(operation)  # type: ignore[return-value]
+        case Single():
+            return _single(node)
+        case Loop():
+            return {
+                "op": "loop",
+                "steps": [node.line + 1],
+                "what": f"Loop {node.mode.value}",
+                "mode": node.mode.value,
+                "times": node.times,
+                "port": node.port,
+                "level": node.level.value,
+                "body": _operations(node.body),
+            }
+        case Branch():
+            return {
+                "op": "if",
+                "steps": [node.line + 1],
+                "what": f"If DI{node.port} {node.level.value}",
+                "port": node.port,
+                "level": node.level.value,
+                "then": _operations(node.then),
+                "else": _operations(node.otherwise),
+            }
+        case Pallet():
+            return {
+                "op": "pallet",
+                "steps": [node.line + 1],
+                "what": f"Pallet {node.name}",
+                "name": node.name,
+                "speed": node.speed,
+                "approach_m": node.approach_m,
+                "cells": [_position(cell) for cell in node.cells],
+                "body": _operations(node.body),
+            }
+    raise TypeError(f"not a plan node: {node!r}")
+
+
+def _position(position: object) -> Operation:
+    return rounded(position.model_dump(mode="json"))  # type: ignore[attr-defined, return-value]
+
+
+def _single(node: Single) -> Operation:
+    step, base = node.step, {"steps": [node.line + 1], "what": describe_step(node.step)}
+    match step:
+        case GripperStep():
+            return {"op": "gripper", **base, "action": step.action.value, "timeout_ms": step.timeout_ms}
+        case OutputStep():
+            return {"op": "output", **base, "port": step.port, "level": step.level.value}
+        case WaitInputStep():
+            return {
+                "op": "wait_input",
+                **base,
+                "port": step.port,
+                "level": step.level.value,
+                "timeout_ms": step.timeout_ms,
+            }
+        case WaitStep():
+            return {"op": "wait", **base, "ms": step.ms}
+    raise TypeError(f"not a single step: {step!r}")
+
+
+def export_script(program: Program, load: Loader | None = None) -> str:
     """Python source of a script running `program` on the controller given by argv or $PULSE_URL."""
     values = {
         "__NAME__": docstring_safe(program.name),
@@ -88,11 +126,12 @@ def export_script(program: Program) -> str:
         "__DEFAULT_URL__": DEFAULT_URL,
         "__TOKEN_HEADER__": TOKEN_HEADER,
         "__TOKEN_ENV__": TOKEN_ENV,
-        "__OPERATIONS__": pprint.pformat(program_operations(program), width=110, sort_dicts=False),
+        "__OPERATIONS__": pprint.pformat(program_operations(program, load), width=110, sort_dicts=False),
         "__POLL_S__": repr(POLL_S),
         "__START_GRACE_S__": repr(START_GRACE_S),
         "__TOL_DEG__": repr(ARRIVAL_TOL_DEG),
         "__TOL_M__": repr(ARRIVAL_TOL_M),
+        "__GRIPPER_TIMEOUT_MS__": repr(DEFAULT_GRIPPER_TIMEOUT_MS),
     }
     # One pass: a name that happens to read "__OPERATIONS__" stays a name, never a place to paste into.
     placeholders = re.compile("|".join(map(re.escape, values)))
@@ -126,9 +165,10 @@ the script runs wherever the pendant is installed, with no second SDK and its ow
 (pdhttp) to clash with yours; and every request is right here to read, one call per step, exactly as the
 controller's API reference documents it.
 
-Consecutive moves of the same type and speed go in one PUT /poses/run (JOINT) or /positions/run (LINEAR),
-so the arm blends through them; the script then polls GET /status/motion until the arm is IDLE at the last
-waypoint, as the pendant's runner does.
+Consecutive moves of the same type and speed go in one PUT /poses/run (taught angles) or /positions/run
+(TCP positions: linear moves, relative moves, pallet cells), so the arm blends through them; the script then
+polls GET /status/motion until the arm is IDLE at the last waypoint, as the pendant's runner does. Loops,
+If DI / Else and pallets (the next cell each pass) run as in the pendant; called programs are inlined.
 """
 
 from __future__ import annotations
@@ -146,6 +186,7 @@ POLL_S = __POLL_S__
 START_GRACE_S = __START_GRACE_S__  # a controller may still say IDLE just after accepting a motion
 ARRIVAL_TOL_DEG = __TOL_DEG__
 ARRIVAL_TOL_M = __TOL_M__
+GRIPPER_TIMEOUT_MS = __GRIPPER_TIMEOUT_MS__
 FAILED_STATES = ("MOTION_FAILED", "ERROR", "EMERGENCY", "ZERO_GRAVITY")
 TOKEN_HEADER = "__TOKEN_HEADER__"
 TOKEN_ENV = "__TOKEN_ENV__"
@@ -206,32 +247,93 @@ def wait_for_motion(client: httpx.Client, target: list[float] | None, joint: boo
         time.sleep(POLL_S)
 
 
-def execute(client: httpx.Client, operation: dict) -> None:
+def run_motion(client: httpx.Client, operation: dict, targets: list, speed: float, motion: str) -> None:
+    joint = operation.get("op") == "run_poses"
+    body = [{"angles": angles} for angles in targets] if joint else targets
+    query = {"speed": speed, "type": motion}
+    call(client, "PUT", "/poses/run" if joint else "/positions/run", json=body, params=query)
+    last = targets[-1] if joint else [targets[-1]["point"][axis] for axis in "xyz"]
+    wait_for_motion(client, last, joint, 0.0)
+
+
+def gripper(client: httpx.Client, action: str, timeout_ms: int) -> None:
+    call(client, "PUT", f"/gripper/{action}", params={"timeout": timeout_ms})
+    wait_for_motion(client, None, True, timeout_ms / 1000.0)
+
+
+def input_is(client: httpx.Client, port: int, level: str) -> bool:
+    return text(client, f"/signal/input/{port}") == level
+
+
+def execute(client: httpx.Client, operation: dict, pallets: dict) -> None:
     kind = operation["op"]
     if kind in ("run_poses", "run_positions"):
-        joint = kind == "run_poses"
-        targets = operation["targets"]
-        body = [{"angles": angles} for angles in targets] if joint else targets
-        query = {"speed": operation["speed"], "type": "JOINT" if joint else "LINEAR"}
-        call(client, "PUT", "/poses/run" if joint else "/positions/run", json=body, params=query)
-        last = targets[-1] if joint else [targets[-1]["point"][axis] for axis in "xyz"]
-        wait_for_motion(client, last, joint, 0.0)
+        run_motion(client, operation, operation["targets"], operation["speed"], operation["motion"])
+        for action in operation.get("actions", []):  # stop-and-set: the arm is at the waypoint now
+            if action["target"] == "output":
+                call(client, "PUT", f"/signal/output/{action['port']}/{action['value'].lower()}")
+            else:
+                gripper(client, action["value"], GRIPPER_TIMEOUT_MS)
     elif kind == "gripper":
-        call(client, "PUT", f"/gripper/{operation['action']}", params={"timeout": operation["timeout_ms"]})
-        wait_for_motion(client, None, True, operation["timeout_ms"] / 1000.0)
+        gripper(client, operation["action"], operation["timeout_ms"])
     elif kind == "output":
         call(client, "PUT", f"/signal/output/{operation['port']}/{operation['level'].lower()}")
     elif kind == "wait_input":
         deadline = time.monotonic() + operation["timeout_ms"] / 1000.0
-        while text(client, f"/signal/input/{operation['port']}") != operation["level"]:
+        while not input_is(client, operation["port"], operation["level"]):
             if time.monotonic() >= deadline:
                 port, level, ms = operation["port"], operation["level"], operation["timeout_ms"]
                 raise StepFailed(f"DI{port} did not go {level} within {ms} ms")
             time.sleep(POLL_S)
     elif kind == "wait":
         time.sleep(operation["ms"] / 1000.0)
+    elif kind == "loop":
+        passes = 0
+        while operation["body"] and loop_continues(client, operation, passes):
+            execute_all(client, operation["body"], pallets)
+            passes += 1
+    elif kind == "if":
+        branch = "then" if input_is(client, operation["port"], operation["level"]) else "else"
+        execute_all(client, operation[branch], pallets)
+    elif kind == "pallet":
+        execute_pallet(client, operation, pallets)
     else:
         raise ValueError(f"unknown operation {kind!r}")
+
+
+def loop_continues(client: httpx.Client, operation: dict, passes: int) -> bool:
+    if operation["mode"] == "times":
+        return passes < operation["times"]
+    at_level = input_is(client, operation["port"], operation["level"])
+    return at_level if operation["mode"] == "while" else not at_level
+
+
+def execute_pallet(client: httpx.Client, operation: dict, pallets: dict) -> None:
+    """The next cell: above it (JOINT), straight down (LINEAR), the body, straight back up."""
+    key = operation["steps"][0]
+    count = pallets.get(key, 0)
+    pallets[key] = count + 1
+    cell = operation["cells"][count % len(operation["cells"])]
+    above = {**cell, "point": {**cell["point"], "z": cell["point"]["z"] + operation["approach_m"]}}
+    speed = operation["speed"]
+    run_motion(client, operation, [above], speed, "JOINT")
+    run_motion(client, operation, [cell], speed, "LINEAR")
+    execute_all(client, operation["body"], pallets)
+    run_motion(client, operation, [above], speed, "LINEAR")
+
+
+def execute_all(client: httpx.Client, operations: list, pallets: dict) -> None:
+    for operation in operations:
+        try:
+            execute(client, operation, pallets)
+        except (StepFailed, httpx.HTTPError) as error:
+            if getattr(error, "reported", False):
+                raise
+            numbers = operation["steps"]
+            steps = str(numbers[0]) if len(numbers) == 1 else f"{numbers[0]}-{numbers[-1]}"
+            print(f"Step {steps} ({operation['what']}) failed: {error}", file=sys.stderr)
+            error.reported = True  # the innermost step is the one to name
+            raise
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -250,17 +352,14 @@ def main(argv: list[str] | None = None) -> int:
     headers = {TOKEN_HEADER: token} if token else {}
     with httpx.Client(base_url=args.url.rstrip("/"), headers=headers, timeout=10.0) as client:
         loop = 0
+        pallets: dict = {}  # pallet step -> passes so far: each pass takes the next cell
         try:
             while args.loops == 0 or loop < args.loops:
                 loop += 1
-                for operation in OPERATIONS:
-                    try:
-                        execute(client, operation)
-                    except (StepFailed, httpx.HTTPError) as error:
-                        numbers = operation["steps"]
-                        steps = str(numbers[0]) if len(numbers) == 1 else f"{numbers[0]}-{numbers[-1]}"
-                        print(f"Step {steps} ({operation['what']}) failed: {error}", file=sys.stderr)
-                        return 1
+                try:
+                    execute_all(client, OPERATIONS, pallets)
+                except (StepFailed, httpx.HTTPError):
+                    return 1
         except KeyboardInterrupt:
             try:
                 call(client, "PUT", "/freeze")

@@ -17,6 +17,7 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
+from pendant.program.migrate import migrate
 from pendant.program.models import PROGRAM_NAME_MAX, SCHEMA_VERSION, Program, describe_problems
 
 DEFAULT_PROGRAMS_DIR = Path("programs")  # relative to the pendant's working directory
@@ -68,6 +69,8 @@ def parse_program(data: bytes, source: str) -> Program:
         document = json.loads(data)
     except (UnicodeDecodeError, json.JSONDecodeError) as error:
         raise ProgramFileError(f"{source} is not a JSON document: {error}") from error
+    except RecursionError as error:
+        raise ProgramFileError(f"{source} nests too deeply to be a program") from error
     if not isinstance(document, dict):
         raise ProgramFileError(f"{source} is not a program (expected a JSON object)")
     version = document.get("schema_version")
@@ -84,13 +87,33 @@ def parse_program(data: bytes, source: str) -> Program:
             f"{SCHEMA_VERSION}). Update the pendant to open it."
         )
     try:
-        return Program.model_validate(document)
+        return Program.model_validate(migrate(document))
     except ValidationError as error:
         raise ProgramFileError(f"{source} is not a valid program: {describe_problems(error)}") from error
+    except RecursionError as error:
+        raise ProgramFileError(f"{source} nests too deeply to be a program") from error
+
+
+FLOAT_DECIMALS = 9  # nanometres and nano-radians: a recorded 0 is written 0.0, not -9.5e-15
+
+
+def rounded(value: object) -> object:
+    if isinstance(value, float):
+        return round(value, FLOAT_DECIMALS) + 0.0  # + 0.0: no "-0.0" either
+    if isinstance(value, dict):
+        return {key: rounded(item) for key, item in value.items()}
+    if isinstance(value, list):
+        return [rounded(item) for item in value]
+    return value
+
+
+def program_document(program: Program) -> dict[str, object]:
+    """The program as the plain JSON document a file holds (floats without noise)."""
+    return rounded(program.model_dump(mode="json"))  # type: ignore[return-value]
 
 
 def dump_program(program: Program) -> bytes:
-    return (program.model_dump_json(indent=2) + "\n").encode()
+    return (json.dumps(program_document(program), indent=2, ensure_ascii=False) + "\n").encode()
 
 
 def atomic_write(path: Path, data: bytes) -> None:
@@ -158,7 +181,7 @@ class ProgramStore:
         return parse_program(data, path.name).model_copy(update={"name": sanitize_name(name)})
 
     def save(self, program: Program, name: str) -> Program:
-        """Write `program` as `name` (replacing it); returns the program carrying that name."""
+        """Write `program` as `name` (replacing it); returns the program as the file now holds it."""
         clean = sanitize_name(name)
         named = program.model_copy(update={"name": clean, "schema_version": SCHEMA_VERSION})
         data = dump_program(named)
@@ -167,7 +190,7 @@ class ProgramStore:
                 f"This program is too big to save ({len(data)} bytes, at most {MAX_FILE_BYTES})"
             )
         atomic_write(self.path_of(clean), data)
-        return named
+        return Program.model_validate_json(data)
 
     def delete(self, name: str) -> None:
         path = self.path_of(name)
@@ -183,7 +206,7 @@ class ProgramStore:
         return self.folder / AUTOSAVE_FILE
 
     def autosave(self, program: Program, file_name: str | None, dirty: bool) -> None:
-        document = {"file_name": file_name, "dirty": dirty, "program": program.model_dump(mode="json")}
+        document = {"file_name": file_name, "dirty": dirty, "program": program_document(program)}
         atomic_write(self.autosave_path, (json.dumps(document, indent=2) + "\n").encode())
 
     def restore(self) -> tuple[Program, str | None, bool] | None:

@@ -1,7 +1,8 @@
-"""A taught program: named waypoints in move steps, plus gripper, output and wait steps (pydantic, versioned).
+"""A taught program (schema version 2): a table of named waypoints and a tree of steps (pydantic, versioned).
 
-A waypoint lives inside the move step that goes to it, so a step list is the whole program: moving a step
-up or down moves its waypoint with it, and no step can point at a waypoint that was deleted.
+Moves refer to waypoints by name, so many moves can go to one waypoint and re-teaching it moves them all.
+Structure steps (Loop, If, Pallet) hold steps of their own; Call runs another program file. Version-1 files
+(each waypoint inside its move) are migrated on load by `pendant.program.migrate`.
 """
 
 from __future__ import annotations
@@ -9,7 +10,7 @@ from __future__ import annotations
 from enum import StrEnum
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 from pydantic_core import ErrorDetails
 
 from pendant.controller.types import (
@@ -25,15 +26,23 @@ from pendant.controller.types import (
     SignalLevel,
 )
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 DEFAULT_SPEED_PERCENT = 20.0
 DEFAULT_INPUT_TIMEOUT_MS = 5000
+DEFAULT_APPROACH_MM = 50.0
+DEFAULT_PALLET_NAME = "Pallet"
 MAX_WAIT_MS = 3_600_000  # an hour: anything longer is a typo, not a program
 WAYPOINT_NAME_MAX = 40
 PROGRAM_NAME_MAX = 64
 # A program is saved only if it can be loaded back: 2,000 steps of the longest kind (a move, 40-character
 # name) take ~1.6 MB as saved, under the 5 MB a file may have (pendant.program.files.MAX_FILE_BYTES).
 MAX_STEPS = 2000
+COMMENT_MAX = 200
+MAX_LOOP_TIMES = 1_000_000
+MAX_GRID = 100  # rows, columns or layers of a pallet
+MAX_OFFSET_MM = 2000.0  # a relative move further than the arm reaches is a typo
+MAX_BLEND_MM = 500.0
+MAX_NESTING = 16  # Loops in Ifs in Pallets ...: deeper is not a program a person taught
 
 
 class _Frozen(BaseModel):
@@ -46,6 +55,9 @@ Speed = Annotated[float, Field(ge=SPEED_MIN, le=SPEED_MAX, allow_inf_nan=False)]
 Millis = Annotated[int, Field(ge=0, le=MAX_WAIT_MS)]
 OutputPort = Annotated[int, Field(ge=min(OUTPUT_PORTS), le=max(OUTPUT_PORTS))]
 InputPort = Annotated[int, Field(ge=min(INPUT_PORTS), le=max(INPUT_PORTS))]
+Millimetres = Annotated[float, Field(ge=-MAX_OFFSET_MM, le=MAX_OFFSET_MM, allow_inf_nan=False)]
+Degrees = Annotated[float, Field(ge=-360.0, le=360.0, allow_inf_nan=False)]
+GridCount = Annotated[int, Field(ge=1, le=MAX_GRID)]
 
 
 class Waypoint(_Frozen):
@@ -56,16 +68,54 @@ class Waypoint(_Frozen):
     position: Position
 
 
-class MoveStep(_Frozen):
-    kind: Literal["move"] = "move"
-    waypoint: Waypoint
-    motion: MotionType = MotionType.JOINT
-    speed: Speed = DEFAULT_SPEED_PERCENT
+class Frame(StrEnum):
+    BASE = "base"  # offset along the base axes: "50 mm above"
+    TOOL = "tool"  # offset along the tool's own axes: "50 mm back along the gripper"
+
+
+class Offset(_Frozen):
+    """A relative move's offset from its waypoint: millimetres and degrees (roll, pitch, yaw) in `frame`."""
+
+    x: Millimetres = 0.0
+    y: Millimetres = 0.0
+    z: Millimetres = 0.0
+    rx: Degrees = 0.0
+    ry: Degrees = 0.0
+    rz: Degrees = 0.0
+    frame: Frame = Frame.BASE
+
+
+class OutputAction(_Frozen):
+    """Set a digital output when the arm reaches the waypoint (the API's OutputRobotAction)."""
+
+    target: Literal["output"] = "output"
+    port: OutputPort
+    value: SignalLevel
 
 
 class GripperAction(StrEnum):
     OPEN = "open"
     CLOSE = "close"
+
+
+class GripperAtWaypoint(_Frozen):
+    """Open or close the gripper when the arm reaches the waypoint (the API's GripperRobotAction)."""
+
+    target: Literal["gripper"] = "gripper"
+    value: GripperAction
+
+
+WaypointAction = Annotated[OutputAction | GripperAtWaypoint, Field(discriminator="target")]
+
+
+class MoveStep(_Frozen):
+    kind: Literal["move"] = "move"
+    waypoint: WaypointName  # a name in Program.waypoints
+    motion: MotionType = MotionType.JOINT
+    speed: Speed = DEFAULT_SPEED_PERCENT
+    offset: Offset | None = None  # a relative move: the waypoint shifted by this
+    blend_mm: Annotated[float, Field(ge=0.0, le=MAX_BLEND_MM, allow_inf_nan=False)] = 0.0
+    actions: tuple[WaypointAction, ...] = ()  # done on arrival
 
 
 class GripperStep(_Frozen):
@@ -92,18 +142,151 @@ class WaitStep(_Frozen):
     ms: Millis
 
 
-Step = Annotated[MoveStep | GripperStep | OutputStep | WaitInputStep | WaitStep, Field(discriminator="kind")]
+class CommentStep(_Frozen):
+    kind: Literal["comment"] = "comment"
+    text: Annotated[str, Field(max_length=COMMENT_MAX)] = ""
+
+
+class LoopMode(StrEnum):
+    TIMES = "times"
+    WHILE = "while"  # while DI `port` is at `level` (checked before each pass)
+    UNTIL = "until"  # until DI `port` is at `level` (checked before each pass)
+
+
+class LoopStep(_Frozen):
+    kind: Literal["loop"] = "loop"
+    mode: LoopMode = LoopMode.TIMES
+    times: Annotated[int, Field(ge=0, le=MAX_LOOP_TIMES)] = 2
+    port: InputPort = 1
+    level: SignalLevel = SignalLevel.HIGH
+    body: tuple[Step, ...] = ()
+
+
+class IfStep(_Frozen):
+    """If DI `port` is at `level`, the `then` steps, else the `otherwise` steps."""
+
+    kind: Literal["if"] = "if"
+    port: InputPort = 1
+    level: SignalLevel = SignalLevel.HIGH
+    then: tuple[Step, ...] = ()
+    otherwise: tuple[Step, ...] = ()
+
+
+class CallStep(_Frozen):
+    """Run another saved program (its own waypoints); a program may not call itself, even indirectly."""
+
+    kind: Literal["call"] = "call"
+    program: Annotated[str, Field(min_length=1, max_length=64)]
+
+
+class PalletStep(_Frozen):
+    """A grid of cells from three taught corners; each pass goes to the next cell and runs `body` there.
+
+    `corners`: the first cell, the last cell of the first row, the last cell of the first column. Each pass:
+    above the cell by `approach_mm` (base z), straight down to it, `body` (e.g. the gripper), straight up.
+    Layers stack upward by `layer_height_mm`. After the last cell the next pass starts again at the first.
+    """
+
+    kind: Literal["pallet"] = "pallet"
+    name: WaypointName = DEFAULT_PALLET_NAME
+    corners: tuple[WaypointName, WaypointName, WaypointName]
+    rows: GridCount = 2
+    columns: GridCount = 2
+    layers: GridCount = 1
+    layer_height_mm: Annotated[float, Field(ge=0.0, le=MAX_OFFSET_MM, allow_inf_nan=False)] = 0.0
+    approach_mm: Annotated[float, Field(ge=0.0, le=MAX_OFFSET_MM, allow_inf_nan=False)] = DEFAULT_APPROACH_MM
+    speed: Speed = DEFAULT_SPEED_PERCENT
+    body: tuple[Step, ...] = ()
+
+
+Step = Annotated[
+    MoveStep
+    | GripperStep
+    | OutputStep
+    | WaitInputStep
+    | WaitStep
+    | CommentStep
+    | LoopStep
+    | IfStep
+    | CallStep
+    | PalletStep,
+    Field(discriminator="kind"),
+]
+STRUCTURES = (LoopStep, IfStep, PalletStep)
+BRANCHES: dict[type, tuple[str, ...]] = {
+    LoopStep: ("body",),
+    IfStep: ("then", "otherwise"),
+    PalletStep: ("body",),
+}
+
+for _model in (LoopStep, IfStep, PalletStep):
+    _model.model_rebuild()
+
+
+def children(step: BaseModel) -> list[tuple[str, tuple[Step, ...]]]:
+    """A structure step's branches as (field name, steps); [] for any other step."""
+    return [(branch, getattr(step, branch)) for branch in BRANCHES.get(type(step), ())]
+
+
+def walk(steps: tuple[Step, ...]) -> list[Step]:
+    """Every step of the tree in list order (a structure before what it holds)."""
+    found: list[Step] = []
+    for step in steps:
+        found.append(step)
+        for _, inner in children(step):
+            found.extend(walk(inner))
+    return found
+
+
+def _depth(steps: tuple[Step, ...]) -> int:
+    return max((1 + max((_depth(inner) for _, inner in children(s)), default=0) for s in steps), default=0)
+
+
+def referenced_waypoints(step: Step) -> list[str]:
+    if isinstance(step, MoveStep):
+        return [step.waypoint]
+    if isinstance(step, PalletStep):
+        return list(step.corners)
+    return []
 
 
 class Program(_Frozen):
     """What a program file holds. `schema_version` lets a newer pendant's files be refused, not misread."""
 
-    schema_version: int = Field(default=SCHEMA_VERSION, ge=1)  # files start at version 1
+    schema_version: int = Field(default=SCHEMA_VERSION, ge=1)
     name: Annotated[str, Field(max_length=PROGRAM_NAME_MAX)] = "untitled"
+    waypoints: Annotated[tuple[Waypoint, ...], Field(max_length=MAX_STEPS)] = ()
     steps: Annotated[tuple[Step, ...], Field(max_length=MAX_STEPS)] = ()
 
+    @model_validator(mode="after")
+    def _references_resolve(self) -> Program:
+        names = [w.name for w in self.waypoints]
+        duplicates = sorted({n for n in names if names.count(n) > 1})
+        if duplicates:
+            raise ValueError(f"waypoint names must be unique: {', '.join(map(repr, duplicates))}")
+        if _depth(self.steps) > MAX_NESTING:
+            raise ValueError(f"steps nest more than {MAX_NESTING} deep")
+        if sum(1 for _ in walk(self.steps)) > MAX_STEPS:  # nested ones count too
+            raise ValueError(f"a program has at most {MAX_STEPS} steps")
+        known = set(names)
+        for step in walk(self.steps):
+            for name in referenced_waypoints(step):
+                if name not in known:
+                    raise ValueError(f"a step goes to waypoint {name!r}, which is not in the waypoint table")
+        return self
+
     def waypoint_names(self) -> list[str]:
-        return [step.waypoint.name for step in self.steps if isinstance(step, MoveStep)]
+        return [w.name for w in self.waypoints]
+
+    def waypoint(self, name: str) -> Waypoint:
+        for waypoint in self.waypoints:
+            if waypoint.name == name:
+                return waypoint
+        raise KeyError(name)
+
+    def uses_of(self, name: str) -> int:
+        """How many steps go to waypoint `name`."""
+        return sum(referenced_waypoints(step).count(name) for step in walk(self.steps))
 
 
 def describe_problems(error: ValidationError, limit: int = 3) -> str:
@@ -114,20 +297,3 @@ def describe_problems(error: ValidationError, limit: int = 3) -> str:
         return f"{where}: {issue['msg']}" if where else issue["msg"]
 
     return "; ".join(one(issue) for issue in error.errors()[:limit])
-
-
-def describe_step(step: Step) -> str:
-    """One line an operator reads in the step list: "Move J to P1 @ 20%", "Wait DI2 HIGH (5000 ms)"."""
-    match step:
-        case MoveStep():
-            letter = "J" if step.motion is MotionType.JOINT else "L"
-            return f"Move {letter} to {step.waypoint.name} @ {step.speed:g}%"
-        case GripperStep():
-            return f"Gripper {step.action.value} ({step.timeout_ms} ms)"
-        case OutputStep():
-            return f"Set DO{step.port} {step.level.value}"
-        case WaitInputStep():
-            return f"Wait DI{step.port} {step.level.value} (timeout {step.timeout_ms} ms)"
-        case WaitStep():
-            return f"Wait {step.ms} ms"
-    raise TypeError(f"not a step: {step!r}")

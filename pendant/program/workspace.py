@@ -12,22 +12,13 @@ import threading
 from collections.abc import Callable
 from enum import StrEnum
 from pathlib import Path
+from typing import NamedTuple
 
-from pydantic import ValidationError
-
-from pendant.controller import Controller, Pose, Position
-from pendant.controller.types import MotionType
+from pendant.controller import Controller
+from pendant.program.editing import EditError, ProgramEditing
 from pendant.program.export import export_script
 from pendant.program.files import ProgramFileError, ProgramStore, dump_program, parse_program, sanitize_name
-from pendant.program.models import (
-    DEFAULT_SPEED_PERCENT,
-    WAYPOINT_NAME_MAX,
-    MoveStep,
-    Program,
-    Step,
-    Waypoint,
-    describe_problems,
-)
+from pendant.program.models import Program
 from pendant.program.runner import ProgramRunner, RunProgress
 
 log = logging.getLogger(__name__)
@@ -41,21 +32,31 @@ class Change(StrEnum):
     RUN = "run"  # the runner's progress
 
 
-class EditError(Exception):
-    """An edit the workspace refuses (bad index, duplicate waypoint name); `str()` says why."""
+UNDO_DEPTH = 200
+
+
+class _Snapshot(NamedTuple):
+    program: Program
+    file_name: str | None
+    dirty: bool
 
 
 ChangeListener = Callable[[Change], None]
 
 
-class ProgramWorkspace:
-    """One per pendant: the current program, its file, the programs folder and the runner."""
+class ProgramWorkspace(ProgramEditing):
+    """One per pendant: the current program, its file, the programs folder and the runner; the edits are
+    ProgramEditing's, each one undoable."""
 
     def __init__(self, store: ProgramStore, runner: ProgramRunner) -> None:
         self.store = store
         self.runner = runner
         self._lock = threading.RLock()
         self._listeners: list[ChangeListener] = []
+        self._undo: list[_Snapshot] = []
+        self._redo: list[_Snapshot] = []
+        if runner.load is None:  # Call steps open the programs of this folder
+            runner.load = store.load
         restored = store.restore()
         if restored is not None:
             self._program, self._file_name, self._dirty = restored
@@ -104,147 +105,63 @@ class ProgramWorkspace:
             except Exception:  # one broken view must not break editing for the others
                 log.exception("program workspace listener failed")
 
-    # --- editing -----------------------------------------------------------------------------------
-    def _edit(self, steps: list[Step] | tuple[Step, ...]) -> None:
+    # --- editing (pendant.program.editing), undo and redo --------------------------------------------
+    def _commit(self, program: Program) -> None:
+        """Apply an edit: on disk before it is applied or shown (a failed autosave refuses it whole)."""
         with self._lock:
-            try:  # validated whole, as a load would: an edit never saves what could not be read back
-                program = Program.model_validate({**dict(self._program), "steps": tuple(steps)})
-            except ValidationError as error:
-                raise EditError(describe_problems(error, limit=1)) from error
-            # On disk before it is applied or shown: if the autosave fails, the edit is refused whole.
             self.store.autosave(program, self._file_name, True)
+            self._undo.append(self._snapshot())
+            del self._undo[:-UNDO_DEPTH]
+            self._redo.clear()
             self._program, self._dirty = program, True
         self._notify(Change.PROGRAM)
+
+    def _snapshot(self) -> _Snapshot:
+        return _Snapshot(self._program, self._file_name, self._dirty)
+
+    def _restore(self, snapshot: _Snapshot) -> None:
+        self.store.autosave(snapshot.program, snapshot.file_name, snapshot.dirty)
+        self._program, self._file_name, self._dirty = snapshot
+        self._notify(Change.PROGRAM)
+        self._notify(Change.FILES)
+
+    @property
+    def can_undo(self) -> bool:
+        return bool(self._undo)
+
+    @property
+    def can_redo(self) -> bool:
+        return bool(self._redo)
+
+    def undo(self) -> None:
+        """Take back the last edit (also New, Load and Upload: the program they replaced comes back)."""
+        with self._lock:
+            if not self._undo:
+                raise EditError("Nothing to undo")
+            self._redo.append(self._snapshot())
+            self._restore(self._undo.pop())
+
+    def redo(self) -> None:
+        with self._lock:
+            if not self._redo:
+                raise EditError("Nothing to redo")
+            self._undo.append(self._snapshot())
+            self._restore(self._redo.pop())
+
+    def _replace_program(self, program: Program, file_name: str | None, dirty: bool) -> None:
+        """New, Load, Upload: the program on screen is replaced, undoably."""
+        with self._lock:
+            self.store.autosave(program, file_name, dirty)
+            self._undo.append(self._snapshot())
+            del self._undo[:-UNDO_DEPTH]
+            self._redo.clear()
+            self._program, self._file_name, self._dirty = program, file_name, dirty
+        self._notify(Change.PROGRAM)
+        self._notify(Change.FILES)
 
     def _autosave(self) -> None:
         # Before anyone is told of the change: once the page shows a waypoint, it is on disk.
         self.store.autosave(self._program, self._file_name, self._dirty)
-
-    def _index(self, index: int) -> int:
-        if not 0 <= index < len(self._program.steps):
-            raise EditError(f"There is no step {index + 1}")
-        return index
-
-    def _move(self, index: int) -> MoveStep:
-        step = self._program.steps[self._index(index)]
-        if not isinstance(step, MoveStep):
-            raise EditError(f"Step {index + 1} is not a move")
-        return step
-
-    def next_waypoint_name(self) -> str:
-        names = set(self._program.waypoint_names())
-        numbers = [int(m.group(1)) for n in names if (m := re.fullmatch(r"P(\d+)", n))]
-        return f"P{max(numbers, default=0) + 1}"
-
-    def record(
-        self,
-        pose: Pose,
-        position: Position,
-        *,
-        after: int | None = None,
-        name: str | None = None,
-        motion: MotionType = MotionType.JOINT,
-        speed: float = DEFAULT_SPEED_PERCENT,
-    ) -> int:
-        """Add a move to a new waypoint (after step `after`, else at the end); returns its index."""
-        with self._lock:
-            waypoint = Waypoint(
-                name=self._unique_name(name or self.next_waypoint_name()), pose=pose, position=position
-            )
-            return self.insert_step(MoveStep(waypoint=waypoint, motion=motion, speed=speed), after=after)
-
-    def record_from(self, controller: Controller, *, after: int | None = None, **options: object) -> int:
-        """Record where the arm is now (reads its pose and TCP position)."""
-        pose, position = controller.get_pose(), controller.get_position()
-        return self.record(pose, position, after=after, **options)  # type: ignore[arg-type]
-
-    def insert_step(self, step: Step, *, after: int | None = None) -> int:
-        with self._lock:
-            steps = list(self._program.steps)
-            index = len(steps) if after is None else self._index(after) + 1
-            steps.insert(index, step)
-            self._edit(steps)
-            return index
-
-    def replace_step(self, index: int, step: Step) -> None:
-        with self._lock:
-            old = self._program.steps[self._index(index)]
-            if isinstance(step, MoveStep) and (
-                not isinstance(old, MoveStep) or old.waypoint.name != step.waypoint.name
-            ):
-                self._unique_name(step.waypoint.name)
-            steps = list(self._program.steps)
-            steps[index] = step
-            self._edit(steps)
-
-    def rename(self, index: int, name: str) -> None:
-        with self._lock:
-            move = self._move(index)
-            if name.strip() == move.waypoint.name:
-                return
-            waypoint = Waypoint(
-                name=self._unique_name(name), pose=move.waypoint.pose, position=move.waypoint.position
-            )
-            self.replace_step(index, move.model_copy(update={"waypoint": waypoint}))
-
-    def set_motion(self, index: int, motion: MotionType, speed: float) -> None:
-        with self._lock:
-            move = self._move(index)
-            self.replace_step(index, MoveStep(waypoint=move.waypoint, motion=motion, speed=speed))
-
-    def reteach(self, index: int, pose: Pose, position: Position) -> None:
-        """Overwrite step `index`'s waypoint with a new pose and position, keeping its name."""
-        with self._lock:
-            move = self._move(index)
-            waypoint = Waypoint(name=move.waypoint.name, pose=pose, position=position)
-            self.replace_step(index, move.model_copy(update={"waypoint": waypoint}))
-
-    def reteach_from(self, controller: Controller, index: int) -> None:
-        self.reteach(index, controller.get_pose(), controller.get_position())
-
-    def delete_step(self, index: int) -> None:
-        with self._lock:
-            steps = list(self._program.steps)
-            del steps[self._index(index)]
-            self._edit(steps)
-
-    def move_step(self, index: int, delta: int) -> int:
-        """Move step `index` up (delta -1) or down (+1); returns where it is now."""
-        with self._lock:
-            steps = list(self._program.steps)
-            self._index(index)
-            to = min(max(index + delta, 0), len(steps) - 1)
-            if to != index:
-                steps.insert(to, steps.pop(index))
-                self._edit(steps)
-            return to
-
-    def duplicate_step(self, index: int) -> int:
-        """A copy right after step `index` (a move gets a new waypoint name): e.g. approach and retreat."""
-        with self._lock:
-            step = self._program.steps[self._index(index)]
-            if isinstance(step, MoveStep):
-                names = set(self._program.waypoint_names())
-                room = WAYPOINT_NAME_MAX - len(f" {len(names) + 1}")  # for the " k" that keeps it unique
-                base = f"{step.waypoint.name} copy"[:room].rstrip()
-                name = next(
-                    n
-                    for k in range(1, len(names) + 2)
-                    if (n := base if k == 1 else f"{base} {k}") not in names
-                )
-                step = step.model_copy(update={"waypoint": step.waypoint.model_copy(update={"name": name})})
-            return self.insert_step(step, after=index)
-
-    def _unique_name(self, name: str) -> str:
-        clean = name.strip()
-        if not clean:
-            raise EditError("A waypoint needs a name")
-        if len(clean) > WAYPOINT_NAME_MAX:
-            raise EditError(f"A waypoint name has at most {WAYPOINT_NAME_MAX} characters")
-        names = set(self._program.waypoint_names())
-        if clean not in names:
-            return clean
-        raise EditError(f"A waypoint named {clean!r} already exists")
 
     # --- files -------------------------------------------------------------------------------------
     def saved_programs(self) -> list[str]:
@@ -252,11 +169,7 @@ class ProgramWorkspace:
 
     def new(self) -> None:
         """Start an empty program (the previous one stays in its file if it was saved)."""
-        with self._lock:
-            self._program, self._file_name, self._dirty = Program(), None, False
-            self._autosave()
-        self._notify(Change.PROGRAM)
-        self._notify(Change.FILES)
+        self._replace_program(Program(), None, False)
 
     def save(self) -> str:
         """Save to the current file; a new program needs `save_as`."""
@@ -284,11 +197,7 @@ class ProgramWorkspace:
     def load(self, name: str) -> None:
         """Open a saved program; a refused file leaves the current program (and every file) as it was."""
         program = self.store.load(name)
-        with self._lock:
-            self._program, self._file_name, self._dirty = program, program.name, False
-            self._autosave()
-        self._notify(Change.PROGRAM)
-        self._notify(Change.FILES)
+        self._replace_program(program, program.name, False)
 
     def delete_file(self, name: str) -> None:
         """Delete a saved program; the program on screen stays (as unsaved) if it was that file."""
@@ -301,20 +210,24 @@ class ProgramWorkspace:
         self._notify(Change.FILES)
 
     def upload(self, filename: str, data: bytes) -> None:
-        """Open a program sent from the browser; it becomes the current (unsaved) program.
+        """Open a program sent from the browser; it becomes the current (unsaved) program, keeping the
+        `name` it carries (the file name when it has none). A refused upload raises ProgramFileError and
+        changes nothing."""
+        self.open_uploaded(self.read_upload(filename, data))
 
-        A refused upload raises ProgramFileError and changes nothing."""
-        try:
-            name = sanitize_name(filename.rsplit("/", 1)[-1].rsplit("\\", 1)[-1])
-        except ProgramFileError:
-            name = UNTITLED
+    def read_upload(self, filename: str, data: bytes) -> Program:
+        """The program in an uploaded file (ProgramFileError if refused), not opened yet."""
         program = parse_program(data, filename)
-        with self._lock:
-            self._program = program.model_copy(update={"name": name})
-            self._file_name, self._dirty = None, True
-            self._autosave()
-        self._notify(Change.PROGRAM)
-        self._notify(Change.FILES)
+        if "name" not in program.model_fields_set:
+            try:
+                name = sanitize_name(filename.rsplit("/", 1)[-1].rsplit("\\", 1)[-1])
+            except ProgramFileError:
+                name = UNTITLED
+            program = program.model_copy(update={"name": name})
+        return program
+
+    def open_uploaded(self, program: Program) -> None:
+        self._replace_program(program, None, True)
 
     def download(self) -> tuple[str, bytes]:
         """(file name, JSON bytes) of the current program, for the browser to save."""
@@ -325,18 +238,20 @@ class ProgramWorkspace:
         """(file name, Python source) of the current program as a standalone script."""
         program = self._program
         stem = re.sub(r"\W+", "_", program.name).strip("_") or "program"
-        return f"{stem}.py", export_script(program).encode()
+        return f"{stem}.py", export_script(program, self.store.load).encode()
 
     # --- running -----------------------------------------------------------------------------------
-    def start_run(self, loops: int = 1) -> None:
+    def start_run(self, loops: int = 1, *, start_line: int = 0) -> None:
+        """Run the program on the worker thread (from line `start_line`: Run from the selected step)."""
         program = self._program
-        self.runner.start(lambda: self.runner.run(program, loops))
+        self.runner.start(lambda: self.runner.run(program, loops, start_line=start_line))
 
     def start_step(self) -> None:
         program = self._program
         self.runner.start(lambda: self.runner.step(program))
 
     def start_resume(self) -> None:
+        """Continue a paused run, or a failed one at the step that failed."""
         self.runner.start(self.runner.resume)
 
     def pause(self) -> None:

@@ -1,27 +1,47 @@
-"""The program in 3D: a marker and a name at every waypoint, and the planned path as a polyline."""
+"""The program in 3D: a marker and a name at every move target, the path as the plan runs it (loops drawn
+once, both branches of an If, a pallet's first pass), and every pallet's grid of cells.
+
+The path comes from the same plan the runner executes (pendant.program.plan), so relative moves and pallet
+cells are drawn where the arm will go. Called programs are not opened for drawing.
+"""
 
 from __future__ import annotations
 
 import itertools
+from dataclasses import dataclass, field
 
 import numpy as np
 import viser
 
 from pendant.controller.types import MotionType
 from pendant.kinematics import ArmModel
-from pendant.program import MoveStep, Program
+from pendant.program import PlanError, Program, compile_program
+from pendant.program.plan import Branch, Loop, MoveGroup, Node, Pallet, Target
 from pendant.ui.gui_target import GuiTarget
 
 MARKER_RADIUS_M = 0.012
+CELL_RADIUS_M = 0.006
 MARKER_RGB = (40, 110, 230)
 SELECTED_RGB = (250, 160, 20)
 CURRENT_RGB = (30, 180, 80)
+CELL_RGB = (120, 120, 120)
 PATH_JOINT_RGB = (40, 110, 230)
 PATH_LINEAR_RGB = (200, 60, 160)
 PATH_THICKNESS_PX = 2.5
 # A JOINT leg is a curve for the TCP: draw it through this many joint-space samples.
 JOINT_LEG_SAMPLES = 16
 ROOT = "/program"
+
+
+@dataclass
+class _Drawing:
+    """What the walk over the plan collects: marker places, path pieces per motion type, pallet cells."""
+
+    markers: list[tuple[Target, np.ndarray]] = field(default_factory=list)
+    pieces: dict[MotionType, list[np.ndarray]] = field(
+        default_factory=lambda: {MotionType.JOINT: [], MotionType.LINEAR: []}
+    )
+    cells: list[np.ndarray] = field(default_factory=list)
 
 
 class ProgramScene:
@@ -31,19 +51,19 @@ class ProgramScene:
         self._target = target
         self._arm = arm
         self._nodes: list[viser.SceneNodeHandle] = []
-        self._markers: list[viser.IcosphereHandle] = []
+        self._markers: list[tuple[viser.IcosphereHandle, int]] = []  # (marker, step line)
         self._shown: tuple[Program, int | None, int | None] | None = None
 
     def show(self, program: Program, selected: int | None = None, current: int | None = None) -> None:
-        """Draw `program`'s waypoints (the `selected` and `current` steps highlighted) and its path."""
+        """Draw `program` (the moves of the `selected` and `current` lines highlighted) and its path."""
         if self._shown == (program, selected, current):
             return
         if self._shown is None or self._shown[0] != program:
             self._rebuild(program)
         self._shown = (program, selected, current)
-        for marker, index in zip(self._markers, _move_indices(program), strict=True):
+        for marker, line in self._markers:
             marker.color = (
-                CURRENT_RGB if index == current else SELECTED_RGB if index == selected else MARKER_RGB
+                CURRENT_RGB if line == current else SELECTED_RGB if line == selected else MARKER_RGB
             )
 
     def close(self) -> None:
@@ -55,36 +75,42 @@ class ProgramScene:
 
     def _rebuild(self, program: Program) -> None:
         self.close()
+        try:
+            plan = compile_program(program, lambda _name: Program())
+        except PlanError:
+            return
+        drawing = _Drawing()
+        self._walk(plan, drawing, None)
         scene = self._target.scene
-        previous_q: np.ndarray | None = None
-        previous_point: np.ndarray | None = None
-        segments: dict[MotionType, list[np.ndarray]] = {MotionType.JOINT: [], MotionType.LINEAR: []}
-        for index in _move_indices(program):
-            step = program.steps[index]
-            assert isinstance(step, MoveStep)
-            q = np.radians(np.asarray(step.waypoint.pose.angles, dtype=float))
-            point = self.point_of(step)
+        for k, (target, point) in enumerate(drawing.markers):
             marker = scene.add_icosphere(
-                f"{ROOT}/waypoint_{index}",
+                f"{ROOT}/waypoint_{k}",
                 radius=MARKER_RADIUS_M,
                 color=MARKER_RGB,
                 position=point,
                 cast_shadow=False,
                 receive_shadow=False,
             )
-            label = scene.add_label(
-                f"{ROOT}/waypoint_{index}/name",
-                f"{index + 1}. {step.waypoint.name}",
+            scene.add_label(
+                f"{ROOT}/waypoint_{k}/name",
+                f"{target.line + 1}. {target.name}",
                 position=(0.0, 0.0, 2.0 * MARKER_RADIUS_M),
                 anchor="bottom-center",
-            )
-            del label  # removed with its marker
-            self._markers.append(marker)
+            )  # removed with its marker
+            self._markers.append((marker, target.line))
             self._nodes.append(marker)
-            if previous_point is not None:
-                segments[step.motion].extend(self._leg(previous_q, q, previous_point, point, step.motion))
-            previous_q, previous_point = q, point
-        for motion, pieces in segments.items():
+        if drawing.cells:
+            self._nodes.append(
+                scene.add_point_cloud(
+                    f"{ROOT}/pallet_cells",
+                    np.asarray(drawing.cells),
+                    CELL_RGB,
+                    point_size=2 * CELL_RADIUS_M,
+                    point_shape="circle",
+                    precision="float32",
+                )
+            )
+        for motion, pieces in drawing.pieces.items():
             if pieces:
                 color = PATH_JOINT_RGB if motion is MotionType.JOINT else PATH_LINEAR_RGB
                 self._nodes.append(
@@ -97,21 +123,46 @@ class ProgramScene:
                     )
                 )
 
-    def point_of(self, step: MoveStep) -> np.ndarray:
-        """Where the marker goes: the flange by FK (as the scene's TCP frame), else the recorded TCP."""
-        if self._arm is not None:
-            return self._arm.fk(np.radians(step.waypoint.pose.angles))[:3, 3]
-        p = step.waypoint.position.point
-        return np.array([p.x, p.y, p.z])
+    def _walk(
+        self, nodes: tuple[Node, ...], drawing: _Drawing, pen: tuple[np.ndarray | None, np.ndarray] | None
+    ) -> tuple[np.ndarray | None, np.ndarray] | None:
+        """Draw `nodes` from `pen` (joint angles or None, TCP point); returns where the pen ends."""
+        for node in nodes:
+            match node:
+                case MoveGroup():
+                    for target in node.targets:
+                        q, point = self._place(target)
+                        drawing.markers.append((target, point))
+                        if pen is not None:
+                            drawing.pieces[node.motion].extend(
+                                self._leg(pen[0], q, pen[1], point, node.motion)
+                            )
+                        pen = (q, point)
+                case Loop():
+                    pen = self._walk(node.body, drawing, pen)
+                case Branch():
+                    self._walk(node.otherwise, drawing, pen)
+                    pen = self._walk(node.then, drawing, pen)
+                case Pallet():
+                    drawing.cells.extend(np.array([c.point.x, c.point.y, c.point.z]) for c in node.cells)
+                    pen = self._walk(node.pass_nodes(0), drawing, pen)
+        return pen
+
+    def _place(self, target: Target) -> tuple[np.ndarray | None, np.ndarray]:
+        """Joint angles (radians, None for a TCP target) and where the marker goes: the flange by FK (as
+        the scene's TCP frame) for angle targets, else the target's point."""
+        if target.pose is not None:
+            q = np.radians(np.asarray(target.pose.angles, dtype=float))
+            if self._arm is not None:
+                return q, self._arm.fk(q)[:3, 3]
+        assert target.position is not None
+        p = target.position.point
+        return (None if target.pose is None else np.radians(target.pose.angles)), np.array([p.x, p.y, p.z])
 
     def _leg(
-        self, q0: np.ndarray | None, q1: np.ndarray, p0: np.ndarray, p1: np.ndarray, motion: MotionType
+        self, q0: np.ndarray | None, q1: np.ndarray | None, p0: np.ndarray, p1: np.ndarray, motion: MotionType
     ) -> list[np.ndarray]:
-        if motion is MotionType.LINEAR or self._arm is None or q0 is None:
+        if motion is MotionType.LINEAR or self._arm is None or q0 is None or q1 is None:
             return [np.stack([p0, p1])]
         samples = [self._arm.fk(q0 + t * (q1 - q0))[:3, 3] for t in np.linspace(0.0, 1.0, JOINT_LEG_SAMPLES)]
         return [np.stack([a, b]) for a, b in itertools.pairwise(samples)]
-
-
-def _move_indices(program: Program) -> list[int]:
-    return [i for i, step in enumerate(program.steps) if isinstance(step, MoveStep)]

@@ -116,10 +116,7 @@ class ClientSession:
         yield from (jog.frame, jog.step, jog.speed, *jog.buttons.values())
         target = self.target_panel
         yield from (*target.sliders, target.speed, target.from_current)
-        p = self.program
-        yield from (p.record, p.add, p.order, p.name, p.rename, p.motion, p.speed, p.go_to, p.reteach)
-        yield from (p.gripper, p.do_port, p.di_port, p.level, p.timeout, p.wait_ms, p.loops)
-        yield from (p.file_name, p.files, p.upload)
+        yield from self.program.commanding_handles()
         yield from self.io.outputs.values()
         yield from (self.io.gripper_open, self.io.gripper_close)
         yield from self.robot_buttons.values()

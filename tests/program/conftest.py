@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import NamedTuple
 
 import pytest
 
-from pendant.controller import MotionParams, Pose
-from pendant.program import ProgramRunner, ProgramStore, ProgramWorkspace, Waypoint
+from pendant.controller import MotionParams, MotionType, Pose
+from pendant.program import MoveStep, Program, ProgramRunner, ProgramStore, ProgramWorkspace, Step, Waypoint
 from pendant.sim import FakeClock, SimController
 
 # Three poses near home (0, -90, 90, -90, -90, 0), clear of the floor and of each other.
@@ -51,3 +52,29 @@ def runner(sim: SimController, clock: FakeClock) -> ProgramRunner:
 def make_workspace(tmp_path, runner: ProgramRunner) -> Callable[[], ProgramWorkspace]:  # type: ignore[no-untyped-def]
     """A workspace on a programs folder in tmp_path; call again to simulate a restart of the pendant."""
     return lambda: ProgramWorkspace(ProgramStore(tmp_path / "programs"), runner)
+
+
+class Taught(NamedTuple):
+    """A move together with the waypoint it goes to, for `program_of` to put in the waypoint table."""
+
+    waypoint: Waypoint
+    step: MoveStep
+
+
+def move(
+    waypoint: Waypoint, motion: MotionType = MotionType.JOINT, speed: float = 50.0, **more: object
+) -> Taught:
+    return Taught(waypoint, MoveStep(waypoint=waypoint.name, motion=motion, speed=speed, **more))  # type: ignore[arg-type]
+
+
+def program_of(*items: Step | Taught, name: str = "untitled", extra: tuple[Waypoint, ...] = ()) -> Program:
+    """A program of these steps; the waypoints the moves go to (and `extra` ones) make up its table."""
+    table: dict[str, Waypoint] = {w.name: w for w in extra}
+    steps: list[Step] = []
+    for item in items:
+        if isinstance(item, Taught):
+            table.setdefault(item.waypoint.name, item.waypoint)
+            steps.append(item.step)
+        else:
+            steps.append(item)
+    return Program(name=name, waypoints=tuple(table.values()), steps=tuple(steps))

@@ -17,12 +17,18 @@ from pendant.api import create_app
 from pendant.controller import MotionType, Pose, SignalLevel
 from pendant.controller.types import OUTPUT_PORTS
 from pendant.program import (
+    CallStep,
+    CommentStep,
     GripperAction,
+    GripperAtWaypoint,
     GripperStep,
-    MoveStep,
+    IfStep,
+    LoopStep,
+    Offset,
     OutputStep,
     Program,
     ProgramRunner,
+    ProgramStore,
     RunState,
     WaitInputStep,
     WaitStep,
@@ -32,6 +38,7 @@ from pendant.program import (
 from pendant.program.export import TOKEN_ENV
 from pendant.sim import MonotonicClock, SimController
 from tests.api.server import running_pendant
+from tests.program.conftest import move, program_of
 from tests.remote.uvicorn_thread import serve_in_thread
 
 ANGLE_TOL_DEG = 1e-6
@@ -48,21 +55,19 @@ def api_url() -> Iterator[str]:
 
 def pick_and_place(waypoints) -> Program:  # type: ignore[no-untyped-def]
     a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
-    return Program(
+    return program_of(
+        move(a, speed=100.0),
+        GripperStep(action=GripperAction.CLOSE, timeout_ms=100),
+        OutputStep(port=1, level=SignalLevel.HIGH),
+        move(b, motion=MotionType.LINEAR, speed=100.0),
+        move(c, motion=MotionType.LINEAR, speed=100.0),
+        WaitInputStep(port=1, level=SignalLevel.LOW, timeout_ms=500),
+        GripperStep(action=GripperAction.OPEN, timeout_ms=100),
+        OutputStep(port=2, level=SignalLevel.HIGH),
+        WaitStep(ms=50),
+        move(a, speed=100.0),
+        move(b, speed=100.0),
         name="pick & place",
-        steps=(
-            MoveStep(waypoint=a, speed=100.0),
-            GripperStep(action=GripperAction.CLOSE, timeout_ms=100),
-            OutputStep(port=1, level=SignalLevel.HIGH),
-            MoveStep(waypoint=b, motion=MotionType.LINEAR, speed=100.0),
-            MoveStep(waypoint=c, motion=MotionType.LINEAR, speed=100.0),
-            WaitInputStep(port=1, level=SignalLevel.LOW, timeout_ms=500),
-            GripperStep(action=GripperAction.OPEN, timeout_ms=100),
-            OutputStep(port=2, level=SignalLevel.HIGH),
-            WaitStep(ms=50),
-            MoveStep(waypoint=a, speed=100.0),
-            MoveStep(waypoint=b, speed=100.0),
-        ),
     )
 
 
@@ -117,12 +122,10 @@ def test_a_refused_step_exits_1_with_the_step_and_the_controller_message(
 ) -> None:
     a = waypoints["A"]
     far = a.model_copy(update={"name": "Far", "pose": Pose(angles=[0.0, -90.0, 400.0, -90.0, -90.0, 0.0])})
-    program = Program(
-        steps=(
-            WaitStep(ms=10),
-            MoveStep(waypoint=far, speed=100.0),
-            OutputStep(port=1, level=SignalLevel.LOW),
-        )
+    program = program_of(
+        WaitStep(ms=10),
+        move(far, speed=100.0),
+        OutputStep(port=1, level=SignalLevel.LOW),
     )
     script = tmp_path / "refused.py"
     script.write_text(export_script(program))
@@ -166,12 +169,10 @@ def test_the_exported_script_sends_an_exposed_pendants_token(
 ) -> None:
     sim, url = guarded_api
     a, b = waypoints["A"], waypoints["B"]
-    program = Program(
-        steps=(
-            MoveStep(waypoint=a, speed=100.0),
-            OutputStep(port=1, level=SignalLevel.HIGH),
-            MoveStep(waypoint=b, speed=100.0),
-        )
+    program = program_of(
+        move(a, speed=100.0),
+        OutputStep(port=1, level=SignalLevel.HIGH),
+        move(b, speed=100.0),
     )
     script = tmp_path / "guarded.py"
     script.write_text(export_script(program))
@@ -191,3 +192,52 @@ def test_the_exported_script_sends_an_exposed_pendants_token(
     assert right.returncode == 0, right.stderr
     np.testing.assert_allclose(sim.get_pose().angles, b.pose.angles, atol=ANGLE_TOL_DEG)
     assert sim.get_output(1) is SignalLevel.HIGH
+
+
+def test_every_step_type_exports_and_runs_like_the_runner(
+    sim, clock, waypoints, tmp_path: Path, api_url
+) -> None:
+    a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
+    store = ProgramStore(tmp_path)
+    store.save(program_of(move(c, speed=100.0), OutputStep(port=2, level=SignalLevel.HIGH)), "place")
+    program = program_of(
+        CommentStep(text="a comment runs nothing"),
+        LoopStep(times=2, body=(move(a, speed=100.0).step, move(b, speed=100.0).step)),
+        IfStep(  # DI4 is LOW on both: the else branch
+            port=4,
+            level=SignalLevel.HIGH,
+            then=(OutputStep(port=1, level=SignalLevel.LOW),),
+            otherwise=(OutputStep(port=1, level=SignalLevel.HIGH),),
+        ),
+        move(a, MotionType.LINEAR, 100.0, offset=Offset(z=30.0, rz=10.0), blend_mm=5.0),
+        move(a, MotionType.LINEAR, 100.0, actions=(GripperAtWaypoint(value=GripperAction.CLOSE),)),
+        CallStep(program="place"),  # C is in the called program's own table
+        extra=(b,),
+    )
+    operations = program_operations(program, store.load)
+    # The relative and the absolute LINEAR move blend into one call; the gripper closes once at the second.
+    assert [o["op"] for o in operations] == ["loop", "if", "run_positions", "run_poses", "output"]
+    assert len(operations[2]["targets"]) == 2  # type: ignore[arg-type]
+    assert operations[2]["actions"] == [{"target": "gripper", "value": "close"}]
+    assert (
+        operations[3]["steps"] == operations[4]["steps"] == [10]
+    )  # the called program's steps: the Call's line
+    in_process = ProgramRunner(sim, sleep=clock.advance, now=clock.now, load=store.load).run(program)
+    assert in_process.state is RunState.FINISHED
+
+    with httpx.Client(base_url=api_url, timeout=5.0) as api:
+        api.put("/sim/reset").raise_for_status()
+        script = tmp_path / "every_step.py"
+        script.write_text(export_script(program, store.load))
+        done = subprocess.run(
+            [sys.executable, str(script), api_url],
+            capture_output=True,
+            text=True,
+            timeout=SCRIPT_TIMEOUT_S,
+            check=False,
+        )
+        assert done.returncode == 0, done.stderr
+        pose = api.get("/pose").json()["angles"]
+        outputs = {port: api.get(f"/signal/output/{port}").text.strip('"') for port in OUTPUT_PORTS}
+    np.testing.assert_allclose(pose, sim.get_pose().angles, atol=ANGLE_TOL_DEG)
+    assert outputs == {port: sim.get_output(port).value for port in OUTPUT_PORTS} == {1: "HIGH", 2: "HIGH"}

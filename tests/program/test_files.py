@@ -36,7 +36,11 @@ def waypoint(name: str, j1: float = 0.0) -> Waypoint:
 
 
 def program_of(*names: str) -> Program:
-    return Program(name="demo", steps=tuple(MoveStep(waypoint=waypoint(n)) for n in names))
+    return Program(
+        name="demo",
+        waypoints=tuple(waypoint(n) for n in names),
+        steps=tuple(MoveStep(waypoint=n) for n in names),
+    )
 
 
 def test_save_and_load_round_trip_the_program(tmp_path: Path) -> None:
@@ -46,7 +50,8 @@ def test_save_and_load_round_trip_the_program(tmp_path: Path) -> None:
     assert store.load("pick place") == saved
     document = json.loads((tmp_path / "pick place.json").read_text())
     assert document["schema_version"] == SCHEMA_VERSION
-    assert [s["waypoint"]["name"] for s in document["steps"]] == ["P1", "P2"]
+    assert [w["name"] for w in document["waypoints"]] == ["P1", "P2"]
+    assert [s["waypoint"] for s in document["steps"]] == ["P1", "P2"]
 
 
 def test_a_write_that_fails_midway_leaves_the_old_file_and_no_litter(tmp_path: Path, monkeypatch) -> None:
@@ -231,5 +236,14 @@ def test_a_recorded_waypoint_survives_the_process_being_killed(tmp_path: Path) -
 
     restarted = ProgramWorkspace(ProgramStore(tmp_path), ProgramRunner(controller=None))  # type: ignore[arg-type]
     assert restarted.program.waypoint_names() == ["P1"]
-    assert restarted.program.steps[0].waypoint.pose.angles[0] == 10.0  # type: ignore[union-attr]
+    assert restarted.program.waypoint("P1").pose.angles[0] == 10.0
     assert restarted.dirty
+
+
+@pytest.mark.parametrize("depth", [17, 5000])
+def test_steps_nested_too_deeply_are_refused_with_a_message(tmp_path: Path, depth: int) -> None:
+    # Written as text: json.dumps itself cannot nest 5,000 deep.
+    steps = '{"kind": "loop", "times": 1, "body": [' * depth + "]}" * depth
+    (tmp_path / "deep.json").write_text(f'{{"schema_version": 2, "name": "deep", "steps": [{steps}]}}')
+    with pytest.raises(ProgramFileError, match="nest"):
+        ProgramStore(tmp_path).load("deep")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -11,14 +12,23 @@ import numpy as np
 import pytest
 import viser
 
-from pendant.controller import SignalLevel
-from pendant.program import MoveStep, OutputStep, ProgramRunner, ProgramStore, ProgramWorkspace, RunState
+from pendant.controller import MotionType, SignalLevel
+from pendant.program import (
+    MoveStep,
+    Offset,
+    OutputStep,
+    PalletStep,
+    ProgramRunner,
+    ProgramStore,
+    ProgramWorkspace,
+    RunState,
+)
 from pendant.sim import FakeClock, SimController
 from pendant.ui.commands import CommandRunner
 from pendant.ui.program_panel import ProgramPanel
 from tests.api.server import free_port
 
-from .conftest import POSE_A_DEG, POSE_B_DEG, teach
+from .conftest import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, teach
 
 ANGLE_TOL_DEG = 1e-6
 WAIT_S = 10.0
@@ -85,19 +95,19 @@ def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path)
     assert len(panel.scene._markers) == 2
 
     fire(panel.select, browser, "1. Move J to P1 @ 20%")
-    fire(panel.speed, browser, 80.0)
+    fire(panel.form.speed, browser, 80.0)
     fire(panel.add, browser, "Set DO")  # after the selected step
     steps = workspace.program.steps
     assert isinstance(steps[0], MoveStep) and steps[0].speed == 80.0
     assert steps[1] == OutputStep(port=1, level=SignalLevel.HIGH)
-    fire(panel.name, browser, "P1")  # typing alone renames nothing
+    fire(panel.waypoints.name, browser, "P1")  # typing alone renames nothing
     fire(panel.select, browser, "3. Move J to P2 @ 20%")
-    fire(panel.name, browser, "place")
-    fire(panel.rename, browser)
+    fire(panel.waypoints.name, browser, "place")
+    fire(panel.waypoints.rename, browser)
     assert workspace.program.waypoint_names() == ["P1", "place"]
 
-    fire(panel.file_name, browser, "cell 4")
-    fire(panel.files, browser, "Save as")
+    fire(panel.file_section.file_name, browser, "cell 4")
+    fire(panel.file_section.files, browser, "Save as")
     assert (tmp_path / "programs" / "cell 4.json").is_file()
     assert browser.notifications[-1]["title"] == "Saved"
     assert "`cell 4.json`" in panel.title.content
@@ -109,10 +119,10 @@ def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path)
     np.testing.assert_allclose(sim.get_pose().angles, POSE_B_DEG, atol=ANGLE_TOL_DEG)
     assert sim.get_output(1) is SignalLevel.HIGH
 
-    fire(panel.download, browser)
+    fire(panel.file_section.download, browser)
     name, content = browser.downloads[-1]
-    assert name == "cell 4.json" and json.loads(content)["steps"][2]["waypoint"]["name"] == "place"
-    fire(panel.export, browser)
+    assert name == "cell 4.json" and json.loads(content)["steps"][2]["waypoint"] == "place"
+    fire(panel.file_section.export, browser)
     assert browser.downloads[-1][0] == "cell_4.py"
 
 
@@ -121,8 +131,10 @@ def test_a_refused_upload_is_explained_and_changes_nothing(setup, sim) -> None: 
     browser = FakeClient()
     record(panel, browser)
     before = workspace.program
-    panel.upload._impl.value = viser.UploadedFile(name="future.json", content=b'{"schema_version": 7}')  # type: ignore[attr-defined]
-    fire(panel.upload, browser)
+    panel.file_section.upload._impl.value = viser.UploadedFile(
+        name="future.json", content=b'{"schema_version": 7}'
+    )  # type: ignore[attr-defined]
+    fire(panel.file_section.upload, browser)
     assert workspace.program == before
     assert browser.notifications[-1]["title"] == "Upload refused"
     assert "newer pendant" in browser.notifications[-1]["body"]
@@ -150,9 +162,94 @@ def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, 
     panel = ProgramPanel(server, workspace, runner, arm=sim.arm)
     try:
         assert workspace.program.steps == ()
-        assert "could not be restored" in panel.file_status.content
+        assert "could not be restored" in panel.file_section.status.content
         kept = list(folder.glob(".autosave.refused.*.json"))
         assert len(kept) == 1 and kept[0].read_text() == "{ half a program"
     finally:
         panel.close()
         runner.shutdown()
+
+
+def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(setup, sim, tmp_path) -> None:  # type: ignore[no-untyped-def]
+    panel, workspace = setup
+    browser = FakeClient()
+    files = panel.file_section
+    for _ in range(3):
+        record(panel, browser)
+    fire(panel.select, browser, "2. Move J to P2 @ 20%")
+    # "4\." is no Markdown list item: the numbers stay 1, 2, 3 around the bold (selected) line.
+    assert re.findall(r"(\d+)\\\.", panel.steps_view.content) == ["1", "2", "3"]
+    assert "**● 2\\." in panel.steps_view.content
+    assert "Delete step" in panel.order.options and "Delete file" in files.files.options
+
+    before = workspace.program
+    fire(files.files, browser, "New")  # unsaved work: it asks first
+    assert workspace.program == before and files.question.visible and files.confirm.visible
+    assert "Discard the unsaved changes" in files.question.content
+    fire(files.confirm, browser, "Cancel")
+    assert workspace.program == before and not files.question.visible
+    fire(files.files, browser, "New")
+    fire(files.confirm, browser, "Yes")
+    assert workspace.program.steps == ()
+    fire(panel.history, browser, "Undo")  # the discarded program comes back
+    assert workspace.program == before
+
+    fire(files.file_name, browser, "keep me")
+    fire(files.files, browser, "Save as")
+    fire(files.saved, browser, "keep me")
+    fire(files.files, browser, "Delete file")  # a file: always asked
+    assert (tmp_path / "programs" / "keep me.json").is_file()
+    assert "Delete the file keep me.json?" in files.question.content
+    fire(files.confirm, browser, "Yes")
+    assert not (tmp_path / "programs" / "keep me.json").exists()
+
+    fire(panel.select, browser, "2. Move J to P2 @ 20%")
+    fire(panel.order, browser, "Delete step")
+    assert workspace.program.uses_of("P2") == 0
+    fire(panel.history, browser, "Undo")
+    assert workspace.program.uses_of("P2") == 1
+    fire(panel.history, browser, "Redo")
+    assert workspace.program.uses_of("P2") == 0
+
+
+def test_run_from_the_selected_step_and_retry_a_failed_one(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]
+    panel, workspace = setup
+    browser = FakeClient()
+    teach(sim, clock, POSE_A_DEG, "ignored")
+    record(panel, browser)
+    fire(panel.add, browser, "Wait DI")  # DI1 HIGH, 5 s: nobody sets it, so it fails
+    fire(panel.add, browser, "Set DO")
+    teach(sim, clock, POSE_B_DEG, "ignored")
+    record(panel, browser)
+    sim.reset()
+    fire(panel.select, browser, "2. Wait DI1 HIGH (timeout 5000 ms)")
+    fire(panel.run_section.run_from, browser)
+    workspace.runner._worker.join(timeout=WAIT_S)
+    progress = workspace.progress
+    assert progress.state is RunState.FAILED and progress.failed_step == 1
+    assert sim.get_pose().angles == pytest.approx([0.0, -90.0, 90.0, -90.0, -90.0, 0.0])  # step 1 skipped
+    assert panel.run_section.retry.visible and "✖ 2\\." in panel.steps_view.content
+
+    sim.set_input(1, SignalLevel.HIGH)
+    fire(panel.run_section.retry, browser)
+    workspace.runner._worker.join(timeout=WAIT_S)
+    assert workspace.progress.state is RunState.FINISHED
+    assert sim.get_output(1) is SignalLevel.HIGH
+    np.testing.assert_allclose(sim.get_pose().angles, POSE_B_DEG, atol=ANGLE_TOL_DEG)
+    assert not panel.run_section.retry.visible
+
+
+def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]
+    panel, workspace = setup
+    for pose in (POSE_A_DEG, POSE_B_DEG, POSE_C_DEG):
+        teach(sim, clock, pose, "ignored")
+        workspace.add_waypoint(sim.get_pose(), sim.get_position())
+    workspace.insert_step(MoveStep(waypoint="P1", motion=MotionType.LINEAR, offset=Offset(z=50.0)))
+    workspace.insert_step(PalletStep(corners=("P1", "P2", "P3"), rows=3, columns=4, approach_mm=30.0))
+    cells = [node for node in panel.scene._nodes if node.name == "/program/pallet_cells"]
+    assert len(cells) == 1 and cells[0].points.shape == (12, 3)  # type: ignore[attr-defined]
+    p1 = workspace.program.waypoint("P1").position.point
+    marker_points = [np.asarray(marker.position) for marker, _ in panel.scene._markers]
+    above_p1 = np.array([p1.x, p1.y, p1.z + 0.05])
+    assert min(float(np.linalg.norm(p - above_p1)) for p in marker_points) < 1e-4  # the relative target
+    assert any(abs(float(p[2]) - (p1.z + 0.03)) < 1e-4 for p in marker_points)  # above the first cell

@@ -11,17 +11,17 @@ from pendant.controller import MotionType, Pose, SignalLevel
 from pendant.program import (
     GripperAction,
     GripperStep,
-    MoveStep,
     OutputStep,
-    Program,
     ProgramRunner,
     RunState,
     WaitInputStep,
     WaitStep,
     Waypoint,
-    plan_segments,
+    compile_program,
 )
+from pendant.program.plan import MoveGroup
 from pendant.sim import FakeClock, SimController
+from tests.program.conftest import move, program_of
 
 ANGLE_TOL_DEG = 1e-6
 
@@ -48,10 +48,6 @@ class Recording:
         return [name for name, _ in self.calls]
 
 
-def move(waypoint: Waypoint, motion: MotionType = MotionType.JOINT, speed: float = 50.0) -> MoveStep:
-    return MoveStep(waypoint=waypoint, motion=motion, speed=speed)
-
-
 def sleeping(clock: FakeClock, at: float, action: Callable[[], None]) -> Callable[[float], None]:
     """A sleep that advances the fake clock and does `action` once, when the clock passes `at` seconds."""
     done = False
@@ -72,16 +68,14 @@ def angles(sim: SimController) -> np.ndarray:
 
 def test_consecutive_moves_of_one_type_and_speed_run_as_one_blended_call(sim, clock, waypoints) -> None:
     a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
-    program = Program(
-        steps=(
-            move(a),
-            move(b),  # JOINT 50: one /poses/run
-            move(c, MotionType.LINEAR),
-            move(a, MotionType.LINEAR),  # LINEAR 50: one /positions/run
-            move(b, speed=80.0),  # another speed: its own call
-            OutputStep(port=1, level=SignalLevel.HIGH),
-            move(c),
-        )
+    program = program_of(
+        move(a),
+        move(b),  # JOINT 50: one /poses/run
+        move(c, MotionType.LINEAR),
+        move(a, MotionType.LINEAR),  # LINEAR 50: one /positions/run
+        move(b, speed=80.0),  # another speed: its own call
+        OutputStep(port=1, level=SignalLevel.HIGH),
+        move(c),
     )
     recording = Recording(sim)
     runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
@@ -100,9 +94,13 @@ def test_consecutive_moves_of_one_type_and_speed_run_as_one_blended_call(sim, cl
 
 def test_plan_groups_only_neighbouring_moves_and_step_mode_splits_them(waypoints) -> None:
     a, b = waypoints["A"], waypoints["B"]
-    steps = (move(a), move(b), WaitStep(ms=10), move(a), move(b, MotionType.LINEAR))
-    assert [list(s.indices) for s in plan_segments(steps)] == [[0, 1], [2], [3], [4]]
-    assert [list(s.indices) for s in plan_segments(steps, blend=False)] == [[0], [1], [2], [3], [4]]
+    program = program_of(move(a), move(b), WaitStep(ms=10), move(a), move(b, MotionType.LINEAR))
+    assert [_lines(n) for n in compile_program(program)] == [[0, 1], [2], [3], [4]]
+    assert [_lines(n) for n in compile_program(program, blend=False)] == [[0], [1], [2], [3], [4]]
+
+
+def _lines(node: object) -> list[int]:
+    return [t.line for t in node.targets] if isinstance(node, MoveGroup) else [node.line]  # type: ignore[attr-defined]
 
 
 def test_outputs_are_set_only_once_the_arm_has_arrived(sim, clock, waypoints) -> None:
@@ -116,18 +114,16 @@ def test_outputs_are_set_only_once_the_arm_has_arrived(sim, clock, waypoints) ->
 
     recording.set_output = set_output  # type: ignore[method-assign]
     runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
-    runner.run(Program(steps=(move(a), OutputStep(port=2, level=SignalLevel.HIGH))))
+    runner.run(program_of(move(a), OutputStep(port=2, level=SignalLevel.HIGH)))
     np.testing.assert_allclose(seen[0], a.pose.angles, atol=ANGLE_TOL_DEG)
 
 
 def test_loop_count_repeats_the_whole_program(sim, clock, waypoints) -> None:
-    program = Program(
-        steps=(
-            move(waypoints["A"]),
-            GripperStep(action=GripperAction.CLOSE, timeout_ms=100),
-            move(waypoints["B"]),
-            GripperStep(action=GripperAction.OPEN, timeout_ms=100),
-        )
+    program = program_of(
+        move(waypoints["A"]),
+        GripperStep(action=GripperAction.CLOSE, timeout_ms=100),
+        move(waypoints["B"]),
+        GripperStep(action=GripperAction.OPEN, timeout_ms=100),
     )
     recording = Recording(sim)
     runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
@@ -143,7 +139,7 @@ def test_loop_count_repeats_the_whole_program(sim, clock, waypoints) -> None:
 
 def test_step_runs_one_step_at_a_time_without_blending(sim, clock, waypoints) -> None:
     a, b = waypoints["A"], waypoints["B"]
-    program = Program(steps=(move(a), move(b), OutputStep(port=1, level=SignalLevel.HIGH)))
+    program = program_of(move(a), move(b), OutputStep(port=1, level=SignalLevel.HIGH))
     runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
 
     first = runner.step(program)
@@ -162,13 +158,11 @@ def test_a_refused_move_stops_the_program_naming_the_step_and_the_reason(sim, cl
     beyond_limits = Waypoint(
         name="Far", pose=Pose(angles=[0.0, -90.0, 400.0, -90.0, -90.0, 0.0]), position=a.position
     )
-    program = Program(
-        steps=(
-            move(a),
-            OutputStep(port=1, level=SignalLevel.HIGH),
-            move(beyond_limits),
-            OutputStep(port=2, level=SignalLevel.HIGH),
-        )
+    program = program_of(
+        move(a),
+        OutputStep(port=1, level=SignalLevel.HIGH),
+        move(beyond_limits),
+        OutputStep(port=2, level=SignalLevel.HIGH),
     )
     runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
 
@@ -185,7 +179,7 @@ def test_a_refused_blended_run_names_every_step_it_covers_and_moves_nothing(sim,
     runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
     before = angles(sim)
 
-    result = runner.run(Program(steps=(move(a), move(b), move(far))))
+    result = runner.run(program_of(move(a), move(b), move(far)))
 
     assert result.state is RunState.FAILED and result.failed_step == 0
     assert result.message == "Steps 1-3 (blended moves to A, B, Far) failed: Unreachable Pose"
@@ -195,7 +189,7 @@ def test_a_refused_blended_run_names_every_step_it_covers_and_moves_nothing(sim,
 def test_a_fault_during_a_motion_names_the_step_it_interrupted(sim, clock, waypoints) -> None:
     from pendant.sim.controller import Fault
 
-    program = Program(steps=(WaitStep(ms=100), move(waypoints["A"])))
+    program = program_of(WaitStep(ms=100), move(waypoints["A"]))
     runner = ProgramRunner(
         sim, now=clock.now, sleep=sleeping(clock, 0.5, lambda: sim.inject_fault(Fault.EMERGENCY))
     )
@@ -207,7 +201,9 @@ def test_a_fault_during_a_motion_names_the_step_it_interrupted(sim, clock, waypo
 
 
 def test_wait_for_input_times_out_with_a_clear_message(sim, clock) -> None:
-    program = Program(steps=(WaitInputStep(port=2, level=SignalLevel.HIGH, timeout_ms=1500),))
+    program = program_of(
+        WaitInputStep(port=2, level=SignalLevel.HIGH, timeout_ms=1500),
+    )
     runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
     started = clock.now()
 
@@ -222,11 +218,9 @@ def test_wait_for_input_times_out_with_a_clear_message(sim, clock) -> None:
 
 
 def test_wait_for_input_continues_when_the_input_arrives(sim, clock) -> None:
-    program = Program(
-        steps=(
-            WaitInputStep(port=3, level=SignalLevel.HIGH, timeout_ms=5000),
-            OutputStep(port=1, level=SignalLevel.HIGH),
-        )
+    program = program_of(
+        WaitInputStep(port=3, level=SignalLevel.HIGH, timeout_ms=5000),
+        OutputStep(port=1, level=SignalLevel.HIGH),
     )
     runner = ProgramRunner(
         sim, now=clock.now, sleep=sleeping(clock, 0.3, lambda: sim.set_input(3, SignalLevel.HIGH))
@@ -236,7 +230,7 @@ def test_wait_for_input_continues_when_the_input_arrives(sim, clock) -> None:
 
 
 def test_waits_and_the_gripper_take_their_time(sim, clock) -> None:
-    program = Program(steps=(WaitStep(ms=750), GripperStep(action=GripperAction.CLOSE, timeout_ms=500)))
+    program = program_of(WaitStep(ms=750), GripperStep(action=GripperAction.CLOSE, timeout_ms=500))
     runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
     started = clock.now()
     runner.run(program)
@@ -245,7 +239,7 @@ def test_waits_and_the_gripper_take_their_time(sim, clock) -> None:
 
 
 def test_loops_zero_repeats_until_stop(sim, clock, waypoints) -> None:
-    program = Program(steps=(move(waypoints["A"]), move(waypoints["B"], speed=80.0)))
+    program = program_of(move(waypoints["A"]), move(waypoints["B"], speed=80.0))
     holder: list[ProgramRunner] = []
     runner = ProgramRunner(sim, now=clock.now, sleep=sleeping(clock, 30.0, lambda: holder[0].stop()))
     holder.append(runner)

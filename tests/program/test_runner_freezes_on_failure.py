@@ -6,8 +6,9 @@ from __future__ import annotations
 import numpy as np
 
 from pendant.controller import MotionStatus, MotionType, NotResponding
-from pendant.program import MoveStep, Program, ProgramRunner, RunState, Waypoint
+from pendant.program import ProgramRunner, RunState, Waypoint
 from pendant.sim import FakeClock, SimController
+from tests.program.conftest import move, program_of
 
 FAIL_AT_S = 0.5
 SLOW_PERCENT = 10.0
@@ -36,11 +37,11 @@ def test_a_controller_error_mid_group_freezes_the_arm_where_it_is(
     sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
 ) -> None:
     a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
-    steps = tuple(MoveStep(waypoint=w, motion=MotionType.JOINT, speed=SLOW_PERCENT) for w in (a, b, c))
+    program = program_of(*(move(w, MotionType.JOINT, SLOW_PERCENT) for w in (a, b, c)))
     flaky = FlakyStatus(sim, clock, clock.now() + FAIL_AT_S)
     runner = ProgramRunner(flaky, sleep=clock.advance, now=clock.now, poll_s=0.05)  # type: ignore[arg-type]
 
-    result = runner.run(Program(steps=steps))
+    result = runner.run(program)
 
     assert flaky.failed
     assert result.state is RunState.FAILED

@@ -22,8 +22,8 @@ from pendant.program import (
 )
 from pendant.remote import RemoteController
 from pendant.sim import FakeClock, SimController
-from tests.program.conftest import POLL_S
-from tests.program.test_runner import angles, move, sleeping
+from tests.program.conftest import POLL_S, move, program_of
+from tests.program.test_runner import angles, sleeping
 
 ANGLE_TOL_DEG = 1e-6
 POS_TOL_M = 1e-6
@@ -47,17 +47,15 @@ def controller(request: pytest.FixtureRequest, sim: SimController) -> Iterator[C
 
 def pick_and_place(waypoints: dict[str, Waypoint]) -> Program:
     a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
-    return Program(
-        steps=(
-            move(a),
-            move(b),  # blended: one /poses/run
-            OutputStep(port=1, level=SignalLevel.HIGH),
-            WaitStep(ms=WAIT_MS),
-            move(c, MotionType.LINEAR),
-            move(a, MotionType.LINEAR),  # blended: one /positions/run
-            OutputStep(port=2, level=SignalLevel.HIGH),
-            OutputStep(port=1, level=SignalLevel.LOW),
-        )
+    return program_of(
+        move(a),
+        move(b),  # blended: one /poses/run
+        OutputStep(port=1, level=SignalLevel.HIGH),
+        WaitStep(ms=WAIT_MS),
+        move(c, MotionType.LINEAR),
+        move(a, MotionType.LINEAR),  # blended: one /positions/run
+        OutputStep(port=2, level=SignalLevel.HIGH),
+        OutputStep(port=1, level=SignalLevel.LOW),
     )
 
 
@@ -97,7 +95,7 @@ def test_pause_holds_the_arm_and_resume_finishes_on_either_controller(
     runner = ProgramRunner(controller, now=clock.now, sleep=sleeping(clock, 0.6, lambda: holder[0].pause()))
     holder.append(runner)
 
-    paused = runner.run(Program(steps=(move(a), move(b), move(c))))
+    paused = runner.run(program_of(move(a), move(b), move(c)))
 
     assert paused.state is RunState.PAUSED
     held = angles(sim)
@@ -111,8 +109,8 @@ def test_pause_holds_the_arm_and_resume_finishes_on_either_controller(
 def test_stop_freezes_the_arm_and_nothing_after_it_runs_on_either_controller(
     controller: Controller, sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
 ) -> None:
-    program = Program(
-        steps=(move(waypoints["A"]), move(waypoints["B"]), OutputStep(port=1, level=SignalLevel.HIGH))
+    program = program_of(
+        move(waypoints["A"]), move(waypoints["B"]), OutputStep(port=1, level=SignalLevel.HIGH)
     )
     holder: list[ProgramRunner] = []
     runner = ProgramRunner(controller, now=clock.now, sleep=sleeping(clock, 0.4, lambda: holder[0].stop()))
@@ -132,7 +130,7 @@ def test_stop_freezes_the_arm_and_nothing_after_it_runs_on_either_controller(
 def test_stop_during_a_wait_ends_the_run_before_the_next_step_on_either_controller(
     controller: Controller, sim: SimController, clock: FakeClock
 ) -> None:
-    program = Program(steps=(WaitStep(ms=2000), OutputStep(port=2, level=SignalLevel.HIGH)))
+    program = program_of(WaitStep(ms=2000), OutputStep(port=2, level=SignalLevel.HIGH))
     holder: list[ProgramRunner] = []
     runner = ProgramRunner(controller, now=clock.now, sleep=sleeping(clock, 0.5, lambda: holder[0].stop()))
     holder.append(runner)
@@ -150,7 +148,7 @@ def test_a_refused_step_names_the_step_and_the_controllers_message_on_either_con
     far = Waypoint(name="Far", pose=Pose(angles=[0.0, -90.0, 400.0, -90.0, -90.0, 0.0]), position=a.position)
     runner = ProgramRunner(controller, sleep=clock.advance, now=clock.now)
 
-    result = runner.run(Program(steps=(move(a), OutputStep(port=1, level=SignalLevel.HIGH), move(far))))
+    result = runner.run(program_of(move(a), OutputStep(port=1, level=SignalLevel.HIGH), move(far)))
 
     assert result.state is RunState.FAILED and result.failed_step == 2
     assert result.message == "Step 3 (Move J to Far @ 50%) failed: Unreachable Pose"

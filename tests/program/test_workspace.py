@@ -74,7 +74,8 @@ def test_teach_save_restart_load_and_run_a_pick_and_place(sim, clock, make_works
     assert result.state is RunState.FINISHED
     final = restarted.program.steps[3]
     assert isinstance(final, MoveStep)
-    np.testing.assert_allclose(sim.get_pose().angles, final.waypoint.pose.angles, atol=ANGLE_TOL_DEG)
+    taught = restarted.program.waypoint(final.waypoint)
+    np.testing.assert_allclose(sim.get_pose().angles, taught.pose.angles, atol=ANGLE_TOL_DEG)
     assert sim.get_output(1) is SignalLevel.HIGH
     assert sim.gripper_opening() == 0.0
 
@@ -164,8 +165,13 @@ def test_upload_and_download_round_trip(sim, make_workspace) -> None:
     assert filename == "cell 4.json"
     workspace.new()
     workspace.upload("../../etc/cell 4 copy.json", data)
-    assert workspace.program.name == "cell 4 copy" and workspace.file_name is None and workspace.dirty
+    # The program keeps the name it carries (the browser may have renamed the file on download).
+    assert workspace.program.name == "cell 4" and workspace.file_name is None and workspace.dirty
     assert workspace.program.steps == workspace.store.load("cell 4").steps
+    nameless = json.loads(data)
+    del nameless["name"]
+    workspace.upload("../../etc/cell 4 copy.json", json.dumps(nameless).encode())
+    assert workspace.program.name == "cell 4 copy"  # none inside: the file's name, without its folders
 
 
 def test_unsaved_edits_come_back_after_a_restart(sim, make_workspace) -> None:

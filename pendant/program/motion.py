@@ -1,0 +1,261 @@
+"""Executing one plan node on a Controller: a blended move (then its waypoint actions), a gripper, output or
+wait step, and reading an input for a Loop or If.
+
+It learns that a motion finished by polling the motion status, and the pose, to know which waypoint the arm
+is heading for. Time comes from injected `now` and `sleep`, so tests run on the simulator's FakeClock.
+
+Waypoint actions (DO, gripper) run stop-and-set: the plan ends a blended group at a waypoint with actions,
+and they are sent once the arm is there. A controller that takes them inside one blended `/run/*` request
+(PULSE 1.8) plugs in as a `BlendedPath`: the plan then keeps such groups whole and `run_path` sends them.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+
+from pendant.controller import Controller, ControllerError, MotionStatus
+from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS, SignalLevel
+from pendant.program.models import (
+    GripperAction,
+    GripperAtWaypoint,
+    GripperStep,
+    OutputAction,
+    OutputStep,
+    WaitInputStep,
+    WaitStep,
+    WaypointAction,
+)
+from pendant.program.plan import MoveGroup, Single, Target
+
+POLL_S = 0.05
+# A real controller may report IDLE for a moment after accepting a motion; past this, IDLE away from the
+# target means the motion never started.
+START_GRACE_S = 2.0
+ARRIVAL_TOL_DEG = 0.5
+ARRIVAL_TOL_M = 0.002
+FAILED_STATES = {
+    MotionStatus.MOTION_FAILED: "the motion failed (MOTION_FAILED)",
+    MotionStatus.ERROR: "the controller is in ERROR",
+    MotionStatus.EMERGENCY: "the arm is in EMERGENCY",
+    MotionStatus.ZERO_GRAVITY: "the arm was relaxed (ZERO_GRAVITY)",
+}
+
+
+class BlendedPath(Protocol):
+    """A controller that runs a group with per-waypoint blend radii and actions in one `/run/*` request."""
+
+    def run_path(self, group: MoveGroup) -> None: ...
+
+
+class Interrupted(Exception):
+    """Pause or stop arrived; `target` is the waypoint of the group to resume at."""
+
+    def __init__(self, target: int = 0) -> None:
+        self.target = target
+
+
+class StepFailed(Exception):
+    """The node failed at `target` (its line); `whole` when the controller refused a blended group whole."""
+
+    def __init__(self, reason: str, target: int = 0, whole: bool = False) -> None:
+        self.reason = reason
+        self.target = target
+        self.whole = whole
+
+
+@dataclass
+class Timing:
+    sleep: Callable[[float], None]
+    now: Callable[[], float]
+    poll_s: float = POLL_S
+
+
+class NodeExecutor:
+    """Runs nodes on `controller`; `interrupted()` says a pause or stop was asked for (checked in waits)."""
+
+    def __init__(
+        self,
+        controller: Controller,
+        timing: Timing,
+        interrupted: Callable[[], bool],
+        freeze: Callable[[], None],
+        blended: BlendedPath | None = None,
+    ) -> None:
+        self._controller = controller
+        self._t = timing
+        self._interrupted = interrupted
+        self._freeze = freeze
+        self._blended = blended
+
+    def check(self, target: int = 0) -> None:
+        if self._interrupted():
+            raise Interrupted(target)
+
+    def command(self, target: int, send: Callable[[], object]) -> None:
+        """Send a command unless interrupted; if an interrupt raced it, freeze again so it does not run."""
+        self.check(target)
+        send()
+        if self._interrupted():
+            self._freeze()
+            raise Interrupted(target)
+
+    # --- conditions ----------------------------------------------------------------------------------
+    def input_is(self, port: int, level: SignalLevel) -> bool:
+        try:
+            return self._controller.get_input(port) is level
+        except ControllerError as error:
+            raise StepFailed(error.message) from error
+
+    # --- single steps --------------------------------------------------------------------------------
+    def single(self, node: Single) -> None:
+        try:
+            self._single(node)
+        except ControllerError as error:
+            raise StepFailed(error.message) from error
+
+    def _single(self, node: Single) -> None:
+        controller, step = self._controller, node.step
+        match step:
+            case GripperStep():
+                self._gripper(step.action, step.timeout_ms)
+            case OutputStep():
+                self.command(0, lambda: controller.set_output(step.port, step.level))
+            case WaitInputStep():
+                started = self._t.now()
+                while True:
+                    self.check()
+                    if controller.get_input(step.port) is step.level:
+                        return
+                    if self._t.now() - started >= step.timeout_ms / 1000.0:
+                        raise StepFailed(
+                            f"DI{step.port} did not go {step.level.value} within {step.timeout_ms} ms"
+                        )
+                    self._t.sleep(self._t.poll_s)
+            case WaitStep():
+                ends_at = self._t.now() + step.ms / 1000.0
+                while (left := ends_at - self._t.now()) > 0:
+                    self.check()  # a paused wait starts over on resume
+                    self._t.sleep(min(self._t.poll_s, left))
+
+    def _gripper(self, action: GripperAction, timeout_ms: int, target: int = 0) -> None:
+        controller = self._controller
+        gripper = controller.open_gripper if action is GripperAction.OPEN else controller.close_gripper
+        started = self._t.now()
+        self.command(target, lambda: gripper(timeout_ms))
+        # The arm stays put while the gripper works: wait out the timeout and any queued motion.
+        while True:
+            self.check(target)
+            status = controller.get_motion_status()
+            _raise_if_failed(status, target)
+            if self._t.now() - started >= timeout_ms / 1000.0 and status is not MotionStatus.RUNNING:
+                return
+            self._t.sleep(self._t.poll_s)
+
+    # --- moves ---------------------------------------------------------------------------------------
+    def move(self, group: MoveGroup, start: int, only_one: bool, heading: Callable[[int], None]) -> int:
+        """Run targets[start:] (only targets[start] when `only_one`), then the last one's actions; returns
+        the index of the last target reached. `heading(k)` is told which target the arm is heading for."""
+        end = start + 1 if only_one else len(group.targets)
+        targets = group.targets[start:end]
+        try:
+            self._move(group, targets, start, heading)
+        except ControllerError as error:
+            raise StepFailed(error.message, start, whole=len(targets) > 1) from error
+        if self._blended is None:
+            for action in targets[-1].actions:
+                self._action(action, end - 1)
+        return end - 1
+
+    def _move(
+        self, group: MoveGroup, targets: tuple[Target, ...], first: int, heading: Callable[[int], None]
+    ) -> None:
+        controller = self._controller
+        joint = group.by_angles
+        start = self._reading(joint)
+        points = [_point_of(t) for t in targets]
+        sub = MoveGroup(targets, group.motion, group.speed)
+        if self._blended is not None:
+            self.command(first, lambda: self._blended.run_path(sub))  # type: ignore[union-attr]
+        elif joint:
+            poses = [t.pose for t in targets]
+            self.command(first, lambda: controller.run_poses(poses, group.params))  # type: ignore[arg-type]
+        else:
+            positions = [t.position for t in targets]
+            self.command(first, lambda: controller.run_positions(positions, group.params))  # type: ignore[arg-type]
+        tol = ARRIVAL_TOL_DEG if joint else ARRIVAL_TOL_M
+        issued_at = self._t.now()
+        seen_running = False
+        towards = 0
+        while True:
+            self.check(first + towards)
+            try:
+                status = controller.get_motion_status()
+                here = self._reading(joint)
+            except ControllerError as error:
+                raise StepFailed(error.message, first + towards) from error
+            towards = max(towards, _heading(start, points, here))
+            heading(first + towards)
+            _raise_if_failed(status, first + towards)
+            if status is MotionStatus.RUNNING:
+                seen_running = True
+            elif status is MotionStatus.IDLE:
+                if _distance(here, points[-1], joint) <= tol:
+                    return
+                if seen_running or self._t.now() - issued_at > START_GRACE_S:
+                    name = targets[towards].name
+                    raise StepFailed(f"the arm stopped before reaching {name}", first + towards)
+            self._t.sleep(self._t.poll_s)
+
+    def _action(self, action: WaypointAction, target: int) -> None:
+        try:
+            if isinstance(action, OutputAction):
+                self.command(target, lambda: self._controller.set_output(action.port, action.value))
+            elif isinstance(action, GripperAtWaypoint):
+                self._gripper(action.value, DEFAULT_GRIPPER_TIMEOUT_MS, target)
+        except ControllerError as error:
+            raise StepFailed(error.message, target) from error
+
+    def _reading(self, joint: bool) -> np.ndarray:
+        """Where the arm is, in the space the group moves in: angles (degrees) or TCP point (metres)."""
+        if joint:
+            return np.asarray(self._controller.get_pose().angles, dtype=float)
+        p = self._controller.get_position().point
+        return np.array([p.x, p.y, p.z])
+
+
+def _raise_if_failed(status: MotionStatus, target: int) -> None:
+    if status in FAILED_STATES:
+        raise StepFailed(FAILED_STATES[status], target)
+
+
+def _point_of(target: Target) -> np.ndarray:
+    if target.pose is not None:
+        return np.asarray(target.pose.angles, dtype=float)
+    assert target.position is not None
+    p = target.position.point
+    return np.array([p.x, p.y, p.z])
+
+
+def _distance(a: np.ndarray, b: np.ndarray, joint: bool) -> float:
+    # Joints: the largest single-joint error (what a joint-space tolerance means); TCP: Euclidean metres.
+    return float(np.max(np.abs(a - b))) if joint else float(np.linalg.norm(a - b))
+
+
+def _heading(start: np.ndarray, targets: list[np.ndarray], here: np.ndarray) -> int:
+    """Index of the target the arm is heading for: the leg of start -> t0 -> t1 ... nearest to `here`."""
+    best, best_distance = 0, math.inf
+    previous = start
+    for index, target in enumerate(targets):
+        leg = target - previous
+        length2 = float(leg @ leg)
+        t = 0.0 if length2 == 0.0 else float(np.clip((here - previous) @ leg / length2, 0.0, 1.0))
+        distance = float(np.linalg.norm(previous + t * leg - here))
+        if distance < best_distance - 1e-9:
+            best, best_distance = index, distance
+        previous = target
+    return best
