@@ -79,7 +79,7 @@ def test_an_upload_larger_than_a_program_is_refused_before_it_is_kept(page: tupl
             await ws.send(CAMERA_HELLO)
             await wait_for(lambda: len(ui.sessions) == 1)
             session: ClientSession = next(iter(ui.sessions.values()))
-            button = session.program.upload
+            button = session.program.file_section.upload
             button_uuid = button._impl.uuid
             states = button._impl.gui_api._current_file_upload_states
 
