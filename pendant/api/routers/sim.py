@@ -26,6 +26,7 @@ class FaultName(StrEnum):
     emergency = "emergency"
     no_response = "no_response"
     motion_failed = "motion_failed"
+    twisted = "twisted"
 
 
 FaultPath = Annotated[
@@ -34,7 +35,8 @@ FaultPath = Annotated[
         description=(
             "error: the arm stops, frozen, status ERROR (PUT /recover brings it back). emergency: status "
             "EMERGENCY, every PULSE call answers 503 until /sim/reset. no_response: every PULSE call answers "
-            "500 until /sim/reset. motion_failed: the running motion fails, status MOTION_FAILED."
+            "500 until /sim/reset. motion_failed: the running motion fails, status MOTION_FAILED. twisted: "
+            "GET /status says TWISTED, motion answers 412 until PUT /untwisting/finish."
         )
     ),
 ]
