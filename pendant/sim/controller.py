@@ -186,6 +186,7 @@ class SimController(MotionCommands, Pulse18Operations):
     def get_output(self, port: int) -> SignalLevel:
         with self._lock:
             self.check_alive()
+            self._motions.settle(self._now())  # waypoint actions due by now have set their outputs
             return self._io.output(port)
 
     def get_input(self, port: int) -> SignalLevel:

@@ -76,8 +76,23 @@ class Plan:
         return self.scaling.duration
 
 
+# The SDK checks only "above 0"; below these a motion would take ages (or underflow to a standstill).
+MIN_PERCENT = 0.01
+MIN_TCP_VELOCITY_M_S = 1e-4
+MIN_TCP_ACCELERATION_M_S2 = 1e-4
+
+
 def check_params(params: MotionParams) -> None:
     """PreconditionFailed with a clear message when a parameter is out of its range."""
+    floors = (
+        ("speed", params.speed, MIN_PERCENT, "%"),
+        ("acceleration", params.acceleration, MIN_PERCENT, "%"),
+        ("tcp_max_velocity", params.tcp_max_velocity, MIN_TCP_VELOCITY_M_S, "m/s"),
+        ("acceleration", params.tcp_acceleration, MIN_TCP_ACCELERATION_M_S2, "m/s^2"),
+    )
+    for name, value, floor, unit in floors:
+        if value is not None and 0.0 < value < floor:
+            raise PreconditionFailed(f"{name} must be at least {floor:g} {unit} (got {value:g})")
     if not (math.isfinite(params.speed) and SPEED_MIN < params.speed <= SPEED_MAX):
         raise PreconditionFailed(
             f"speed must be between {SPEED_MIN:g} (exclusive) and {SPEED_MAX:g} % (got {params.speed})"

@@ -166,7 +166,7 @@ def cell_router(controller: Controller) -> APIRouter:
     not_found = docs.precondition(MSG_NO_OBSTACLE.format(name="table"))
 
     @router.get(
-        "/environment/{obstacle}",
+        "/environment/{obstacle:path}",
         tags=env,
         summary="Getting an obstacle by name",
         response_class=JSONBytesResponse,
@@ -176,7 +176,7 @@ def cell_router(controller: Controller) -> APIRouter:
         return model_result(controller.get_obstacle(obstacle))
 
     @router.delete(
-        "/environment/{obstacle}",
+        "/environment/{obstacle:path}",
         tags=env,
         summary="Removing an obstacle by name",
         response_class=TextResponse,
