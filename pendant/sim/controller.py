@@ -95,14 +95,17 @@ def _load_arm(model: str) -> ArmModel:
 class SimController(MotionCommands, Pulse18Operations):
     """A simulated PULSE controller: every `Controller` method, plus simulator-only controls."""
 
-    def __init__(self, model: str = "pulse75", clock: Clock | None = None) -> None:
+    def __init__(
+        self, model: str = "pulse75", clock: Clock | None = None, epoch: float | None = None
+    ) -> None:
+        """`epoch`: the wall time (s) at which `clock` read 0, for timestamps; default: now minus its time."""
         self._lock = threading.RLock()
         self._clock: Clock = clock if clock is not None else MonotonicClock()
-        self._epoch = time.time() - self._clock.now()
+        self._epoch = epoch if epoch is not None else time.time() - self._clock.now()
         self.model = model
         self.arm: ArmModel = _load_arm(model)
         self._planner = Planner(self.arm)
-        self._failures = FailureLog()
+        self._failures = FailureLog(self.clock_time)
         servos = ServoModel(self.arm.inverse_dynamics, self._clock.now())
         self._motions = MotionQueue(servos, self._failed, self._run_action)
         self._robot_id = "".join(servo_ids(self.arm.name))

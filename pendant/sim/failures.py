@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections import deque
+from collections.abc import Callable
 from datetime import UTC, datetime
 
 from pendant.controller.system_types import Failure, FailureLevel, FailureType
@@ -11,11 +12,14 @@ MAX_FAILURES = 50  # "recent": older ones are dropped
 
 
 class FailureLog:
-    def __init__(self) -> None:
+    """Dated by `clock_time()` (seconds since the epoch, in the simulator's own time)."""
+
+    def __init__(self, clock_time: Callable[[], float]) -> None:
+        self._clock_time = clock_time
         self._failures: deque[Failure] = deque(maxlen=MAX_FAILURES)
 
     def record(self, type_: FailureType, level: FailureLevel, message: str) -> None:
-        date = datetime.now(UTC).isoformat(timespec="milliseconds")
+        date = datetime.fromtimestamp(self._clock_time(), UTC).isoformat(timespec="milliseconds")
         self._failures.append(Failure(type=type_, message=message, date=date, level=level))
 
     def recent(self) -> list[Failure]:
