@@ -6,6 +6,7 @@ The base link is not checked (it never moves: an obstacle touching it would bloc
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import coal
@@ -62,6 +63,41 @@ def plane_shape(points: np.ndarray) -> tuple[coal.CollisionGeometry, np.ndarray]
     return coal.Halfspace(normal, offset), np.eye(4)
 
 
+def _bounding_sphere(shape: coal.CollisionGeometry, T: np.ndarray) -> tuple[np.ndarray, float]:
+    """Centre (base frame) and radius of a sphere holding the shape; a half-space gets an infinite one."""
+    if isinstance(shape, coal.Halfspace):
+        return T[:3, 3], math.inf
+    if shape.aabb_radius < 0:
+        shape.computeLocalAABB()
+    return T[:3, :3] @ shape.aabb_center + T[:3, 3], float(shape.aabb_radius)
+
+
+def _apart(shape: coal.CollisionGeometry, T: np.ndarray, obstacle: _Placed) -> bool:
+    """Cheap broad phase: the two surely do not touch (bounding spheres apart, or clear of the plane)."""
+    centre, radius = _bounding_sphere(shape, T)
+    if obstacle.plane is not None:
+        normal, offset = obstacle.plane
+        return float(normal @ centre) - offset > radius  # wholly on the free side
+    return float(np.linalg.norm(centre - obstacle.centre)) > radius + obstacle.radius
+
+
+@dataclass(frozen=True)
+class _Placed:
+    shape: coal.CollisionGeometry
+    T: np.ndarray
+    centre: np.ndarray
+    radius: float
+    plane: tuple[np.ndarray, float] | None  # a half-space's normal and offset (free side: n.x > d)
+
+
+def _placed(shape: coal.CollisionGeometry, T: np.ndarray) -> _Placed:
+    if isinstance(shape, coal.Halfspace):
+        normal = np.array(shape.n)
+        return _Placed(shape, T, T[:3, 3], math.inf, (normal, float(shape.d)))
+    centre, radius = _bounding_sphere(shape, T)
+    return _Placed(shape, T, centre, radius, None)
+
+
 def _collide(a: coal.CollisionGeometry, T_a: np.ndarray, b: coal.CollisionGeometry, T_b: np.ndarray) -> bool:
     request = coal.CollisionRequest()
     result = coal.CollisionResult()
@@ -83,6 +119,7 @@ class CellGeometry:
     ) -> None:
         self.arm = arm
         self.obstacles = obstacles
+        self._placed = [_placed(shape, T) for shape, T in obstacles]
         self.tool = tool
         self._tool_shapes = [capsule_shape(capsule) for capsule in tool]
 
@@ -104,8 +141,8 @@ class CellGeometry:
             return False
         moving = [*self.arm.moving_shapes(q), *tool]
         return any(
-            _collide(shape, T_shape, obstacle, T_obstacle)
-            for obstacle, T_obstacle in self.obstacles
+            not _apart(shape, T_shape, obstacle) and _collide(shape, T_shape, obstacle.shape, obstacle.T)
+            for obstacle in self._placed
             for shape, T_shape in moving
         )
 
