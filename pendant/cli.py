@@ -1,14 +1,19 @@
 """The `pendant` command: flags -> Settings -> controller -> the web UI and the API server.
 
     pendant [--host 127.0.0.1] [--ui-port 8080] [--api-port 8081] [--model pulse75|pulse90] [--robot URL]
-            [--connect-timeout 1] [--read-timeout 3]
+            [--connect-timeout 1] [--read-timeout 3] [--no-ui [--time-scale K]]
+    pendant check URL [--timeout S]
+
 
 serves the pendant's page and the PULSE REST API (the simulator's, or a proxy to the real arm at --robot);
-with --no-ui, the API alone on the controller's own port.
+with --no-ui, the API alone on the controller's own port (its clock K times the wall clock with
+--time-scale K). `pendant check URL` waits until a PULSE API answers at URL (for CI scripts).
 
 Bound to loopback (the default) nobody else can reach it. Bound to anything else (`--host 0.0.0.0`) it
 has an access token (`--token`, or a fresh one printed at start-up with a ready-to-open URL carrying it):
-taking control in the page needs it, and so does every PUT/POST on the API (header X-Pendant-Token).
+taking control in the page needs it, and so does every command on the API (header X-Pendant-Token) but a stop.
+Both ports answer only to IP addresses, loopback names, the bound name and `--allowed-host` names, and refuse
+commands from web pages of other origins (pendant.access.origin).
 """
 
 from __future__ import annotations
@@ -19,15 +24,22 @@ import sys
 import time
 from collections.abc import Sequence
 from dataclasses import replace
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from starlette.types import ASGIApp
 
 from pendant import __version__
-from pendant.access import TOKEN_HEADER, is_loopback_host, new_token, ui_url
+from pendant.access import TOKEN_HEADER, is_loopback_host, new_token
+from pendant.access.http_guard import AccessRules
+from pendant.access.origin import OriginPolicy
+from pendant.access.remote import RemoteControl
+from pendant.access.token import token_problem
+from pendant.banner import announce
 from pendant.config import Settings
 from pendant.controller.protocol import Controller
 from pendant.eventlog import EventLog
+from pendant.monitoring import EventStore, PendantMetrics, data_dir
 from pendant.paths import MODEL_NAMES
 
 if TYPE_CHECKING:
@@ -80,6 +92,27 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         help="with --robot: seconds to wait for the controller's answer (default %(default)g)",
     )
     parser.add_argument(
+        "--command-timeout",
+        type=_seconds,
+        default=_DEFAULTS.command_timeout,
+        metavar="S",
+        help="with --robot: seconds a command through the API waits for the controller (default %(default)g)",
+    )
+    parser.add_argument(
+        "--allowed-host",
+        action="append",
+        default=[],
+        metavar="NAME",
+        help="a host name the pendant answers to besides IP addresses and localhost (repeatable; "
+        "'.example.com' allows its subdomains); other names are refused (DNS rebinding)",
+    )
+    parser.add_argument(
+        "--remote-control",
+        choices=("on", "off"),
+        help="whether API clients may move the arm at start-up (the operator can switch it in the page); "
+        "default on for the simulator on loopback and with --no-ui, off otherwise",
+    )
+    parser.add_argument(
         "--token",
         help=f"access token to take control in the page and for API commands ({TOKEN_HEADER} header); "
         "generated when --host is not a loopback address",
@@ -89,11 +122,29 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         metavar="DIR",
         help="folder of taught programs (default: $PENDANT_PROGRAMS_DIR, else ./programs)",
     )
+    parser.add_argument(
+        "--data",
+        metavar="DIR",
+        help="folder of the event log and recordings (default: $PENDANT_DATA_DIR, else pendant-data/ "
+        "beside the programs folder)",
+    )
     parser.add_argument("--no-ui", action="store_true", help="serve the PULSE REST API only")
+    parser.add_argument(
+        "--time-scale",
+        type=float,
+        default=_DEFAULTS.time_scale,
+        metavar="K",
+        help="with --no-ui: the simulator's time runs K times the wall clock, e.g. 100 for tests "
+        "(default %(default)g)",
+    )
     args = parser.parse_args(argv)
     for port in (args.api_port, args.ui_port):
         if not 0 <= port <= 65535:
             parser.error(f"port {port} is out of range 0-65535")
+    if args.token is not None and (problem := token_problem(args.token)) is not None:
+        parser.error(f"--token: {problem}")
+    if args.time_scale != 1.0:
+        _check_time_scale_flag(parser, args)
     return Settings(
         host=args.host,
         ui_port=args.ui_port,
@@ -103,9 +154,26 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         no_ui=args.no_ui,
         token=args.token,
         programs_dir=args.programs,
+        data_dir=args.data,
         connect_timeout=args.connect_timeout,
         read_timeout=args.read_timeout,
+        command_timeout=args.command_timeout,
+        allowed_hosts=tuple(args.allowed_host),
+        remote_control=None if args.remote_control is None else args.remote_control == "on",
+        time_scale=args.time_scale,
     )
+
+
+def _check_time_scale_flag(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    if args.robot is not None or not args.no_ui:
+        # A real arm keeps its own time; the page's jog deadman and program waits run on the wall clock.
+        parser.error("--time-scale is for the simulator alone: use it with --no-ui and without --robot")
+    from pendant.sim.clock import check_time_scale  # the simulator's package: imported only when needed
+
+    try:
+        check_time_scale(args.time_scale)
+    except ValueError as error:
+        parser.error(str(error))
 
 
 def with_access_token(settings: Settings) -> Settings:
@@ -116,27 +184,59 @@ def with_access_token(settings: Settings) -> Settings:
 
 
 def make_controller(settings: Settings) -> Controller:
-    """The embedded simulator on the real clock, or a client of the real controller at `--robot`."""
+    """The embedded simulator on the wall clock (times --time-scale), or a client of the real controller."""
     if settings.robot_url is not None:
         from pendant.remote import RemoteController
 
         return RemoteController(
             settings.robot_url, connect_timeout=settings.connect_timeout, read_timeout=settings.read_timeout
         )
-    from pendant.sim import MonotonicClock, SimController
+    from pendant.sim import MonotonicClock, ScaledClock, SimController
 
-    return SimController(model=settings.model, clock=MonotonicClock())
+    # Real time is the wall clock itself; a scaled one also keeps planning out of simulated time.
+    clock = MonotonicClock() if settings.time_scale == 1.0 else ScaledClock(settings.time_scale)
+    return SimController(model=settings.model, clock=clock)
+
+
+def remote_control_default(settings: Settings) -> bool:
+    """API clients may move the arm from the start only where nobody else can be surprised: the simulator on
+    loopback (scripts work out of the box), or no page at all (--no-ui: there is no operator to decide);
+    `--remote-control on|off` says otherwise."""
+    if settings.remote_control is not None:
+        return settings.remote_control
+    if settings.no_ui:
+        return True
+    return settings.robot_url is None and is_loopback_host(settings.host)
+
+
+def access_rules(settings: Settings, events: EventLog | None = None) -> AccessRules:
+    """The API port's guard for these settings: Host and Origin rules always, the token when there is one,
+    and the Remote control switch (shared with the page)."""
+    return AccessRules(
+        token=settings.token,
+        events=events,
+        origins=OriginPolicy.for_binding(settings.host, settings.allowed_hosts),
+        remote=RemoteControl(remote_control_default(settings)),
+    )
 
 
 def make_api_app(
-    settings: Settings, controller: Controller, started_at: float, events: EventLog | None = None
+    settings: Settings,
+    controller: Controller,
+    started_at: float,
+    events: EventLog | None = None,
+    access: AccessRules | None = None,
+    metrics: PendantMetrics | None = None,
 ) -> ASGIApp:
     """The app on the API port: the simulator's PULSE API, or a transparent proxy to the real controller;
-    both also answer GET /pendant/health. With a token, commands need it; `events` logs every command."""
+    both also answer GET /pendant/health, GET /metrics and (with a stored log) GET /pendant/events.
+    `access`: its guard (default: `access_rules(settings, events)`)."""
+    from pendant.monitoring import add_monitoring
     from pendant.remote import health_router
 
+    access = access if access is not None else access_rules(settings, events)
+    store = events.store if events is not None else None
     if settings.robot_url is not None:
-        from pendant.access.http_guard import proxy_request_hook
         from pendant.remote import RemoteController, create_proxy_app
 
         assert isinstance(controller, RemoteController)
@@ -145,17 +245,30 @@ def make_api_app(
             settings=settings,
             controller=controller,
             started_at=started_at,
-            on_request=proxy_request_hook(settings.token, events),
+            access=access,
+            metrics=metrics,
+            store=store,
         )
     from pendant.api import create_app
 
-    app = create_app(controller, token=settings.token, events=events)
+    app = create_app(controller, access=access)
     app.include_router(health_router(settings, controller, started_at))
+    if metrics is None:
+        metrics = PendantMetrics(controller, mode="sim", model=settings.model, robot_url=None)
+    add_monitoring(app, metrics, store)
     return app
 
 
-def start_ui(settings: Settings, controller: Controller, events: EventLog | None = None) -> PendantUI:
-    """The pendant's page on its own port (viser serves it from its own thread)."""
+def start_ui(
+    settings: Settings,
+    controller: Controller,
+    events: EventLog | None = None,
+    access: AccessRules | None = None,
+    metrics: PendantMetrics | None = None,
+) -> PendantUI:
+    """The pendant's page on its own port (viser serves it from its own thread), sharing the API's Host and
+    Origin rules and Remote control switch."""
+    access = access if access is not None else access_rules(settings, events)
     from pendant.kinematics import ArmModel
     from pendant.ui.app import PendantUI
 
@@ -169,53 +282,58 @@ def start_ui(settings: Settings, controller: Controller, events: EventLog | None
         token=settings.token,
         events=events,
         programs_dir=settings.programs_dir,
+        origins=access.origins,
+        remote=access.remote,
+        data_dir=str(resolve_data_dir(settings)),
+        metrics=metrics,
     ).start()
+
+
+def resolve_data_dir(settings: Settings) -> Path:
+    return data_dir(settings.data_dir, settings.programs_dir)
 
 
 def api_url(settings: Settings) -> str:
     return f"http://{settings.host}:{settings.api_port}"
 
 
-def announce(settings: Settings) -> None:
-    """Print where things are served, first thing, so a user (or a test) knows where to go."""
-    if not settings.no_ui:
-        print(f"PULSE pendant: http://{settings.host}:{settings.ui_port}", flush=True)
-    source = settings.robot_url or f"simulated {settings.model}"
-    print(f"PULSE REST API ({source}): {api_url(settings)}  (docs: {api_url(settings)}/docs)", flush=True)
-    if settings.token is not None:
-        print(f"Access token: {settings.token}", flush=True)
-        if not settings.no_ui:
-            print("Open the pendant (and take control) with this URL:", flush=True)
-            print(f"    {ui_url(settings.host, settings.ui_port, settings.token)}", flush=True)
-        print(f"API commands (PUT/POST) need the header  {TOKEN_HEADER}: {settings.token}", flush=True)
-
-
 def serve_api(settings: Settings, app: ASGIApp) -> None:
-    """Serve the API app with uvicorn until interrupted (blocks; uvloop and httptools when installed)."""
-    import uvicorn
+    """Serve the API app until interrupted (blocks): uvicorn with the connection guards of
+    pendant.api.serving (idle and slow connections closed, a cap that always leaves room for a stop)."""
+    from pendant.api.serving import serve
 
-    uvicorn.run(
-        app,
-        host=settings.host,
-        port=settings.api_port,
-        access_log=False,  # a log line per request would cost more than the request itself
-        log_level="warning",
-    )
+    serve(app, settings.host, settings.api_port)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    args = sys.argv[1:] if argv is None else list(argv)
+    if args[:1] == ["check"]:
+        from pendant.readiness import check_main
+
+        return check_main(args[1:])
     settings = with_access_token(parse_settings(argv))
     started_at = time.monotonic()
     controller = make_controller(settings)
-    events = EventLog()  # one log for the page and the API: who sent what
-    api_app = make_api_app(settings, controller, started_at, events)
-    ui = None if settings.no_ui else start_ui(settings, controller, events)
+    # One log for the page and the API (who sent what), kept on disk; one set of metrics for both.
+    events = EventLog(store=EventStore(resolve_data_dir(settings)))
+    metrics = PendantMetrics(
+        controller,
+        mode="robot" if settings.robot_url else "sim",
+        model=settings.model,
+        robot_url=settings.robot_url,
+    )
+    metrics.watch(events)
+    access = access_rules(settings, events)  # one switch and one set of rules for both ports
+    api_app = make_api_app(settings, controller, started_at, events, access, metrics)
+    ui = None if settings.no_ui else start_ui(settings, controller, events, access, metrics)
     announce(settings)
     try:
         serve_api(settings, api_app)
     finally:
         if ui is not None:
             ui.stop()
+        if events.store is not None:
+            events.store.close()
     return 0
 
 

@@ -15,7 +15,15 @@ class Settings:
     no_ui: bool = False
     token: str | None = None
     programs_dir: str | None = None  # None: $PENDANT_PROGRAMS_DIR, else ./programs
+    data_dir: str | None = None  # the event log and recordings; None: $PENDANT_DATA_DIR, else beside programs
     # The link to a real controller (--robot), in seconds: the client's and the proxy's. Short, so a dead
     # controller is reported within a read timeout rather than hanging the page or a script.
     connect_timeout: float = 1.0
     read_timeout: float = 3.0
+    # Commands through the proxy (anything but GET/HEAD/OPTIONS) wait this long for the controller's answer:
+    # under load a late answer is far better than a 504 that leaves the client in doubt.
+    command_timeout: float = 30.0
+    remote_control: bool | None = None  # --remote-control on|off; None: on only for the simulator on loopback
+    allowed_hosts: tuple[str, ...] = ()  # --allowed-host: names the pendant answers to besides IPs, localhost
+    # Simulated time per wall-clock second (the simulator's clock; --time-scale, with --no-ui only).
+    time_scale: float = 1.0

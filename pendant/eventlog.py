@@ -1,7 +1,8 @@
 """The pendant's event log: state changes, errors and every command with who sent it, newest last.
 
 One log per pendant process, shared by the web UI and the API server (threads and the event loop both write
-to it), kept in memory as a bounded ring: the dashboard shows its tail.
+to it), kept in memory as a bounded ring and, with an EventStore, on disk (SQLite: it survives restarts and
+is what the dashboard searches). Recording never waits for the disk.
 """
 
 from __future__ import annotations
@@ -13,6 +14,12 @@ from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from enum import StrEnum
+from typing import TYPE_CHECKING
+
+from pendant.eventquery import EventQuery, StoredEvent, fold_states
+
+if TYPE_CHECKING:
+    from pendant.monitoring.eventstore import EventStore
 
 log = logging.getLogger(__name__)
 
@@ -39,11 +46,22 @@ class Event:
 class EventLog:
     """A thread-safe ring of the last `capacity` events; `seq` tells readers whether anything is new."""
 
-    def __init__(self, capacity: int = DEFAULT_CAPACITY, now: Callable[[], float] = time.time) -> None:
+    def __init__(
+        self,
+        capacity: int = DEFAULT_CAPACITY,
+        now: Callable[[], float] = time.time,
+        store: EventStore | None = None,
+    ) -> None:
         self._events: deque[Event] = deque(maxlen=capacity)
         self._lock = threading.Lock()
         self._now = now
-        self._seq = 0
+        self.store = store
+        self._seq = store.last_id if store is not None else 0  # numbers go on across restarts
+        self._listeners: list[Callable[[Event], None]] = []
+
+    def on_record(self, listener: Callable[[Event], None]) -> None:
+        """Call `listener(event)` after each event is logged (metrics count them); it must be quick."""
+        self._listeners.append(listener)
 
     @property
     def seq(self) -> int:
@@ -55,6 +73,10 @@ class EventLog:
             self._seq += 1
             event = Event(self._seq, self._now(), kind, source, message)
             self._events.append(event)
+            if self.store is not None:
+                self.store.put(event.seq, event.wall_time, event.kind.value, source, message)
+        for listener in self._listeners:
+            listener(event)
         level = logging.WARNING if kind in (EventKind.ERROR, EventKind.REFUSED) else logging.INFO
         log.log(level, "%s %s: %s", kind.value, source, message)
         return event
@@ -64,3 +86,22 @@ class EventLog:
         with self._lock:
             events = list(self._events)
         return events if count is None else events[-count:]
+
+    @property
+    def searchable_seq(self) -> int:
+        """The newest event a search can find (on disk, with a store): a view redraws when it moves."""
+        return self.store.written_id if self.store is not None else self._seq
+
+    def search(self, query: EventQuery, cap: int | None = None) -> list[StoredEvent]:
+        """Newest first: the store's whole history, or the ring kept in memory without one."""
+        if self.store is not None:
+            return self.store.search(query) if cap is None else self.store.search(query, cap)
+        rows = (
+            StoredEvent(e.seq, e.wall_time, e.kind.value, e.source, e.message)
+            for e in reversed(self.recent())
+        )
+        matching = (row for row in rows if query.matches(row))
+        limit = query.limit if cap is None else min(query.limit, cap)
+        if query.fold:
+            return fold_states(matching, limit)
+        return [row for _, row in zip(range(limit), matching, strict=False)]

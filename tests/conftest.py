@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pytest
 
+from pendant.monitoring import DATA_DIR_ENV
 from pendant.program import PROGRAMS_DIR_ENV
 from pendant.sim import FakeClock, SimController
 
@@ -13,6 +14,7 @@ def programs_folder(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytes
     """Every test's pendant keeps its programs (and autosave) in a fresh folder, never the checkout's."""
     folder = tmp_path_factory.mktemp("programs")
     monkeypatch.setenv(PROGRAMS_DIR_ENV, str(folder))
+    monkeypatch.setenv(DATA_DIR_ENV, str(tmp_path_factory.mktemp("pendant-data")))  # event log, recordings
     return folder
 
 

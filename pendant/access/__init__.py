@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 from pendant.access.token import (
-    MUTATING_METHODS,
+    SAFE_METHODS,
     TOKEN_HEADER,
     TOKEN_QUERY,
+    changes_robot,
     is_loopback_host,
+    is_stop,
     new_token,
     token_refusal,
     tokens_match,
@@ -14,10 +16,12 @@ from pendant.access.token import (
 )
 
 __all__ = [
-    "MUTATING_METHODS",
+    "SAFE_METHODS",
     "TOKEN_HEADER",
     "TOKEN_QUERY",
+    "changes_robot",
     "is_loopback_host",
+    "is_stop",
     "new_token",
     "token_refusal",
     "tokens_match",

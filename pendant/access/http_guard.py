@@ -1,26 +1,35 @@
-"""The token check and the event log on the HTTP side: an ASGI middleware for the simulator's PULSE API, and
-the same check as the proxy's `on_request` hook in front of a real controller.
+"""The API port's guard: one ASGI middleware in front of the simulator's PULSE API and of the proxy alike.
 
-Reads (GET, HEAD, OPTIONS) pass untouched. Every request that can change the robot (PUT, POST, PATCH,
-DELETE, /sim/... included) needs the `X-Pendant-Token` header when the pendant has a token: 401 without it,
-403 with a wrong one, each with a `text/plain` message (a JSON string literal, like every PULSE error).
-Accepted and refused commands go to the event log with the client's address and user agent.
+In order, for every HTTP request:
+1. `Host` and, for commands, `Origin` and content type (origin.OriginPolicy): 403 / 415.
+2. Reads (GET, HEAD, OPTIONS) go on. Every other method is a command (PROPFIND and MOVE too).
+3. Stops (`PUT /freeze`, `/stop`) go on: stopping is open to every client.
+4. The access token, when the pendant has one: 401 without it, 403 wrong; wrong guesses are slowed per
+   client address (throttle.FailedAttempts: 429 when its turn is too far away).
+5. The Remote control switch (remote.RemoteControl): 403 while the operator has it off, 409 while a jog is
+   held in the page.
+Each refusal is a `text/plain` JSON string literal, like every PULSE error. Accepted commands go to the event
+log with their status; refusals once per burst per client (throttle.BurstLog).
 """
 
 from __future__ import annotations
 
+import asyncio
 import json
-from collections.abc import Callable
+from dataclasses import dataclass, field
 
-from starlette.requests import Request
 from starlette.responses import Response
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-from pendant.access.token import MUTATING_METHODS, TOKEN_HEADER, token_refusal
+from pendant.access.origin import OriginPolicy
+from pendant.access.remote import RemoteControl
+from pendant.access.throttle import BurstLog, FailedAttempts
+from pendant.access.token import FORBIDDEN, TOKEN_HEADER, changes_robot, is_stop, token_refusal
 from pendant.eventlog import EventKind, EventLog
 
 _TOKEN_HEADER_BYTES = TOKEN_HEADER.lower().encode()
 USER_AGENT_MAX_CHARS = 60
+TOO_MANY_REQUESTS = 429
 
 
 def refusal_response(status: int, message: str) -> Response:
@@ -34,38 +43,124 @@ def describe_http_client(client: tuple[str, int] | None, user_agent: str | None)
     return f"API {address} ({agent})"
 
 
-def _header(scope: Scope, name: bytes) -> str | None:
-    for key, value in scope["headers"]:
-        if key == name:
-            return value.decode("latin-1")
-    return None
+@dataclass
+class AccessRules:
+    """What the guard enforces; None turns a rule off (e.g. no token on loopback)."""
+
+    token: str | None = None
+    events: EventLog | None = None
+    origins: OriginPolicy | None = None
+    remote: RemoteControl | None = None
+    attempts: FailedAttempts = field(default_factory=FailedAttempts)
+    bursts: BurstLog = field(default_factory=BurstLog)
+
+    @property
+    def active(self) -> bool:
+        return any(rule is not None for rule in (self.token, self.events, self.origins, self.remote))
 
 
-class TokenGuard:
-    """ASGI middleware: refuse mutating requests without the right token; log every mutating request."""
+def _headers(scope: Scope) -> dict[bytes, bytes]:
+    wanted = {b"host", b"origin", b"content-type", b"user-agent", _TOKEN_HEADER_BYTES}
+    return {key: value for key, value in scope["headers"] if key in wanted}
 
-    def __init__(self, app: ASGIApp, token: str | None, events: EventLog | None) -> None:
+
+def _text(value: bytes | None) -> str | None:
+    return value.decode("latin-1") if value is not None else None
+
+
+class AccessGuard:
+    """ASGI middleware enforcing `rules` (see the module's docstring)."""
+
+    def __init__(self, app: ASGIApp, rules: AccessRules) -> None:
         self.app = app
-        self.token = token
-        self.events = events
+        self.rules = rules
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] != "http" or scope["method"] not in MUTATING_METHODS:
-            await self.app(scope, receive, send)  # reads: no check, no log, no cost
-            return
-        method, path = scope["method"], scope["path"]
-        who = describe_http_client(scope.get("client"), _header(scope, b"user-agent"))
-        refusal = token_refusal(method, _header(scope, _TOKEN_HEADER_BYTES), self.token)
-        if refusal is not None:
-            status, message = refusal
-            if self.events is not None:
-                self.events.record(EventKind.REFUSED, who, f"{method} {path}: {status} {message}")
-            await refusal_response(status, message)(scope, receive, send)
-            return
-        if self.events is None:
+        if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
-        events = self.events
+        rules = self.rules
+        method: str = scope["method"]
+        changes = changes_robot(method)
+        headers = _headers(scope) if changes or rules.origins is not None else {}
+        if rules.origins is not None:
+            refusal = rules.origins.request_refusal(
+                _text(headers.get(b"host")),
+                _text(headers.get(b"origin")),
+                _text(headers.get(b"content-type")),
+                changes=changes,
+            )
+            if refusal is not None:
+                await self._refuse(scope, receive, send, headers, refusal)
+                return
+        if not changes:
+            await self.app(scope, receive, send)  # reads: no check, no log
+            return
+        if not is_stop(scope["path"]):
+            refusal = await self._token_refusal(scope, headers)
+            if refusal is None and rules.remote is not None:
+                refusal = rules.remote.begin_api_command()
+                if refusal is None:
+                    try:
+                        await self.app(scope, receive, self._logging(scope, headers, send))
+                    finally:
+                        rules.remote.end_api_command()
+                    return
+            if refusal is not None:
+                await self._refuse(scope, receive, send, headers, refusal)
+                return
+        await self.app(scope, receive, self._logging(scope, headers, send))
+
+    async def _token_refusal(self, scope: Scope, headers: dict[bytes, bytes]) -> tuple[int, str] | None:
+        token = self.rules.token
+        if token is None:
+            return None
+        attempts = self.rules.attempts
+        address = scope["client"][0] if scope.get("client") else "unknown"
+        wait = attempts.wait_before_check(address)
+        if wait is None:
+            return TOO_MANY_REQUESTS, (
+                f"Too many wrong access tokens from {address}: wait {attempts.max_wait_s:g} s and try again"
+            )
+        if wait > 0:
+            await asyncio.sleep(wait)  # this client's turn: guesses are serialised per address
+        refusal = token_refusal(scope["method"], scope["path"], headers.get(_TOKEN_HEADER_BYTES), token)
+        if refusal is None:
+            attempts.succeeded(address)
+        elif refusal[0] == FORBIDDEN:
+            attempts.failed(address)
+        return refusal
+
+    def _who(self, scope: Scope, headers: dict[bytes, bytes]) -> str:
+        return describe_http_client(scope.get("client"), _text(headers.get(b"user-agent")))
+
+    async def _refuse(
+        self,
+        scope: Scope,
+        receive: Receive,
+        send: Send,
+        headers: dict[bytes, bytes],
+        refusal: tuple[int, str],
+    ) -> None:
+        status, message = refusal
+        events = self.rules.events
+        if events is not None:
+            who = self._who(scope, headers)
+            unlogged = self.rules.bursts.note(who)
+            if unlogged is not None:
+                more = (
+                    f" ({unlogged} earlier refusals of this client not logged one by one)" if unlogged else ""
+                )
+                line = f"{scope['method']} {scope['path']}: {status} {message}{more}"
+                events.record(EventKind.REFUSED, who, line)
+        await refusal_response(status, message)(scope, receive, send)
+
+    def _logging(self, scope: Scope, headers: dict[bytes, bytes], send: Send) -> Send:
+        events = self.rules.events
+        if events is None:
+            return send
+        who = self._who(scope, headers)
+        method, path = scope["method"], scope["path"]
 
         async def send_and_log(message: Message) -> None:
             if message["type"] == "http.response.start":
@@ -74,29 +169,4 @@ class TokenGuard:
                 events.record(kind, who, f"{method} {path} -> {status}")
             await send(message)
 
-        await self.app(scope, receive, send_and_log)
-
-
-def proxy_request_hook(token: str | None, events: EventLog | None) -> Callable[[Request], Response | None]:
-    """The proxy's `on_request`: the same check and log in front of a real controller (the status the
-    controller answers is not known yet here, so accepted commands are logged as sent)."""
-
-    def on_request(request: Request) -> Response | None:
-        method = request.method
-        if method not in MUTATING_METHODS:
-            return None
-        who = describe_http_client(
-            (request.client.host, request.client.port) if request.client else None,
-            request.headers.get("user-agent"),
-        )
-        refusal = token_refusal(method, request.headers.get(TOKEN_HEADER), token)
-        if refusal is not None:
-            status, message = refusal
-            if events is not None:
-                events.record(EventKind.REFUSED, who, f"{method} {request.url.path}: {status} {message}")
-            return refusal_response(status, message)
-        if events is not None:
-            events.record(EventKind.COMMAND, who, f"{method} {request.url.path}")
-        return None
-
-    return on_request
+        return send_and_log

@@ -3,6 +3,10 @@
 A browser hands the token over in the query of its websocket URL (`ws://HOST:PORT/?token=...`): viser's page
 connects to the server named by its own `?websocket=` parameter, so the printed URL carries both (see
 `ui_url`). API clients send it in the `X-Pendant-Token` header.
+
+Tokens may hold any UTF-8 text (no spaces or control characters). HTTP header values are bytes: the header
+matches when its bytes, or their percent-decoding (`caf%C3%A9`, for clients that can only send ASCII), equal
+the token's UTF-8 bytes. A token in a URL (`?token=`) is percent-decoded as UTF-8, as URLs are.
 """
 
 from __future__ import annotations
@@ -11,13 +15,20 @@ import hmac
 import ipaddress
 import secrets
 import socket
-from urllib.parse import quote
+from urllib.parse import quote, unquote_to_bytes
 
 TOKEN_HEADER = "X-Pendant-Token"
 TOKEN_QUERY = "token"
 TOKEN_BYTES = 24  # 32 URL-safe characters
-# Every request that can change the robot; GET, HEAD and OPTIONS only read.
-MUTATING_METHODS = frozenset({"POST", "PUT", "PATCH", "DELETE"})
+# GET, HEAD and OPTIONS only read; every other method (PUT, POST, PATCH, DELETE, PROPFIND, MOVE, ...) is
+# treated as a command that can change the robot.
+SAFE_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
+# Stopping is open to every client, as every browser may press Freeze: these need no token and are never
+# refused for who sent them (the Host and Origin rules still apply).
+STOP_PATHS = frozenset({"/freeze", "/stop"})
+# A token shorter than this, or of fewer distinct characters, is guessable: warned about at start-up.
+STRONG_TOKEN_CHARS = 16
+STRONG_TOKEN_DISTINCT = 8
 
 MSG_TOKEN_MISSING = (
     f"This pendant is exposed on the network: send its access token in the {TOKEN_HEADER} header"
@@ -31,25 +42,65 @@ def new_token() -> str:
     return secrets.token_urlsafe(TOKEN_BYTES)
 
 
+def changes_robot(method: str) -> bool:
+    """Every method but GET, HEAD and OPTIONS counts as a command."""
+    return method.upper() not in SAFE_METHODS
+
+
+def is_stop(path: str) -> bool:
+    return path.rstrip("/") in STOP_PATHS
+
+
 def tokens_match(given: str | None, expected: str) -> bool:
     """Constant-time comparison, so the time taken says nothing about how much of a guess was right."""
     if given is None:
         return False
-    return hmac.compare_digest(given.strip().encode(), expected.encode())
+    return hmac.compare_digest(given.strip().encode("utf-8"), expected.encode("utf-8"))
 
 
-def token_refusal(method: str, given: str | None, expected: str | None) -> tuple[int, str] | None:
+def header_matches(raw: bytes, expected: str) -> bool:
+    """The header's bytes, or their percent-decoding, equal the token's UTF-8 bytes (both compared in
+    constant time, whichever matches)."""
+    want = expected.encode("utf-8")
+    given = raw.strip()
+    as_sent = hmac.compare_digest(given, want)
+    decoded = hmac.compare_digest(unquote_to_bytes(given), want)
+    return as_sent | decoded
+
+
+def token_refusal(
+    method: str, path: str, given: bytes | None, expected: str | None
+) -> tuple[int, str] | None:
     """(status, message) when a request must be refused, None when it may go ahead.
 
-    Reads are always allowed; a mutating request needs the token when there is one: 401 without it, 403 with
-    a wrong one.
+    Reads and stops are always allowed; any other request needs the token when there is one: 401 without it,
+    403 with a wrong one.
     """
-    if expected is None or method.upper() not in MUTATING_METHODS:
+    if expected is None or not changes_robot(method) or is_stop(path):
         return None
-    if not given:
+    if not given or not given.strip():
         return UNAUTHORIZED, MSG_TOKEN_MISSING
-    if not tokens_match(given, expected):
+    if not header_matches(given, expected):
         return FORBIDDEN, MSG_TOKEN_WRONG
+    return None
+
+
+def token_problem(token: str) -> str | None:
+    """Why `token` cannot be used (None when it can): it goes in a header, so no spaces or control
+    characters."""
+    if not token:
+        return "the access token is empty"
+    if any(ch.isspace() or not ch.isprintable() for ch in token):
+        return "the access token must not contain spaces or control characters"
+    return None
+
+
+def token_weakness(token: str) -> str | None:
+    """Why `token` is easy to guess, or None: short, or made of few distinct characters."""
+    if len(token) < STRONG_TOKEN_CHARS:
+        return f"it has {len(token)} characters (use at least {STRONG_TOKEN_CHARS})"
+    if len(set(token)) < STRONG_TOKEN_DISTINCT:
+        return f"it uses only {len(set(token))} different characters"
     return None
 
 

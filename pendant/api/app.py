@@ -6,13 +6,15 @@ from typing import Any
 
 from fastapi import FastAPI
 from fastapi.openapi.utils import get_openapi
+from fastapi_offline import FastAPIOffline
 from pydantic import TypeAdapter
 
 from pendant import __version__
-from pendant.access.http_guard import TokenGuard
+from pendant.access.http_guard import AccessGuard, AccessRules
 from pendant.api import docs
 from pendant.api.availability import UnavailableFirst
 from pendant.api.errors import install_error_handlers
+from pendant.api.limits import BodySizeLimit
 from pendant.api.routers.base import base_router
 from pendant.api.routers.cell import cell_router
 from pendant.api.routers.gripper import gripper_router
@@ -66,8 +68,12 @@ state and failures, identity and versions, the tool's info and shape, the enviro
 protective stop, free drive, jogging, gripper power, untwisting, the motors' log and the /run/* motions.
 
 Access: a pendant exposed beyond loopback (`pendant --host 0.0.0.0`) has an access token (printed at
-start-up, or `--token`). Every request that changes the robot (PUT, POST) must then carry it in the
-`X-Pendant-Token` header: without it the answer is 401, with a wrong one 403. Reads stay open.
+start-up, or `--token`). Every request that changes the robot (any method but GET, HEAD and OPTIONS) must
+then carry it in the `X-Pendant-Token` header: without it the answer is 401, with a wrong one 403 (429 after
+many wrong ones). Reads and stops (`PUT /freeze`) need no token. A command from a web page of another origin,
+one naming a `Host` the pendant does not answer to, or a body sent as `text/plain` or a form is refused (403,
+415). While the operator has Remote control off in the pendant's page, commands answer 403 naming who has
+control; while a jog is held there, 409.
 """
 
 
@@ -80,14 +86,21 @@ def _sim_controller_type() -> type | None:
 
 
 def create_app(
-    controller: Controller, *, token: str | None = None, events: EventLog | None = None
+    controller: Controller,
+    *,
+    token: str | None = None,
+    events: EventLog | None = None,
+    access: AccessRules | None = None,
 ) -> FastAPI:
     """The API for one controller; the /sim routes are mounted only when it is the simulator.
 
-    `token`: when given (the pendant is exposed on a network), every PUT/POST needs it in the
-    `X-Pendant-Token` header (401 without, 403 wrong); reads stay open. `events`: log of every such request.
+    `token`: when given (the pendant is exposed on a network), every command needs it in the
+    `X-Pendant-Token` header (401 without, 403 wrong); reads stay open. `events`: log of every command.
+    `access`: the whole guard (Host and Origin rules, Remote control; see pendant.access.http_guard), which
+    `token` and `events` are shorthands for.
     """
-    app = FastAPI(
+    # /docs and /redoc from Swagger UI and ReDoc files installed with the package: they work offline.
+    app = FastAPIOffline(
         title="PULSE REST API",
         version=__version__,
         description=DESCRIPTION,
@@ -119,8 +132,10 @@ def create_app(
     app.add_middleware(DirectDispatch, table=direct_endpoints(routers))
     if sim_type is not None and isinstance(controller, sim_type):
         app.add_middleware(UnavailableFirst, check_alive=controller.check_alive)
-    if token is not None or events is not None:
-        app.add_middleware(TokenGuard, token=token, events=events)  # added last: runs first
+    app.add_middleware(BodySizeLimit)  # before any body is read
+    rules = access if access is not None else AccessRules(token=token, events=events)
+    if rules.active:
+        app.add_middleware(AccessGuard, rules=rules)  # added last: runs first (no body needed to refuse)
     app.openapi = lambda: _openapi(app)  # type: ignore[method-assign]
     app.state.controller = controller
     return app

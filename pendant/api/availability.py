@@ -12,7 +12,7 @@ from pendant.api.errors import error_response
 from pendant.controller.errors import ControllerError, Emergency
 
 # Served by the pendant, not the controller: they answer whatever state the arm is in.
-NOT_THE_CONTROLLERS = ("/sim/", "/pendant/", "/docs", "/redoc", "/openapi.json")
+NOT_THE_CONTROLLERS = ("/sim/", "/pendant/", "/metrics", "/docs", "/redoc", "/openapi.json")
 # SDK 1.8.4 asks these after a failure, to learn why: they answer in EMERGENCY too.
 ANSWER_IN_EMERGENCY = frozenset({"/status", "/status/failure"})
 

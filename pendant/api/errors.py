@@ -17,6 +17,7 @@ from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.responses import Response
+from starlette.routing import Match
 
 from pendant.api.wire import TextResponse, text_literal
 from pendant.controller.errors import (
@@ -54,7 +55,7 @@ MSG_MOTION_TYPE = "motionType must be JOINT or LINEAR"
 MSG_TIMEOUT = f"timeout must be a number of milliseconds from 0 to {INT32_MAX}"
 MSG_OUTPUT_PORT = f"port must be a digital output: {' or '.join(map(str, OUTPUT_PORTS))}"
 MSG_INPUT_PORT = f"port must be a digital input: {INPUT_PORTS[0]} to {INPUT_PORTS[-1]}"
-MSG_FAULT = "fault must be error, emergency, no_response, motion_failed or twisted"
+MSG_FAULT = "fault must be error, emergency, no_response, motion_failed, overheat or twisted"
 
 _PARAMETER_MESSAGES = {
     "speed": MSG_SPEED,
@@ -109,10 +110,27 @@ async def _on_unexpected_error(_request: Request, _exc: Exception) -> Response:
     return error_response(NotResponding())
 
 
-async def _on_http_error(_request: Request, exc: Exception) -> Response:
+HTTP_METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE", "OPTIONS")
+
+
+def allowed_methods(request: Request) -> list[str]:
+    """Every method some route answers at this path (Starlette's 405 names only the first route's: GET
+    /pose and PUT /pose are two routes, so PUT /pose's 405 said `Allow: GET`)."""
+    routes = request.app.router.routes
+    return [
+        method
+        for method in HTTP_METHODS
+        if any(route.matches({**request.scope, "method": method})[0] is Match.FULL for route in routes)
+    ]
+
+
+async def _on_http_error(request: Request, exc: Exception) -> Response:
     # 404 unknown path, 405 wrong method: same plain-text shape as every other error.
     assert isinstance(exc, StarletteHTTPException)
-    return TextResponse(text_literal(str(exc.detail)), status_code=exc.status_code, headers=exc.headers)
+    headers = dict(exc.headers or {})
+    if exc.status_code == 405:
+        headers["Allow"] = ", ".join(allowed_methods(request))
+    return TextResponse(text_literal(str(exc.detail)), status_code=exc.status_code, headers=headers)
 
 
 def install_error_handlers(app: FastAPI) -> None:

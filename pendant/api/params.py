@@ -5,6 +5,9 @@ models) rather than by FastAPI, for three reasons: every failure must become 400
 Message" (never 422); NaN and Infinity literals must be refused (the models only accept finite numbers, and
 integers are accepted where a double is expected, as JSON clients send `0`); and the Content-Type is not
 required to be `application/json` (`curl -d` sends form encoding; the controller reads JSON regardless).
+
+A body's size is bounded before it gets here (pendant.api.limits); one larger than a single document (a run
+of waypoints) is parsed in a worker thread, so the event loop stays free for PUT /freeze meanwhile.
 """
 
 from __future__ import annotations
@@ -12,6 +15,7 @@ from __future__ import annotations
 from typing import Annotated, Any, TypeVar
 
 from fastapi import Path, Query, Request
+from fastapi.concurrency import run_in_threadpool
 from pydantic import Field, TypeAdapter, ValidationError
 
 from pendant.api.errors import INT32_MAX
@@ -36,6 +40,9 @@ from pendant.controller.types import (
 
 T = TypeVar("T")
 
+# Parsing up to this many bytes takes a few microseconds: cheaper on the loop than a hop to a thread.
+INLINE_PARSE_MAX_BYTES = 4096
+
 POSITION = TypeAdapter(Position)
 POSE = TypeAdapter(Pose)
 TOOL = TypeAdapter(Tool)
@@ -50,7 +57,9 @@ async def read_body(request: Request, adapter: TypeAdapter[T]) -> T:
     """The request body as `adapter`'s type, or BadRequest (400) whatever is wrong with it."""
     body = await request.body()
     try:
-        return adapter.validate_json(body)
+        if len(body) <= INLINE_PARSE_MAX_BYTES:
+            return adapter.validate_json(body)
+        return await run_in_threadpool(adapter.validate_json, body)
     except (ValidationError, ValueError) as exc:
         raise BadRequest() from exc
 

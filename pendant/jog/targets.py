@@ -7,11 +7,14 @@ workspace, so the controller accepts it.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from enum import StrEnum
 
 import numpy as np
 
+from pendant.controller.errors import PreconditionFailed
+from pendant.controller.types import SPEED_MAX, SPEED_MIN
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import inverse, rotvec_to_matrix
 
@@ -35,6 +38,14 @@ class JogFrame(StrEnum):
 
 
 CARTESIAN_AXES = ("X", "Y", "Z", "Roll", "Pitch", "Yaw")
+# The largest step the page offers: 10 mm for X Y Z, 10 degrees for joints and rotations. A step is one
+# motion without hold-to-run, so anything larger (a modified page sent 500: J1 turned 346 degrees) is refused.
+MAX_STEP_M = 0.010
+MAX_STEP_RAD = math.radians(10.0)
+
+
+class JogRefused(PreconditionFailed):
+    """A jog request outside what the page offers (forged step, speed, axis); the message says what."""
 
 
 @dataclass(frozen=True)
@@ -49,6 +60,19 @@ class JogRequest:
     direction: int
     speed_percent: float
     step: float | None = None
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.axis, int) and 0 <= self.axis < len(CARTESIAN_AXES)):
+            raise JogRefused(f"Jog axis must be 0 to {len(CARTESIAN_AXES) - 1}")
+        if self.direction not in (-1, 1):
+            raise JogRefused("Jog direction must be +1 or -1")
+        if not (math.isfinite(self.speed_percent) and SPEED_MIN <= self.speed_percent <= SPEED_MAX):
+            raise JogRefused(f"Jog speed must be {SPEED_MIN:g} to {SPEED_MAX:g} %")
+        if self.step is not None:
+            largest = MAX_STEP_RAD if self.is_rotation else MAX_STEP_M
+            if not (math.isfinite(self.step) and 0 < self.step <= largest + 1e-12):
+                unit = f"{math.degrees(largest):g}°" if self.is_rotation else f"{largest * 1000:g} mm"
+                raise JogRefused(f"Jog step must be above 0 and at most {unit}")
 
     @property
     def is_rotation(self) -> bool:

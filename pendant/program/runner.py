@@ -272,6 +272,9 @@ class ProgramRunner:
                         message=f"Stepped: next is step {cursor.index + 1}",
                     )
         except _StepFailed as failure:
+            # Stop the arm where it is: the rest of a blended group must not run on while the page says
+            # "failed" (a controller error mid-run, a read that failed, a refused step).
+            self._freeze_quietly()
             with self._lock:
                 self._cursor = None
             step = steps[failure.index]

@@ -2,17 +2,22 @@
 
 Every request outside /pendant/ (the pendant's own namespace, e.g. GET /pendant/health) goes to the
 controller with its method, path, query string, body and headers (minus hop-by-hop ones); the controller's
-status, headers (content type included) and body come back byte for byte. If the controller cannot be
-reached, or does not answer within the read timeout, the proxy answers 502 Bad Gateway with a `text/plain`
-message saying why. The timeouts are the pendant's own (Settings, `--connect-timeout`/`--read-timeout`), the
-same as its client's. No longer read timeout for commands: the controller queues a motion and answers at
-once. Only a gripper command may hold its answer for its `timeout` (ms, default 500); a script that asks for
-waits longer than the read timeout needs a longer `--read-timeout`.
-Nothing is queued or re-sent later: a command that could not be delivered is lost, and the caller is told.
-A GET (idempotent) is retried once on a fresh connection when a kept-alive one turns out to be dead.
+status, headers (content type included) and body come back byte for byte.
+
+Timeouts (the pendant's own, Settings / `--connect-timeout`, `--read-timeout`, `--command-timeout`):
+- reads (GET, HEAD, OPTIONS) wait the short read timeout; a GET is retried once on a fresh connection when a
+  kept-alive one turns out to be dead; no answer: 502 Bad Gateway with a `text/plain` reason.
+- commands (every other method) wait the longer command timeout, since a controller under load may answer
+  late and a command answered 502 that then ran in full would be sent twice by a client that retries. A
+  command that could not be delivered (no connection) is 502: it did not run. A command sent whose answer was
+  lost (no answer in time, or the connection closed) is 504 "No answer from the controller: the command may
+  have run": read the arm's state before sending it again.
+Nothing is queued or re-sent later.
 
 Run alone (`pendant --robot URL` builds the same app):
     python -m pendant.remote.proxy --robot http://192.168.1.50:8081 --port 8081
+
+The pendant also answers GET /metrics itself (Prometheus expects that path; it is not a PULSE one).
 """
 
 from __future__ import annotations
@@ -28,7 +33,11 @@ from starlette.requests import Request
 from starlette.responses import PlainTextResponse, Response
 from starlette.types import ASGIApp, Receive, Scope, Send
 
+from pendant.access.http_guard import AccessGuard, AccessRules
+from pendant.access.origin import OriginPolicy
+from pendant.api.limits import BodySizeLimit
 from pendant.config import Settings
+from pendant.monitoring import EventStore, PendantMetrics, add_monitoring
 from pendant.remote.client import RemoteController
 from pendant.remote.health import health_router
 from pendant.remote.upstream import (
@@ -40,7 +49,11 @@ from pendant.remote.upstream import (
 )
 
 PENDANT_PREFIX = "/pendant/"  # served by the pendant itself, never forwarded
+PENDANT_PATHS = ("/metrics",)  # the pendant's too (Prometheus expects this path), not a PULSE path
 BAD_GATEWAY = 502
+GATEWAY_TIMEOUT = 504
+IDEMPOTENT_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
+MSG_MAY_HAVE_RUN = "No answer from the controller: the command may have run"
 
 # Headers that belong to one connection, not to the message (RFC 9110 7.6.1), plus the ones the proxy sets
 # itself (host, content-length) or the server in front adds (date, server).
@@ -58,7 +71,8 @@ _HOP_BY_HOP = frozenset(
     }
 )
 # `expect: 100-continue` was already answered by the server in front; the controller gets the whole body.
-_NOT_FORWARDED_UP = _HOP_BY_HOP | {b"host", b"content-length", b"expect"}
+# The pendant's access token is the pendant's business: the controller never sees it.
+_NOT_FORWARDED_UP = _HOP_BY_HOP | {b"host", b"content-length", b"expect", b"x-pendant-token"}
 _NOT_FORWARDED_DOWN = _HOP_BY_HOP | {b"content-length", b"date", b"server"}
 _NO_BODY_STATUSES = frozenset({204, 304})
 
@@ -72,16 +86,26 @@ class _Forwarder:
     """ASGI middleware: forwards every HTTP request outside /pendant/ to the controller, raw."""
 
     def __init__(
-        self, app: ASGIApp, robot_url: str, pool: UpstreamPool, on_request: RequestHook | None
+        self,
+        app: ASGIApp,
+        robot_url: str,
+        pool: UpstreamPool,
+        on_request: RequestHook | None,
+        command_timeout: float,
     ) -> None:
         self.app = app
         self.robot_url = robot_url
         self.pool = pool
+        self.command_timeout = command_timeout
         self.on_request = on_request
         self.prefix = urlsplit(robot_url).path.rstrip("/").encode()
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] != "http" or scope["path"].startswith(PENDANT_PREFIX):
+        if (
+            scope["type"] != "http"
+            or scope["path"].startswith(PENDANT_PREFIX)
+            or scope["path"] in PENDANT_PATHS
+        ):
             await self.app(scope, receive, send)
             return
         if self.on_request is not None:
@@ -117,7 +141,9 @@ class _Forwarder:
     async def _exchange(
         self, method: str, target: bytes, headers: list[tuple[bytes, bytes]], body: bytes, path: str
     ) -> UpstreamResponse | Response:
-        """The controller's answer, or the 502 Response saying why there is none."""
+        """The controller's answer, or the 502/504 Response saying why there is none."""
+        if method not in IDEMPOTENT_METHODS:
+            return await self._command(method, target, headers, body, path)
         attempts = 2 if method == "GET" else 1
         for attempt in range(attempts):
             try:
@@ -131,6 +157,21 @@ class _Forwarder:
                     return _bad_gateway(f"Controller at {self.robot_url} failed on {method} {path}: {exc}")
         raise AssertionError("unreachable")  # the loop always returns
 
+    async def _command(
+        self, method: str, target: bytes, headers: list[tuple[bytes, bytes]], body: bytes, path: str
+    ) -> UpstreamResponse | Response:
+        """Sent once, with the long timeout: 502 when it was never delivered, 504 when its answer was lost."""
+        try:
+            return await self.pool.request(method, target, headers, body, read_timeout=self.command_timeout)
+        except UpstreamConnectError as exc:
+            return _bad_gateway(
+                f"Controller at {self.robot_url} is unreachable: {exc} ({method} {path} not sent)"
+            )
+        except UpstreamError as exc:
+            return PlainTextResponse(
+                f"{MSG_MAY_HAVE_RUN} ({method} {path}: {exc})", status_code=GATEWAY_TIMEOUT
+            )
+
 
 def create_proxy_app(
     robot_url: str,
@@ -140,14 +181,21 @@ def create_proxy_app(
     on_request: RequestHook | None = None,
     connect_timeout: float | None = None,
     read_timeout: float | None = None,
+    command_timeout: float | None = None,
     started_at: float | None = None,
+    access: AccessRules | None = None,
+    metrics: PendantMetrics | None = None,
+    store: EventStore | None = None,
 ) -> FastAPI:
     """An ASGI app serving the PULSE API by forwarding to the controller at `robot_url` (plain HTTP), plus
     GET /pendant/health. More pendant routes can be added to it under /pendant/.
 
     `controller`: the RemoteController the rest of the pendant (UI, programs) uses, so that the health route
     probes and reports that very link; by default the app makes its own (closed with the app).
-    `connect_timeout`, `read_timeout`: seconds, by default the settings'.
+    `connect_timeout`, `read_timeout` (reads), `command_timeout` (everything else): seconds, by default the
+    settings'. `access`: the pendant's guard (token, Host and Origin rules, Remote control), run first.
+    `metrics`: served at GET /metrics (by default the app's own, reading the controller through the probe);
+    `store`: the persistent event log, served at GET /pendant/events.
     """
     robot_url = robot_url.rstrip("/")
     parts = urlsplit(robot_url)
@@ -156,6 +204,7 @@ def create_proxy_app(
     settings = settings if settings is not None else Settings(robot_url=robot_url)
     connect_timeout = connect_timeout if connect_timeout is not None else settings.connect_timeout
     read_timeout = read_timeout if read_timeout is not None else settings.read_timeout
+    command_timeout = command_timeout if command_timeout is not None else settings.command_timeout
     started_at = started_at if started_at is not None else time.monotonic()
     pool = UpstreamPool(parts.hostname, parts.port or 80, connect_timeout, read_timeout)
     # The health probe is a blocking client: the health route runs in the thread pool.
@@ -181,10 +230,19 @@ def create_proxy_app(
         lifespan=lifespan,
     )
     app.include_router(health_router(settings, health_probe, started_at))
-    app.add_middleware(_Forwarder, robot_url=robot_url, pool=pool, on_request=on_request)
+    app.add_middleware(
+        _Forwarder, robot_url=robot_url, pool=pool, on_request=on_request, command_timeout=command_timeout
+    )
+    app.add_middleware(BodySizeLimit)  # no body, GET's included, is buffered past its limit
+    if access is not None and access.active:
+        app.add_middleware(AccessGuard, rules=access)  # /pendant/ routes included
+    if metrics is None:
+        metrics = PendantMetrics(health_probe, mode="robot", model=settings.model, robot_url=robot_url)
+    add_monitoring(app, metrics, store)  # outermost: refusals are counted too
     app.state.robot_url = robot_url
     app.state.health_probe = health_probe
     app.state.upstream = pool  # its timeouts are the ones in force
+    app.state.command_timeout = command_timeout
     return app
 
 
@@ -194,7 +252,7 @@ def _bad_gateway(message: str) -> Response:
 
 def main(argv: list[str] | None = None) -> int:
     """`python -m pendant.remote.proxy --robot URL [--host H] [--port N]`: the proxy alone, no UI."""
-    import uvicorn
+    from pendant.api.serving import serve
 
     parser = argparse.ArgumentParser(description="Serve the PULSE API as a proxy to a real controller.")
     parser.add_argument("--robot", required=True, help="the controller's URL, e.g. http://192.168.1.50:8081")
@@ -202,6 +260,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--port", type=int, default=8081)
     parser.add_argument("--connect-timeout", type=float, default=Settings.connect_timeout, metavar="S")
     parser.add_argument("--read-timeout", type=float, default=Settings.read_timeout, metavar="S")
+    parser.add_argument("--command-timeout", type=float, default=Settings.command_timeout, metavar="S")
     args = parser.parse_args(argv)
     settings = Settings(
         host=args.host,
@@ -210,9 +269,10 @@ def main(argv: list[str] | None = None) -> int:
         no_ui=True,
         connect_timeout=args.connect_timeout,
         read_timeout=args.read_timeout,
+        command_timeout=args.command_timeout,
     )
-    app = create_proxy_app(args.robot, settings=settings)
-    uvicorn.run(app, host=args.host, port=args.port, log_level="warning", access_log=False)
+    app = create_proxy_app(args.robot, settings=settings, access=AccessRules(origins=OriginPolicy(args.host)))
+    serve(app, args.host, args.port)
     return 0
 
 

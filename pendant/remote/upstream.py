@@ -147,9 +147,16 @@ class UpstreamPool:
         self._idle: list[_Connection] = []
 
     async def request(
-        self, method: str, target: bytes, headers: list[tuple[bytes, bytes]], body: bytes
+        self,
+        method: str,
+        target: bytes,
+        headers: list[tuple[bytes, bytes]],
+        body: bytes,
+        read_timeout: float | None = None,
     ) -> UpstreamResponse:
-        """Send one request (`target`: path and query, raw) and return the whole answer."""
+        """Send one request (`target`: path and query, raw) and return the whole answer; `read_timeout`
+        (seconds) overrides the pool's for this request."""
+        read_timeout = read_timeout if read_timeout is not None else self.read_timeout
         connection = await self._connection()
         head = [method.encode("ascii"), b" ", target, b" HTTP/1.1\r\nhost: ", self._host_header, b"\r\n"]
         for name, value in headers:
@@ -159,11 +166,11 @@ class UpstreamPool:
         head.append(b"\r\n")
         done = connection.send(b"".join(head) + body, head_only=method == "HEAD")
         try:
-            async with asyncio.timeout(self.read_timeout):
+            async with asyncio.timeout(read_timeout):
                 response = await done
         except TimeoutError:
             connection.close()
-            raise UpstreamTimeout(f"no answer within {self.read_timeout:g} s") from None
+            raise UpstreamTimeout(f"no answer within {read_timeout:g} s") from None
         if connection.reusable and len(self._idle) < self.max_idle:
             self._idle.append(connection)
         else:

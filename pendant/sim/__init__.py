@@ -1,6 +1,6 @@
 """The embedded PULSE controller simulator: trajectories on a clock, states, IO, gripper, motors, faults."""
 
-from pendant.sim.clock import Clock, FakeClock, MonotonicClock
+from pendant.sim.clock import Clock, FakeClock, MonotonicClock, ScaledClock
 from pendant.sim.controller import (
     DEFAULT_BASE,
     DEFAULT_TOOL,
@@ -19,5 +19,6 @@ __all__ = [
     "FakeClock",
     "Fault",
     "MonotonicClock",
+    "ScaledClock",
     "SimController",
 ]

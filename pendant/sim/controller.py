@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import functools
 import threading
-import time
 
 import numpy as np
 
@@ -64,6 +63,7 @@ from pendant.sim.planner import FLOOR_Z_M, Planner
 from pendant.sim.pulse18 import Pulse18Operations
 from pendant.sim.queue import MAX_QUEUED_COMMANDS, MotionQueue
 from pendant.sim.states import FAULT_FAILURES, Fault, Mode, check_alive, check_can_move, motion_status
+from pendant.sim.timeline import Motion
 
 __all__ = [
     "DEFAULT_BASE",
@@ -81,6 +81,7 @@ __all__ = [
 # clear of the wrist singularity (q5 = 0) and of the roll/pitch/yaw gimbal lock (pitch = +-90 degrees).
 HOME_POSE_DEG = (0.0, -90.0, 90.0, -90.0, -90.0, 0.0)
 MSG_HAND_NEEDS_RELAX = "The arm can be moved by hand only in ZERO_GRAVITY: relax it first (PUT /relax)"
+OVERHEAT_STATOR_C = 110.0  # PUT /sim/fault/overheat
 
 
 _DEAD = (Mode.EMERGENCY, Mode.NO_RESPONSE, Mode.ERROR)  # a protective stop cannot change these
@@ -98,10 +99,10 @@ class SimController(MotionCommands, Pulse18Operations):
     def __init__(
         self, model: str = "pulse75", clock: Clock | None = None, epoch: float | None = None
     ) -> None:
-        """`epoch`: the wall time (s) at which `clock` read 0, for timestamps; default: now minus its time."""
+        """`epoch`: the Unix time at which `clock` read 0, for timestamps; default: the clock's own."""
         self._lock = threading.RLock()
         self._clock: Clock = clock if clock is not None else MonotonicClock()
-        self._epoch = epoch if epoch is not None else time.time() - self._clock.now()
+        self._epoch = epoch
         self.model = model
         self.arm: ArmModel = _load_arm(model)
         self._planner = Planner(self.arm)
@@ -196,6 +197,17 @@ class SimController(MotionCommands, Pulse18Operations):
         with self._lock:
             self.check_alive()
             return self._io.input(port)
+
+    @property
+    def clock(self) -> Clock:
+        """The clock every time of the simulator is read from (GET /sim/clock, scripted events)."""
+        return self._clock
+
+    def queued_motions(self) -> tuple[Motion, ...]:
+        """The queue as a timeline, the running command first (read-only, for scripted events)."""
+        with self._lock:
+            self._motions.settle(self._now())
+            return tuple(self._motions.queue)
 
     # --- state commands ------------------------------------------------------------------------------------
 
@@ -310,6 +322,12 @@ class SimController(MotionCommands, Pulse18Operations):
             self._motions.stop(self._now())
             self._mode = Mode(fault.value)
             self._failures.record(*FAULT_FAILURES[fault])
+
+    def overheat(self, stator_c: float = OVERHEAT_STATOR_C) -> None:
+        """The stator windings are suddenly this hot (a fault to test alarms on); they cool from there."""
+        with self._lock:
+            self._motions.integrate_thermal(self._now())
+            self._motions.servos.stator_c[:] = stator_c
 
     def reset(self) -> None:
         """Back to the power-on state: home pose, IDLE, IO low, default tool and base, cool servos."""

@@ -25,6 +25,7 @@ from pendant.controller.errors import (
     Unreachable,
 )
 from pendant.controller.types import MotionParams, MotionType, Pose, Position
+from pendant.sim.clock import paused
 from pendant.sim.io import GRIPPER_CLOSED, GRIPPER_OPEN
 from pendant.sim.moves import (
     Start,
@@ -86,12 +87,19 @@ class MotionCommands:
         )
 
     def _plan_and_enqueue(
-        self, make_plan: Callable[[Start], list[Step] | None], jog: bool = False
+        self: SimController, make_plan: Callable[[Start], list[Step] | None], jog: bool = False
     ) -> Position:
         """Plan outside the lock, queue under it; returns the TCP position when the command was accepted.
 
         A plan (or a refusal) made from a queue end that moved meanwhile is stale: plan again from there.
+        Planning takes no simulated time on a scaled clock (`paused`).
         """
+        with paused(self._clock):
+            return self._plan_and_enqueue_now(make_plan, jog)
+
+    def _plan_and_enqueue_now(
+        self: SimController, make_plan: Callable[[Start], list[Step] | None], jog: bool
+    ) -> Position:
         for _ in range(MAX_PLAN_ATTEMPTS):
             with self._lock:
                 check_can_move(self._mode)

@@ -67,9 +67,10 @@ class Pulse18Operations:
     # --- state and identity --------------------------------------------------------------------------------
 
     def clock_time(self: SimController) -> float:
-        """Wall time at start-up plus the simulator clock's time since: readings are stamped in the
-        simulator's own time (a fake or scaled clock included)."""
-        return self._epoch + self._clock.now()
+        """The Unix time of the simulator clock's present: readings are stamped in the simulator's own time
+        (a fake or scaled clock included)."""
+        now = self._clock.now()
+        return self._epoch + now if self._epoch is not None else self._clock.unix_time(now)
 
     def get_system_state(self: SimController) -> SystemState:
         with self._lock:

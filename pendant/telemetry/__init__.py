@@ -1,10 +1,22 @@
 """Motor telemetry: one shared reading of GET /status/motors at a modest rate, a rolling 60 s history for the
-dashboard's plots, and recording to CSV."""
+dashboard's plots, and recordings to MCAP and CSV kept in a folder."""
 
 from __future__ import annotations
 
 from pendant.telemetry.history import HISTORY_S, MotorHistory
 from pendant.telemetry.recorder import CSV_FIELDS, CsvRecorder, csv_header
-from pendant.telemetry.sampler import Telemetry
+from pendant.telemetry.recordings import Recording, list_recordings, recordings_dir
+from pendant.telemetry.sampler import ArmState, Telemetry
 
-__all__ = ["CSV_FIELDS", "HISTORY_S", "CsvRecorder", "MotorHistory", "Telemetry", "csv_header"]
+__all__ = [
+    "CSV_FIELDS",
+    "HISTORY_S",
+    "ArmState",
+    "CsvRecorder",
+    "MotorHistory",
+    "Recording",
+    "Telemetry",
+    "csv_header",
+    "list_recordings",
+    "recordings_dir",
+]

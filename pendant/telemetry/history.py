@@ -1,4 +1,5 @@
-"""The last 60 s of the motors' angles, currents and temperatures, in one shared ring buffer."""
+"""The motors' angles, currents and temperatures in shared ring buffers: the last 60 s at the sampling rate,
+and the last hour at 2 Hz (the dashboard's longer windows)."""
 
 from __future__ import annotations
 
@@ -10,6 +11,8 @@ import numpy as np
 from pendant.controller.types import MotorStatus
 
 HISTORY_S = 60.0
+LONG_HISTORY_S = 3600.0
+LONG_PERIOD_S = 0.5  # the hour's resolution: 7,200 samples, already more than a plot shows
 MAX_SAMPLE_HZ = 20.0  # sizes the ring: faster sampling would keep less than HISTORY_S
 N_MOTORS = 6
 
@@ -30,8 +33,13 @@ class HistoryWindow:
 class MotorHistory:
     """A fixed-size ring of (time, angle, RMS current, stator temperature) per motor; thread-safe."""
 
-    def __init__(self, seconds: float = HISTORY_S, max_rate_hz: float = MAX_SAMPLE_HZ) -> None:
+    def __init__(
+        self, seconds: float = HISTORY_S, max_rate_hz: float = MAX_SAMPLE_HZ, min_period_s: float = 0.0
+    ) -> None:
+        """`min_period_s`: a sample closer than this to the previous one kept is skipped (a coarser ring)."""
         self.seconds = seconds
+        self._min_period_s = min_period_s
+        self._last_t = -np.inf
         self._capacity = int(seconds * max_rate_hz) + 1
         self._t = np.zeros(self._capacity)
         self._values = np.zeros((self._capacity, 3, N_MOTORS))
@@ -40,6 +48,9 @@ class MotorHistory:
         self._lock = threading.Lock()
 
     def append(self, t: float, motors: list[MotorStatus]) -> None:
+        if t - self._last_t < self._min_period_s - 1e-6:  # (float sums of 0.1 s ticks fall just short)
+            return
+        self._last_t = t
         row = np.array(
             [[m.angle for m in motors], [m.rmsCurrent for m in motors], [m.statorTemperature for m in motors]]
         )
@@ -48,6 +59,11 @@ class MotorHistory:
             self._values[self._next] = row
             self._next = (self._next + 1) % self._capacity
             self._count = min(self._count + 1, self._capacity)
+
+    @classmethod
+    def long(cls) -> MotorHistory:
+        """The last hour at LONG_PERIOD_S."""
+        return cls(LONG_HISTORY_S, 1.0 / LONG_PERIOD_S, min_period_s=LONG_PERIOD_S)
 
     def window(self, seconds: float | None = None) -> HistoryWindow:
         """The samples of the last `seconds` (default: all the history keeps)."""

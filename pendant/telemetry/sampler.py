@@ -1,32 +1,73 @@
-"""One reading of the motors for everybody: the refresh loop calls `sample()` a few times a second."""
+"""One reading of the motors for everybody: the refresh loop calls `sample()` a few times a second.
+
+A recording writes each sample to an MCAP file as it comes (joints, TCP, motors, IO, and the events logged
+meanwhile) and keeps the CSV rows; stopping closes the MCAP and writes the CSV beside it, in the recordings
+folder, where both stay to be downloaded later.
+"""
 
 from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Callable
+from collections import deque
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
 
 from pendant.controller import Controller, ControllerError
-from pendant.controller.types import MotorStatus
-from pendant.telemetry.history import MotorHistory
+from pendant.controller.types import INPUT_PORTS, OUTPUT_PORTS, MotorStatus, Position, SignalLevel
+from pendant.eventlog import Event
+from pendant.telemetry.history import HistoryWindow, MotorHistory
+from pendant.telemetry.mcap_file import McapFile
 from pendant.telemetry.recorder import CsvRecorder
+from pendant.telemetry.recordings import MAX_KEPT, Recording, list_recordings, new_stem, prune
 
 SAMPLE_HZ = 10.0
+PENDING_EVENTS_MAX = 1000  # events waiting for the next sample to be written to the MCAP
+
+
+@dataclass(frozen=True)
+class ArmState:
+    """What the page last read besides the motors, for the recording's /tcp and /io channels."""
+
+    tcp: Position | None = None
+    outputs: Mapping[int, SignalLevel] = field(default_factory=dict)
+    inputs: Mapping[int, SignalLevel] = field(default_factory=dict)
+    motion_status: str | None = None
+
+
+def _levels(levels: Mapping[int, SignalLevel], ports: tuple[int, ...]) -> list[float]:
+    return [1.0 if levels.get(p) == SignalLevel.HIGH else 0.0 for p in ports]
 
 
 class Telemetry:
-    """Reads GET /status/motors once per call and feeds the shared history and the recorder."""
+    """Reads GET /status/motors once per call and feeds the shared history and the recording (its files go
+    to `recordings_folder`, created when the first recording starts)."""
 
-    def __init__(self, controller: Controller, now: Callable[[], float] = time.monotonic) -> None:
+    def __init__(
+        self,
+        controller: Controller,
+        now: Callable[[], float] = time.monotonic,
+        *,
+        recordings_folder: Path,
+        wall_now: Callable[[], float] = time.time,
+    ) -> None:
         self._controller = controller
         self._now = now
+        self._wall_now = wall_now
         self.history = MotorHistory()
+        self.long_history = MotorHistory.long()
         self.recorder = CsvRecorder()
+        self.recordings_folder = recordings_folder
+        self.mcap: McapFile | None = None
+        self.last_stem: str | None = None
         self.latest: list[MotorStatus] | None = None
         self.seq = 0  # counts samples: the dashboard redraws only when it moved
+        self._wall_offset = 0.0  # wall clock minus `now`, fixed at the recording's start
+        self._pending_events: deque[Event] = deque(maxlen=PENDING_EVENTS_MAX)
         self._lock = threading.Lock()
 
-    def sample(self) -> list[MotorStatus] | None:
+    def sample(self, state: ArmState | None = None) -> list[MotorStatus] | None:
         """Read the motors once; None (and nothing recorded) when the controller cannot answer."""
         try:
             motors = self._controller.get_motors()
@@ -36,13 +77,73 @@ class Telemetry:
         now = self._now()
         with self._lock:
             self.history.append(now, motors)
+            self.long_history.append(now, motors)
             self.recorder.record(now, motors)
             self.latest = motors
             self.seq += 1
+            if self.mcap is not None:
+                self._write_mcap(now, motors, state or ArmState())
         return motors
 
+    def log_event(self, event: Event) -> None:
+        """An event to go into the running recording's /events channel (any thread; written at the next
+        sample, by the refresh loop)."""
+        if self.mcap is not None:
+            self._pending_events.append(event)
+
+    def _write_mcap(self, now: float, motors: list[MotorStatus], state: ArmState) -> None:
+        assert self.mcap is not None
+        time_ns = int((now + self._wall_offset) * 1e9)
+        while self._pending_events:
+            event = self._pending_events.popleft()
+            self.mcap.write(
+                "/events",
+                int(event.wall_time * 1e9),
+                {"id": event.seq, "kind": event.kind.value, "source": event.source, "message": event.message},
+            )
+        self.mcap.write_sample(
+            time_ns,
+            motors,
+            state.tcp,
+            _levels(state.outputs, OUTPUT_PORTS),
+            _levels(state.inputs, INPUT_PORTS),
+            state.motion_status,
+        )
+        if not self.recorder.recording:  # the CSV reached its limit: so does the MCAP
+            self._close_files()
+
     def start_recording(self) -> None:
-        self.recorder.start(self._now())
+        with self._lock:
+            self._close_files()
+            now, wall = self._now(), self._wall_now()
+            self.recorder.start(now)
+            self.recordings_folder.mkdir(parents=True, exist_ok=True)
+            prune(self.recordings_folder, keep=MAX_KEPT - 1)  # room for this one
+            self.last_stem = new_stem(self.recordings_folder, wall)
+            self._wall_offset = wall - now
+            self._pending_events.clear()
+            self.mcap = McapFile(self.recordings_folder / f"{self.last_stem}.mcap")
 
     def stop_recording(self) -> int:
-        return self.recorder.stop()
+        with self._lock:
+            rows = self.recorder.stop()
+            self._close_files()
+            return rows
+
+    def _close_files(self) -> None:
+        """Finish the MCAP and write the CSV beside it (the lock is held)."""
+        if self.mcap is None:
+            return
+        self.mcap.close()
+        self.mcap = None
+        if self.last_stem is not None:
+            (self.recordings_folder / f"{self.last_stem}.csv").write_bytes(self.recorder.to_csv())
+
+    def window(self, seconds: float) -> HistoryWindow:
+        """The last `seconds` of the motors: at full rate within a minute, at 2 Hz up to an hour."""
+        history = self.history if seconds <= self.history.seconds else self.long_history
+        return history.window(seconds)
+
+    def recordings(self) -> list[Recording]:
+        """The recordings in the folder, newest first (see recordings.list_recordings)."""
+        return list_recordings(self.recordings_folder)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import logging
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import replace
 from urllib.parse import parse_qs, urlsplit
 
@@ -17,20 +18,29 @@ import numpy as np
 import viser
 
 from pendant.access import TOKEN_QUERY
+from pendant.access.origin import OriginPolicy
+from pendant.access.remote import RemoteControl
 from pendant.controller import Controller, ControllerError
 from pendant.eventlog import EventKind, EventLog
+from pendant.eventquery import EventQuery
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import position_to_matrix
+from pendant.monitoring import PendantMetrics
+from pendant.monitoring import data_dir as resolve_data_dir
 from pendant.program import ProgramWorkspace
-from pendant.telemetry import Telemetry
+from pendant.telemetry import ArmState, Telemetry, recordings_dir
 from pendant.ui.activity import ActivityLog, LoggedJogger
 from pendant.ui.commands import CommandRunner
-from pendant.ui.dashboard_panel import EVENTS_SHOWN, PlotData, plot_data, render_events, render_motor_table
+from pendant.ui.dashboard_events import render_events
+from pendant.ui.dashboard_panel import render_motor_table
+from pendant.ui.dashboard_plots import PlotData, plot_data
 from pendant.ui.gui_target import GuiTarget
+from pendant.ui.join_qr import join_urls
 from pendant.ui.roles import ControlDesk
 from pendant.ui.scene import ArmScene
 from pendant.ui.session import ClientSession
 from pendant.ui.snapshot import Snapshot, read_snapshot
+from pendant.ui.ws_guard import guarded_viser_server
 
 log = logging.getLogger(__name__)
 
@@ -38,15 +48,18 @@ REFRESH_HZ = 30.0
 IO_EVERY_N_TICKS = 6  # IO and tool change rarely: read them at 5 Hz
 MOTORS_EVERY_N_TICKS = 3  # motors at 10 Hz into the shared history
 TABLE_EVERY_N_TICKS = 6  # the motor table and the event log redrawn at 5 Hz
-PLOTS_EVERY_N_TICKS = 15  # the 60 s plots at 2 Hz ...
-PLOT_EVERY_NTH_SAMPLE = 2  # ... with a point every 0.2 s
+PLOTS_EVERY_N_TICKS = 15  # the plots at 2 Hz (at most MAX_POINTS a series)
 
 
 class PendantUI:
     """Serves the page on `host:port` and keeps every connected browser in step with `controller`.
 
     `token`: taking control needs it (an exposed pendant); without one, the first browser to connect gets
-    control. `events`: the event log, shared with the API server when both run in one process.
+    control. `events`: the event log, shared with the API server when both run in one process (and kept on
+    disk when it has a store). `origins`: the Host and Origin rules for page loads and websockets (None:
+    none). `remote`: the Remote control switch shared with the API (by default on: nothing else in this
+    process moves the arm). `data_dir`: where recordings are kept. `metrics`: counted for GET /metrics.
+    `clock`: the telemetry's time (the simulator's own when it runs on a fake clock).
     """
 
     def __init__(
@@ -60,23 +73,34 @@ class PendantUI:
         token: str | None = None,
         events: EventLog | None = None,
         programs_dir: str | None = None,
+        origins: OriginPolicy | None = None,
+        remote: RemoteControl | None = None,
+        data_dir: str | None = None,
+        metrics: PendantMetrics | None = None,
+        clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self.controller = controller
         self.arm = arm
         self.mode_line = mode_line
         self.events = events if events is not None else EventLog()
-        self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
+        with guarded_viser_server(origins):
+            self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
         self.server.gui.configure_theme(control_width="large", show_logo=False)
+        self.join_urls = join_urls(host, self.server.get_port())  # the QR code people in the room scan
         self.desk = ControlDesk(self.events, token=token)
+        self.remote = remote if remote is not None else RemoteControl(enabled=True)
+        self.remote.holder = lambda: self.desk.name(self.desk.operator)
         self.runner = CommandRunner(controller, gate=self.desk.gate)
-        self.activity = ActivityLog(self.events, self.desk)
+        self.activity = ActivityLog(self.events, self.desk, metrics)
         self.runner.on_submit = self.activity.command
         self._stop = threading.Event()
         self._wake = threading.Event()  # a jog started: show its first motion now, not at the next tick
         self.jogger = LoggedJogger(
-            controller, arm, events=self.events, desk=self.desk, on_start=self._wake.set
+            controller, arm, events=self.events, desk=self.desk, remote=self.remote, on_start=self._wake.set
         )
-        self.telemetry = Telemetry(controller)
+        recordings = recordings_dir(resolve_data_dir(data_dir, programs_dir))  # --data, env, beside programs
+        self.telemetry = Telemetry(controller, clock, recordings_folder=recordings)
+        self.events.on_record(self.telemetry.log_event)
         self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
         self.programs.on_change(lambda change: self.activity.program_changed(self.programs, change))
         if self.programs.store.restore_problem is not None:
@@ -91,8 +115,11 @@ class PendantUI:
         self._events_seq = -1
         self._thread = threading.Thread(target=self._refresh_loop, name="pendant-refresh", daemon=True)
         self.desk.on_change(self._control_changed)
+        self.remote.on_change(self._remote_changed)
         self.server.on_client_connect(self._connect)
         self.server.on_client_disconnect(self._disconnect)
+        if metrics is not None:
+            metrics.viewers.set_function(lambda: len(self._sessions()))
 
     def open_session(
         self, target: GuiTarget, *, client_id: int | None = None, url_token: str | None = None
@@ -109,9 +136,12 @@ class PendantUI:
             current_tool=lambda: self.T_flange_tool,
             desk=self.desk,
             telemetry=self.telemetry,
+            events=self.events,
             programs=self.programs,
             client_id=client_id,
             url_token=url_token,
+            remote=self.remote,
+            join_urls=self.join_urls,
             on_recording=lambda client, message: self.events.record(
                 EventKind.COMMAND, self.activity.who(client), message
             ),
@@ -163,17 +193,33 @@ class PendantUI:
     def refresh_dashboard(self, *, sample: bool = True, table: bool = True, plots: bool = True) -> None:
         """Read the motors once for everybody and push the shared renderings to every dashboard."""
         if sample:
-            self.telemetry.sample()
+            latest = self.latest
+            status = latest.motion_status.value if latest.motion_status is not None else None
+            self.telemetry.sample(ArmState(latest.position, latest.outputs, latest.inputs, status))
         table_html = render_motor_table(self.telemetry.latest) if table else None
-        data: PlotData | None = None
-        if plots:
-            data = plot_data(self.telemetry.history.window(), every=PLOT_EVERY_NTH_SAMPLE)
-        events_html = None
-        if table and self.events.seq != self._events_seq:
-            self._events_seq = self.events.seq
-            events_html = render_events(self.events.recent(EVENTS_SHOWN))
+        plot_cache: dict[float, PlotData] = {}  # one per window length the browsers show
+
+        def plots_for(window_s: float) -> PlotData:
+            if window_s not in plot_cache:
+                plot_cache[window_s] = plot_data(self.telemetry.window(window_s), window_s)
+            return plot_cache[window_s]
+
+        events_cache: dict[EventQuery, str] = {}  # one search per distinct filter
+
+        def events_for(query: EventQuery) -> str:
+            if query not in events_cache:
+                events_cache[query] = render_events(self.events.search(query))
+            return events_cache[query]
+
+        show_events = table and self.events.searchable_seq != self._events_seq
+        if show_events:
+            self._events_seq = self.events.searchable_seq
         for session in self._sessions():
-            session.show_dashboard(table_html=table_html, plots=data, events_html=events_html)
+            session.show_dashboard(
+                table_html=table_html,
+                plots=plots_for if plots else None,
+                events=events_for if show_events else None,
+            )
 
     # --- browsers -----------------------------------------------------------------------------------
     def _connect(self, client: viser.ClientHandle) -> None:
@@ -224,6 +270,10 @@ class PendantUI:
             self.jogger.release("control changed")  # the operator left or handed over: no jog goes on
         for session in self._sessions():
             session.apply_role(operator)
+
+    def _remote_changed(self, enabled: bool) -> None:
+        for session in self._sessions():
+            session.control.show_remote(enabled)
 
     def _sessions(self) -> list[ClientSession]:
         with self._sessions_lock:

@@ -1,44 +1,24 @@
-"""The Dashboard tab: the six motors in a table, 60 s plots of angles, currents and temperatures (uPlot),
-the event log, and telemetry recording to CSV.
+"""The Dashboard tab: the six motors in a table, plots of angles, currents and temperatures (dashboard_plots),
+telemetry recording to MCAP and CSV (dashboard_recording) and the searchable event log (dashboard_events).
 
-The readings are shared: the refresh loop samples the motors once for everybody and renders the table and the
-log once (`render_*`); each browser's panel only receives the result.
+The readings are shared: the refresh loop samples the motors once for everybody and renders the table, the
+plots' data and the log once per distinct view; each browser's panel only receives the result.
 """
 
 from __future__ import annotations
 
-import datetime as dt
-import html
 from collections.abc import Callable, Sequence
 
-import numpy as np
 import viser
-import viser.uplot as uplot
 
 from pendant.controller.types import MotorStatus
-from pendant.eventlog import Event, EventKind
-from pendant.telemetry import HISTORY_S, Telemetry
-from pendant.telemetry.history import HistoryWindow
+from pendant.eventlog import EventLog
+from pendant.telemetry import Telemetry
+from pendant.ui.dashboard_events import EVENTS_SHOWN, EventLogView, EventsRenderer
+from pendant.ui.dashboard_plots import PLOTS, PlotSource, PlotView
+from pendant.ui.dashboard_recording import RecordingControls, RecordingListener
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.html import inset
-
-EVENTS_SHOWN = 14
-PLOT_HEIGHT_PX = 170
-JOINT_COLOURS = ("#e03131", "#2f9e44", "#1971c2", "#f08c00", "#9c36b5", "#0c8599")
-EVENT_COLOURS = {
-    EventKind.STATE: "#1971c2",
-    EventKind.ERROR: "#e03131",
-    EventKind.COMMAND: "#2b8a3e",
-    EventKind.REFUSED: "#e8590c",
-    EventKind.CONTROL: "#9c36b5",
-}
-PLOTS = (
-    ("angle", "Joint angles (°)"),
-    ("current", "RMS currents (A)"),
-    ("stator", "Stator temperatures (°C)"),
-)
-
-PlotData = dict[str, tuple[np.ndarray, ...]]
 
 
 def render_motor_table(motors: Sequence[MotorStatus] | None) -> str:
@@ -70,41 +50,6 @@ def render_motor_table(motors: Sequence[MotorStatus] | None) -> str:
     )
 
 
-def render_events(events: Sequence[Event]) -> str:
-    """The newest events first: time, who, what."""
-    if not events:
-        return '<div style="color:#868e96;font-size:0.85em">No events yet</div>'
-    rows = []
-    for event in reversed(events):
-        when = dt.datetime.fromtimestamp(event.wall_time).strftime("%H:%M:%S")
-        colour = EVENT_COLOURS.get(event.kind, "#495057")
-        rows.append(
-            f'<div><span style="color:#868e96">{when}</span> '
-            f'<b style="color:{colour}">{event.kind.value}</b> '
-            f"<i>{html.escape(event.source)}</i>: {html.escape(event.message)}</div>"
-        )
-    return f'<div id="event-log" style="font-size:0.78em;line-height:1.35">{"".join(rows)}</div>'
-
-
-def plot_data(window: HistoryWindow, every: int = 1) -> PlotData:
-    """The plots. uPlot data (x = seconds ago, then a series per joint), thinned to every n-th sample."""
-    t = window.t[::-1][::every][::-1]  # keep the newest sample whatever the stride
-
-    def series(values: np.ndarray) -> tuple[np.ndarray, ...]:
-        thinned = values[::-1][::every][::-1]
-        return (t, *(thinned[:, j] for j in range(thinned.shape[1])))
-
-    return {
-        "angle": series(window.angle_deg),
-        "current": series(window.current_a),
-        "stator": series(window.stator_c),
-    }
-
-
-def _empty_plot_data() -> tuple[np.ndarray, ...]:
-    return tuple(np.zeros(1) for _ in range(7))
-
-
 class DashboardPanel:
     """One browser's dashboard; `show_*` are fed by the refresh loop."""
 
@@ -112,106 +57,41 @@ class DashboardPanel:
         self,
         target: GuiTarget,
         telemetry: Telemetry,
+        events: EventLog,
         *,
         may_record: Callable[[viser.ClientHandle | None], str | None],
-        on_recording: Callable[[viser.ClientHandle | None, str], None],
+        on_recording: RecordingListener,
     ) -> None:
-        self._target = target
-        self._telemetry = telemetry
-        self._may_record = may_record
-        self._on_recording = on_recording
         self.motor_table = target.gui.add_html(render_motor_table(None))
-        self.plots: dict[str, viser.GuiUplotHandle] = {}
-        for key, title in PLOTS:
-            self.plots[key] = target.gui.add_uplot(
-                data=_empty_plot_data(),
-                series=(
-                    uplot.Series(label="s"),
-                    *(uplot.Series(label=f"J{j + 1}", stroke=JOINT_COLOURS[j], width=1.5) for j in range(6)),
-                ),
-                title=title,
-                scales={"x": uplot.Scale(time=False, range=(-HISTORY_S, 0.0))},
-                legend=uplot.Legend(show=True),
-                height=PLOT_HEIGHT_PX,
+        self.plot_view = PlotView(target)
+        with target.gui.add_folder("Recording (MCAP and CSV)"):
+            self.recording = RecordingControls(
+                target, telemetry, may_record=may_record, on_recording=on_recording
             )
-        with target.gui.add_folder("Recording (CSV)"):
-            self.recording_status = target.gui.add_markdown("Not recording.")
-            self.record_start = target.gui.add_button("Start recording", icon=viser.Icon.PLAYER_RECORD)
-            self.record_stop = target.gui.add_button(
-                "Stop recording", icon=viser.Icon.PLAYER_STOP, disabled=True
-            )
-            self.download = target.gui.add_button("Download CSV", icon=viser.Icon.DOWNLOAD, disabled=True)
         with target.gui.add_folder("Event log"):
-            self.event_log = target.gui.add_html(render_events([]))
-        self.record_start.on_click(lambda event: self.start_recording(event.client))
-        self.record_stop.on_click(lambda event: self.stop_recording(event.client))
-        self.download.on_click(lambda event: self.send_csv(event.client))
+            self.events = EventLogView(target, events)
         self._table_html = ""
-        self._events_html = ""
-        self._recording_text = ""
+        # The handles tests and the page's role switch reach for.
+        self.plots = self.plot_view.plots
+        self.event_log = self.events.log
+        self.recording_status = self.recording.recording_status
+        self.record_start = self.recording.record_start
+        self.record_stop = self.recording.record_stop
+        self.download = self.recording.download
 
-    # --- fed by the refresh loop --------------------------------------------------------------------
     def show_table(self, table_html: str) -> None:
         if table_html != self._table_html:
             self.motor_table.content = table_html
             self._table_html = table_html
 
-    def show_plots(self, data: PlotData) -> None:
-        for key, handle in self.plots.items():
-            if len(data[key][0]) >= 2:
-                handle.data = data[key]
+    def show_plots(self, source: PlotSource) -> None:
+        self.plot_view.show(source)
 
-    def show_events(self, events_html: str) -> None:
-        if events_html != self._events_html:
-            self.event_log.content = events_html
-            self._events_html = events_html
+    def show_events(self, render: EventsRenderer) -> None:
+        self.events.show(render)
 
     def show_recording(self, *, locked: bool) -> None:
-        recorder = self._telemetry.recorder
-        if recorder.recording:
-            text = f"**Recording** · {recorder.row_count} samples"
-        elif recorder.row_count:
-            text = f"Stopped · {recorder.row_count} samples ready to download"
-        else:
-            text = "Not recording."
-        if text != self._recording_text:
-            self.recording_status.content = text
-            self._recording_text = text
-        for handle, disabled in (
-            (self.record_start, locked or recorder.recording),
-            (self.record_stop, locked or not recorder.recording),
-            (self.download, recorder.row_count == 0),
-        ):
-            if handle.disabled != disabled:  # each assignment is a message to the browser
-                handle.disabled = disabled
+        self.recording.show(locked=locked)
 
-    # --- buttons ------------------------------------------------------------------------------------
-    def start_recording(self, client: viser.ClientHandle | None) -> bool:
-        if self._refused(client, "Start recording"):
-            return False
-        self._telemetry.start_recording()
-        self._on_recording(client, "Recording started")
-        return True
 
-    def stop_recording(self, client: viser.ClientHandle | None) -> bool:
-        if self._refused(client, "Stop recording"):
-            return False
-        rows = self._telemetry.stop_recording()
-        self._on_recording(client, f"Recording stopped: {rows} samples")
-        return True
-
-    def send_csv(self, client: viser.ClientHandle | None) -> bytes:
-        content = self._telemetry.recorder.to_csv()
-        name = f"pendant-telemetry-{dt.datetime.now():%Y%m%d-%H%M%S}.csv"
-        (client if client is not None else self._target).send_file_download(
-            name, content, save_immediately=True
-        )
-        return content
-
-    def _refused(self, client: viser.ClientHandle | None, label: str) -> bool:
-        reason = self._may_record(client)
-        if reason is not None and client is not None:
-            client.add_notification(
-                title=f"{label} refused", body=reason, color="red", auto_close_seconds=8.0
-            )
-        return reason is not None
+__all__ = ["EVENTS_SHOWN", "PLOTS", "DashboardPanel", "render_motor_table"]

@@ -7,7 +7,7 @@ import math
 import viser
 
 from pendant.controller import ControllerError
-from pendant.jog import JogFrame, Jogger, JogRequest
+from pendant.jog import JogFrame, Jogger, JogRefused, JogRequest
 from pendant.jog.targets import CARTESIAN_AXES
 from pendant.ui.commands import CommandRunner, notify_refusal
 from pendant.ui.gui_target import GuiTarget
@@ -43,14 +43,25 @@ class JogPanel:
         self.frame.on_update(lambda _: self._relabel())
 
     def request(self, axis: int, direction: int) -> JogRequest:
+        """The jog these controls ask for; JogRefused when a value is not one the page offers (a modified
+        page can send any frame, step or speed: the server checks them, not the browser)."""
+        if self.frame.value not in {f.value for f in JogFrame}:
+            raise JogRefused(f"Jog frame must be one of {', '.join(f.value for f in JogFrame)}")
+        if self.step.value not in STEP_CHOICES:
+            raise JogRefused(f"Jog step must be one of {', '.join(STEP_CHOICES)} (mm or °)")
         frame = JogFrame(self.frame.value)
         step: float | None = None
         if self.step.value != CONTINUOUS:
             amount = float(self.step.value)
             step = amount / 1000.0 if frame is not JogFrame.JOINT and axis < 3 else math.radians(amount)
-        return JogRequest(frame, axis, direction, float(self.speed.value), step)
+        speed = self.speed.value
+        if isinstance(speed, bool) or not isinstance(speed, int | float):
+            raise JogRefused("Jog speed must be a number")
+        return JogRequest(frame, axis, direction, float(speed), step)
 
     def _relabel(self) -> None:
+        if self.frame.value not in {f.value for f in JogFrame}:
+            return  # a forged frame: the jog itself is refused (request())
         frame = JogFrame(self.frame.value)
         for (axis, direction), button in self.buttons.items():
             button.label = button_label(frame, axis, direction)
@@ -58,23 +69,23 @@ class JogPanel:
     def _bind(self, button: viser.GuiButtonHandle, axis: int, direction: int) -> None:
         @button.on_hold(callback_hz=HOLD_CONFIRM_HZ)
         def _(event: viser.GuiEvent) -> None:
-            request = self.request(axis, direction)
-            if request.step is not None or self._runner.refusal(event.client, request.label()) is not None:
-                return
             try:
-                self._jogger.hold(request)
+                request = self.request(axis, direction)
+                if request.step is None and self._runner.refusal(event.client, request.label()) is None:
+                    self._jogger.hold(request)
             except ControllerError as error:
-                notify_refusal(event.client, f"{request.label()} refused", error.message)
+                notify_refusal(event.client, f"{button.label} refused", error.message)
 
         @button.on_click
         def _(event: viser.GuiEvent) -> None:
-            request = self.request(axis, direction)
             try:
-                if request.step is None:
-                    self._jogger.release("released")  # the click arrives on release: stop at once
-                elif self._runner.refusal(event.client, request.label()) is None and not self._jogger.step(
+                if self.step.value == CONTINUOUS:  # the click arrives on release: stop at once, whatever
+                    self._jogger.release("released")  # else the page sent
+                    return
+                request = self.request(axis, direction)
+                if self._runner.refusal(event.client, request.label()) is None and not self._jogger.step(
                     request
                 ):
                     notify_refusal(event.client, request.label(), "Cannot move further that way")
             except ControllerError as error:
-                notify_refusal(event.client, f"{request.label()} refused", error.message)
+                notify_refusal(event.client, f"{button.label} refused", error.message)

@@ -5,6 +5,13 @@ it before anything reaches the controller, so a viewer is refused by the server,
 On loopback with no token the first browser gets control as it connects (a single user at the machine drives
 at once); a pendant with an access token (exposed on a network) gives control only to a browser that
 presents the token, from its page URL or typed into the "Access token" field.
+
+Hand-over never leaves nobody in control when somebody may have it: when the operator's browser leaves,
+control passes to the browser that has waited longest among those that may take it without asking (any, on
+loopback without a token; with a token, those that presented it before).
+
+The control line also carries the Remote control switch (pendant.access.remote): the operator decides whether
+API clients may move the arm.
 """
 
 from __future__ import annotations
@@ -16,6 +23,7 @@ from collections.abc import Callable
 import viser
 
 from pendant.access import tokens_match
+from pendant.access.remote import RemoteControl
 from pendant.eventlog import EventKind, EventLog
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.html import inset
@@ -40,7 +48,8 @@ class ControlDesk:
         self._token = token
         self._auto_grant = token is None if auto_grant is None else auto_grant
         self._operator: int | None = None
-        self._names: dict[int, str] = {}
+        self._names: dict[int, str] = {}  # in the order they joined
+        self._trusted: set[int] = set()  # browsers that presented the token
         self._listeners: list[ControlListener] = []
         self._lock = threading.RLock()
 
@@ -75,16 +84,27 @@ class ControlDesk:
             self._changed(f"{self.name(client_id)} has control (first browser on this machine)")
 
     def leave(self, client_id: int) -> bool:
-        """Forget a browser; True when it was the operator (control is released)."""
+        """Forget a browser; True when it was the operator (control is released, or handed on)."""
         with self._lock:
             name = self.name(client_id)
             was_operator = self._operator == client_id
-            if was_operator:
-                self._operator = None
             self._names.pop(client_id, None)
-        if was_operator:
+            self._trusted.discard(client_id)
+            if was_operator:
+                self._operator = self._successor()
+            successor = self._operator
+        if was_operator and successor is None:
             self._changed(f"{name} left: control released")
+        elif was_operator:
+            self._changed(f"{name} left: {self.name(successor)} has control")
         return was_operator
+
+    def _successor(self) -> int | None:
+        """The browser waiting longest that may have control without asking (called with the lock held)."""
+        for client_id in self._names:
+            if self._auto_grant or client_id in self._trusted:
+                return client_id
+        return None
 
     # --- control ------------------------------------------------------------------------------------
     def take(self, client_id: int, offered_token: str | None = None) -> str | None:
@@ -102,6 +122,8 @@ class ControlDesk:
                 reason = f"{self.name(self._operator)} has control: ask them to release it"
             if reason is None:
                 self._operator = client_id
+                if self._token is not None:
+                    self._trusted.add(client_id)
         if reason is not None:
             self._events.record(EventKind.REFUSED, name, f"Take control refused: {reason}")
             return reason
@@ -121,6 +143,26 @@ class ControlDesk:
         """The CommandRunner's gate: None for the operator (and for the server itself), else the reason."""
         if client is None or self.is_operator(client.client_id):
             return None
+        return self.gate_reason()
+
+    def set_remote(self, client_id: int | None, remote: RemoteControl, enabled: bool) -> str | None:
+        """Turn the Remote control switch for the operator `client_id` (None: the server itself); the reason
+        when refused (logged)."""
+        name = self.name(client_id) if client_id is not None else "pendant"
+        if client_id is not None and not self.is_operator(client_id):
+            reason = self.gate_reason()
+            self._events.record(EventKind.REFUSED, name, f"Remote control refused: {reason}")
+            return reason
+        if remote.set_enabled(enabled):
+            state = (
+                "on: API clients may move the arm"
+                if enabled
+                else "off: only the pendant's page moves the arm"
+            )
+            self._events.record(EventKind.CONTROL, name, f"Remote control {state}")
+        return None
+
+    def gate_reason(self) -> str:
         operator = self._operator
         if operator is None:
             return MSG_VIEWER
@@ -142,8 +184,10 @@ class ControlPanel:
         desk: ControlDesk,
         client_id: int | None,
         url_token: str | None = None,
+        remote: RemoteControl | None = None,
     ) -> None:
         self._desk = desk
+        self._remote = remote
         self._target = target
         self.client_id = client_id
         self.url_token = url_token  # the token the page's URL carried, if any
@@ -156,6 +200,14 @@ class ControlPanel:
         self.release_button = target.gui.add_button("Release control", icon=viser.Icon.HAND_OFF)
         self.take_button.on_click(lambda event: self.take(event.client))
         self.release_button.on_click(lambda event: self.release())
+        self.remote: viser.GuiCheckboxHandle | None = None
+        if remote is not None:
+            self.remote = target.gui.add_checkbox(
+                "Remote control",
+                initial_value=remote.enabled,
+                hint="On: API clients (scripts, the SDK) may move the arm. Off: only this page may.",
+            )
+            self.remote.on_update(lambda event: self.switch_remote(event.client))
         self.show(desk.operator)
 
     def offered_token(self) -> str | None:
@@ -175,6 +227,26 @@ class ControlPanel:
 
     def release(self) -> bool:
         return self.client_id is not None and self._desk.release(self.client_id)
+
+    def switch_remote(self, client: viser.ClientHandle | None = None) -> str | None:
+        """The operator turned the Remote control switch; a viewer's change is refused and undone."""
+        if self.remote is None or self._remote is None:
+            return None
+        wanted = bool(self.remote.value)
+        if wanted == self._remote.enabled:
+            return None
+        reason = self._desk.set_remote(self.client_id, self._remote, wanted)
+        if reason is not None:
+            self.remote.value = self._remote.enabled
+            if client is not None:
+                client.add_notification(
+                    title="Remote control refused", body=reason, color="red", auto_close_seconds=8.0
+                )
+        return reason
+
+    def show_remote(self, enabled: bool) -> None:
+        if self.remote is not None and self.remote.value != enabled:
+            self.remote.value = enabled
 
     def show(self, operator: int | None) -> None:
         mine = operator is not None and operator == self.client_id

@@ -7,17 +7,22 @@ from collections.abc import Callable, Iterable
 import numpy as np
 import viser
 
+from pendant.access.remote import RemoteControl
 from pendant.controller import Controller, MotionStatus
+from pendant.eventlog import EventLog
 from pendant.jog import Jogger
 from pendant.kinematics import ArmModel
 from pendant.program import ProgramWorkspace
 from pendant.sim import SimController
 from pendant.telemetry import Telemetry
 from pendant.ui.commands import CommandRunner, add_freeze_button, add_robot_commands
-from pendant.ui.dashboard_panel import DashboardPanel, PlotData
+from pendant.ui.dashboard_events import EventsRenderer
+from pendant.ui.dashboard_panel import DashboardPanel
+from pendant.ui.dashboard_plots import PlotSource
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.io_panel import IoPanel
 from pendant.ui.jog_panel import JogPanel
+from pendant.ui.join_qr import add_join_button
 from pendant.ui.program_panel import ProgramPanel
 from pendant.ui.roles import ControlDesk, ControlPanel
 from pendant.ui.settings_panel import SettingsPanel
@@ -59,17 +64,20 @@ class ClientSession:
         current_tool: Callable[[], np.ndarray],
         desk: ControlDesk,
         telemetry: Telemetry,
+        events: EventLog,
         programs: ProgramWorkspace,
         client_id: int | None = None,
         url_token: str | None = None,
+        remote: RemoteControl | None = None,
         on_recording: RecordingListener | None = None,
+        join_urls: list[str] | None = None,
     ) -> None:
         self.target = target
         self.client_id = client_id
         self._desk = desk
         self.freeze = add_freeze_button(target, runner)
         self.status = StatusPanel(target, mode_line)
-        self.control = ControlPanel(target, desk, client_id, url_token)
+        self.control = ControlPanel(target, desk, client_id, url_token, remote)
         self.tabs = target.gui.add_tab_group()
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
             self.jog = JogPanel(target, jogger, runner)
@@ -90,9 +98,11 @@ class ClientSession:
             self.dashboard = DashboardPanel(
                 target,
                 telemetry,
+                events,
                 may_record=desk.gate,
                 on_recording=on_recording if on_recording is not None else (lambda client, message: None),
             )
+            self.join = add_join_button(target, join_urls) if join_urls else None
         self.target_panel.reset_to_current()
         self._operator_only: list[viser.GuiInputHandle] = list(self._commanding_handles())
         self.locked = False
@@ -100,6 +110,8 @@ class ClientSession:
 
     def _commanding_handles(self) -> Iterable[viser.GuiInputHandle]:
         """Every control that moves the arm or changes IO or settings (Freeze is not one of them)."""
+        if self.control.remote is not None:
+            yield self.control.remote
         jog = self.jog
         yield from (jog.frame, jog.step, jog.speed, *jog.buttons.values())
         target = self.target_panel
@@ -159,7 +171,7 @@ class ClientSession:
             self.target_panel.follow(snapshot.q, moving=snapshot.motion_status is MotionStatus.RUNNING)
 
     def show_dashboard(
-        self, *, table_html: str | None, plots: PlotData | None, events_html: str | None
+        self, *, table_html: str | None, plots: PlotSource | None, events: EventsRenderer | None
     ) -> None:
         """The dashboard's shared renderings (None: nothing new of that kind)."""
         if table_html is not None:
@@ -167,5 +179,5 @@ class ClientSession:
             self.dashboard.show_recording(locked=self.locked)
         if plots is not None:
             self.dashboard.show_plots(plots)
-        if events_html is not None:
-            self.dashboard.show_events(events_html)
+        if events is not None:
+            self.dashboard.show_events(events)

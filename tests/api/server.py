@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import resource
 import socket
 import subprocess
 import sys
@@ -44,8 +45,19 @@ def free_port() -> int:
 
 
 @contextlib.contextmanager
-def running_pendant(*extra_args: str) -> Iterator[str]:
-    """The base URL of a freshly started `pendant --no-ui`; the process is stopped on exit."""
+def running_pendant(*extra_args: str, max_open_files: int | None = None) -> Iterator[str]:
+    """The base URL of a freshly started `pendant --no-ui`; the process is stopped on exit.
+
+    `max_open_files`: the process's open-file limit (soft and hard), as a service or shell might set it."""
+    with pendant_process(*extra_args, max_open_files=max_open_files) as (_, base_url):
+        yield base_url
+
+
+@contextlib.contextmanager
+def pendant_process(
+    *extra_args: str, max_open_files: int | None = None
+) -> Iterator[tuple[subprocess.Popen[str], str]]:
+    """running_pendant(), also giving the process (to read its memory, say)."""
     port = free_port()
     command = [sys.executable, "-m", "pendant", "--no-ui", "--host", LOOPBACK, "--api-port", str(port)]
     process = subprocess.Popen(
@@ -54,11 +66,12 @@ def running_pendant(*extra_args: str) -> Iterator[str]:
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
         text=True,
+        preexec_fn=None if max_open_files is None else lambda: _limit_open_files(max_open_files),
     )
     base_url = f"http://{LOOPBACK}:{port}"
     try:
         _wait_until_serving(process, base_url)
-        yield base_url
+        yield process, base_url
     finally:
         process.terminate()
         try:
@@ -68,6 +81,10 @@ def running_pendant(*extra_args: str) -> Iterator[str]:
             process.wait(STOP_TIMEOUT_S)
         if process.stdout is not None:
             process.stdout.close()
+
+
+def _limit_open_files(count: int) -> None:
+    resource.setrlimit(resource.RLIMIT_NOFILE, (count, count))
 
 
 def _wait_until_serving(process: subprocess.Popen[str], base_url: str) -> None:

@@ -40,6 +40,7 @@ def test_the_pendant_drives_a_separate_simulator_and_outlives_it(launch: Launch,
     simulator = launch(["--no-ui", "--api-port", str(robot_port)], "simulator")
     wait_for_port(robot_port, START_TIMEOUT_S)
     pendant_args = ["--robot", robot_url, "--ui-port", str(ui_port), "--api-port", str(api_port)]
+    pendant_args += ["--remote-control", "on"]  # off by default in front of a real arm: API clients wait
     pendant = launch([*pendant_args, "--programs", str(tmp_path / "programs")])
 
     with (

@@ -16,12 +16,13 @@ STOP_TIMEOUT_S = 5.0
 
 
 @contextmanager
-def serve_in_thread(app: Any, port: int = 0) -> Iterator[str]:
-    """Yield the base URL of `app` served on 127.0.0.1 (a free port unless `port` is given)."""
+def serve_in_thread(app: Any, port: int = 0, **config: Any) -> Iterator[str]:
+    """Yield the base URL of `app` served on 127.0.0.1 (a free port unless `port` is given); `config`:
+    more uvicorn.Config arguments (e.g. `http=` a protocol class)."""
     sock = socket.socket()
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
     sock.bind(("127.0.0.1", port))
-    config = uvicorn.Config(app, log_level="warning", access_log=False, lifespan="on")
+    config = uvicorn.Config(app, log_level="warning", access_log=False, lifespan="on", **config)
     server = uvicorn.Server(config)
     thread = threading.Thread(target=server.run, kwargs={"sockets": [sock]}, daemon=True)
     thread.start()

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import io
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,8 +18,8 @@ VALUE_TOL = 1e-9
 
 
 @pytest.fixture
-def telemetry(sim: SimController, clock: FakeClock) -> Telemetry:
-    return Telemetry(sim, now=clock.now)
+def telemetry(sim: SimController, clock: FakeClock, tmp_path: Path) -> Telemetry:
+    return Telemetry(sim, now=clock.now, recordings_folder=tmp_path)
 
 
 def test_csv_round_trip_matches_get_motors_during_a_motion(

@@ -155,24 +155,28 @@ def test_the_access_token_field_and_the_url_token_both_work(exposed_ui: PendantU
     assert exposed_ui.desk.operator == 4
 
 
-def test_operator_leaving_releases_control_and_stops_the_jog(
+def test_operator_leaving_hands_control_on_and_stops_the_jog(
     local_ui: PendantUI, sim: SimController, clock: FakeClock
 ) -> None:
     local_ui.desk.join(1)
-    local_ui.desk.join(2)
+    local_ui.desk.join(2)  # connected while 1 operates: a viewer for now
     assert local_ui.jogger.hold(JogRequest(JogFrame.JOINT, 0, +1, 20.0))
     clock.advance(0.5)
     assert sim.get_motion_status() is MotionStatus.RUNNING
 
     local_ui._disconnect(FakeBrowser(1))  # the operator's browser closes
-    assert local_ui.desk.operator is None
+    assert local_ui.desk.operator == 2, "the browser left waiting must get control, not nobody"
     assert local_ui.jogger.active is None
     stopped = angles(sim)
     clock.advance(5.0)
     np.testing.assert_allclose(angles(sim), stopped, atol=1e-6)
     assert sim.get_motion_status() is MotionStatus.IDLE
     messages = [e.message for e in local_ui.events.recent()]
-    assert any("left: control released" in m for m in messages)
+    assert any("left: browser #2 has control" in m for m in messages)
+
+    local_ui._disconnect(FakeBrowser(2))  # the last one leaves: nobody is left to hand it to
+    assert local_ui.desk.operator is None
+    assert "left: control released" in local_ui.events.recent()[-1].message
     assert any("Jog J1+" in m for m in messages) and any("Jog stopped" in m for m in messages)
 
 

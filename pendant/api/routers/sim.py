@@ -6,6 +6,7 @@ from enum import StrEnum
 from typing import TYPE_CHECKING, Annotated
 
 from fastapi import APIRouter, Path, Request
+from fastapi.responses import JSONResponse
 
 from pendant.api import docs
 from pendant.api.errors import MSG_FAULT, MSG_INPUT_PORT
@@ -26,6 +27,7 @@ class FaultName(StrEnum):
     emergency = "emergency"
     no_response = "no_response"
     motion_failed = "motion_failed"
+    overheat = "overheat"
     twisted = "twisted"
 
 
@@ -35,8 +37,10 @@ FaultPath = Annotated[
         description=(
             "error: the arm stops, frozen, status ERROR (PUT /recover brings it back). emergency: status "
             "EMERGENCY, every PULSE call answers 503 until /sim/reset. no_response: every PULSE call answers "
-            "500 until /sim/reset. motion_failed: the running motion fails, status MOTION_FAILED. twisted: "
-            "GET /status says TWISTED, motion answers 412 until PUT /untwisting/finish."
+            "500 until /sim/reset. motion_failed: the running motion fails, status MOTION_FAILED. "
+            "overheat: the stator windings jump to 110 °C, then cool as the thermal model says (about 80 s "
+            "above 80 °C). twisted: GET /status says TWISTED, motion answers 412 until PUT "
+            "/untwisting/finish."
         )
     ),
 ]
@@ -99,8 +103,27 @@ def sim_router(sim: SimController) -> APIRouter:
     async def inject_fault(fault: FaultPath) -> TextResponse:
         from pendant.sim import Fault
 
-        sim.inject_fault(Fault[fault.name.upper()])
+        if fault is FaultName.overheat:
+            sim.overheat()
+        else:
+            sim.inject_fault(Fault[fault.name.upper()])
         return empty_result()
+
+    @router.get(
+        "/clock",
+        summary="Simulator: its clock",
+        description=(
+            "The simulated time in seconds (`time`), how many times faster than the wall clock it runs "
+            "(`scale`, `pendant --time-scale`), and the Unix time of that instant (`timestamp`). Every "
+            "motion, gripper wait and servo temperature follows this clock."
+        ),
+    )
+    async def get_clock() -> JSONResponse:
+        clock = sim.clock
+        now = clock.now()
+        return JSONResponse(
+            {"time": now, "scale": getattr(clock, "scale", 1.0), "timestamp": clock.unix_time(now)}
+        )
 
     @router.put(
         "/reset",

@@ -1,0 +1,140 @@
+"""`GET /metrics`: the pendant and its arm in the Prometheus text format (prometheus_client), both modes.
+
+Counters are kept by the pendant as things happen (commands by endpoint and status, refusals, motion
+failures, events, program runs); the arm's readings are read from the controller at scrape time
+(controller_metrics.py). A read like any GET: open without the access token.
+"""
+
+from __future__ import annotations
+
+import re
+import threading
+import time
+
+from fastapi import APIRouter
+from prometheus_client import CONTENT_TYPE_LATEST, CollectorRegistry, Counter, Gauge, Info, generate_latest
+from starlette.responses import Response
+from starlette.types import ASGIApp, Message, Receive, Scope, Send
+
+from pendant import __version__
+from pendant.access.token import changes_robot
+from pendant.controller.protocol import Controller
+from pendant.eventlog import Event, EventLog
+from pendant.monitoring.controller_metrics import ControllerCollector
+
+METRICS_PATH = "/metrics"
+MAX_ENDPOINTS = 100  # distinct endpoint labels; more are counted as "other" (a label per URL would explode)
+MOTION_ENDPOINTS = frozenset({"/pose", "/position", "/poses/run", "/positions/run", "/pack"})
+MOTION_FAILURE_STATUSES = frozenset(
+    {412, 500, 502, 503}
+)  # the arm cannot (not: a malformed or unauthorised request)
+_NUMBER = re.compile(r"/\d+(?=/|$)")
+
+
+class PendantMetrics:
+    """The pendant's Prometheus registry. `viewers` is set by the page (browsers connected)."""
+
+    def __init__(self, controller: Controller, *, mode: str, model: str, robot_url: str | None) -> None:
+        self.registry = CollectorRegistry()
+        r = self.registry
+        Info("pendant", "The pendant serving this arm", registry=r).info(
+            {"version": __version__, "mode": mode, "model": model, "robot_url": robot_url or ""}
+        )
+        started = time.monotonic()
+        Gauge("pendant_uptime_seconds", "Seconds since the pendant started", registry=r).set_function(
+            lambda: time.monotonic() - started
+        )
+        self.commands = Counter(
+            "pendant_commands",
+            "Commands (PUT/POST and page buttons) by answer",
+            ["source", "endpoint", "status"],
+            registry=r,
+        )
+        self.refusals = Counter(
+            "pendant_command_refusals",
+            "Commands refused or failed (HTTP status >= 400, page refusals)",
+            ["source", "endpoint", "status"],
+            registry=r,
+        )
+        self.motion_failures = Counter(
+            "pendant_motion_failures",
+            "Motion commands refused by the controller, program runs failed, the arm going to an alarm state",
+            ["source"],
+            registry=r,
+        )
+        self.events = Counter("pendant_events", "Events logged, by kind", ["kind"], registry=r)
+        self.program_runs = Counter("pendant_program_runs", "Program runs started", registry=r)
+        self.program_failures = Counter("pendant_program_failures", "Program runs that failed", registry=r)
+        self.viewers = Gauge("pendant_viewers_connected", "Browsers showing the page", registry=r)
+        self.registry.register(ControllerCollector(controller))
+        self._endpoints: set[str] = set()
+        self._lock = threading.Lock()
+
+    def endpoint(self, label: str) -> str:
+        """A bounded label: numbers in paths folded (`/signal/output/{n}/high`), at most MAX_ENDPOINTS."""
+        label = _NUMBER.sub("/{n}", label)[:80]
+        with self._lock:
+            if label in self._endpoints:
+                return label
+            if len(self._endpoints) >= MAX_ENDPOINTS:
+                return "other"
+            self._endpoints.add(label)
+            return label
+
+    def count_command(self, source: str, endpoint: str, status: str, *, failed: bool, motion: bool) -> None:
+        endpoint = self.endpoint(endpoint)
+        self.commands.labels(source, endpoint, status).inc()
+        if failed:
+            self.refusals.labels(source, endpoint, status).inc()
+            if motion:
+                self.motion_failures.labels(source).inc()
+
+    def watch(self, events: EventLog) -> None:
+        """Count every event logged, by kind."""
+
+        def counted(event: Event) -> None:
+            self.events.labels(event.kind.value).inc()
+
+        events.on_record(counted)
+
+    def exposition(self) -> bytes:
+        return generate_latest(self.registry)
+
+
+class CommandMetrics:
+    """ASGI middleware (outermost): counts every PUT/POST by endpoint and the status it was answered with."""
+
+    def __init__(self, app: ASGIApp, metrics: PendantMetrics) -> None:
+        self.app = app
+        self.metrics = metrics
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http" or not changes_robot(scope["method"]):
+            await self.app(scope, receive, send)
+            return
+        path: str = scope["path"]
+
+        async def send_and_count(message: Message) -> None:
+            if message["type"] == "http.response.start":
+                status = int(message["status"])
+                self.metrics.count_command(
+                    "api",
+                    f"{scope['method']} {path}",
+                    str(status),
+                    failed=status >= 400,
+                    motion=path in MOTION_ENDPOINTS and status in MOTION_FAILURE_STATUSES,
+                )
+            await send(message)
+
+        await self.app(scope, receive, send_and_count)
+
+
+def metrics_router(metrics: PendantMetrics) -> APIRouter:
+    router = APIRouter(tags=["pendant"])
+
+    # A plain `def`: the scrape reads the controller, in FastAPI's thread pool, never on the event loop.
+    @router.get(METRICS_PATH, summary="Prometheus metrics of the pendant and its arm")
+    def get_metrics() -> Response:
+        return Response(metrics.exposition(), media_type=CONTENT_TYPE_LATEST)
+
+    return router

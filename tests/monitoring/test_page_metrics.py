@@ -1,0 +1,88 @@
+"""What the page counts for Prometheus: program runs and failures, the arm going to an alarm state, page
+commands, browsers connected. Scraped as Prometheus would, from the registry's text exposition."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from prometheus_client.parser import text_string_to_metric_families
+
+from pendant.controller import MotionStatus
+from pendant.eventlog import EventLog
+from pendant.monitoring import PendantMetrics
+from pendant.program import ProgramRunner, ProgramStore, ProgramWorkspace, RunState
+from pendant.sim import FakeClock, Fault, SimController
+from pendant.ui.activity import ActivityLog
+from pendant.ui.app import PendantUI
+from pendant.ui.roles import ControlDesk
+from pendant.ui.snapshot import Snapshot
+from tests.api.server import free_port
+from tests.program.conftest import POLL_S, POSE_A_DEG, settle, teach
+from tests.ui.doubles import OPERATOR, VIEWER, FakeBrowser
+
+WAIT_S = 10.0
+
+
+def scraped(metrics: PendantMetrics) -> dict[str, float]:
+    """`name{label="v"}` -> value, for the pendant's own counters (the arm's gauges left out)."""
+    out = {}
+    for family in text_string_to_metric_families(metrics.exposition().decode()):
+        for sample in family.samples:
+            labels = ",".join(f'{k}="{v}"' for k, v in sorted(sample.labels.items()))
+            out[f"{sample.name}{{{labels}}}" if labels else sample.name] = sample.value
+    return out
+
+
+def test_program_runs_failures_and_alarms_are_counted(
+    sim: SimController, clock: FakeClock, tmp_path: Path
+) -> None:
+    metrics = PendantMetrics(sim, mode="sim", model="pulse75", robot_url=None)
+    events = EventLog()
+    metrics.watch(events)
+    activity = ActivityLog(events, ControlDesk(events), metrics)
+    runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now, poll_s=POLL_S)
+    workspace = ProgramWorkspace(ProgramStore(tmp_path / "programs"), runner)
+    workspace.on_change(lambda change: activity.program_changed(workspace, change))
+    teach(sim, clock, POSE_A_DEG, "ignored")
+    workspace.record_from(sim)
+    sim.reset()
+
+    workspace.start_run(loops=1)
+    runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]
+    settle(sim, clock)
+    assert workspace.progress.state is RunState.FINISHED
+    sim.inject_fault(Fault.ERROR)
+    workspace.start_run(loops=1)
+    runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]
+    assert workspace.progress.state is RunState.FAILED
+
+    activity.state_changed(
+        Snapshot(0.0, motion_status=MotionStatus.IDLE), Snapshot(0.1, motion_status=MotionStatus.ERROR)
+    )
+    counts = scraped(metrics)
+    assert counts["pendant_program_runs_total"] == 2
+    assert counts["pendant_program_failures_total"] == 1
+    assert counts['pendant_motion_failures_total{source="program"}'] == 1
+    assert counts['pendant_motion_failures_total{source="controller"}'] == 1
+    assert counts['pendant_events_total{kind="error"}'] == 2  # the program's failure and the ERROR state
+
+
+def test_viewers_and_page_commands_are_counted(sim: SimController) -> None:
+    metrics = PendantMetrics(sim, mode="sim", model="pulse75", robot_url=None)
+    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=free_port(), mode_line="sim", metrics=metrics)
+    try:
+        assert scraped(metrics)["pendant_viewers_connected"] == 0
+        session = page.open_session(page.server)
+        with page._sessions_lock:
+            page.sessions[-1] = session
+        assert scraped(metrics)["pendant_viewers_connected"] == 1
+        page.desk.join(OPERATOR)
+        page.desk.join(VIEWER)
+        page.runner.submit("Home", lambda controller: controller.freeze(), None).result(timeout=WAIT_S)
+        refused = page.runner.submit("Relax", lambda controller: controller.relax(), FakeBrowser(VIEWER))  # type: ignore[arg-type]
+        assert refused.exception() is not None
+    finally:
+        page.stop()
+    counts = scraped(metrics)
+    assert counts['pendant_commands_total{endpoint="Home",source="page",status="sent"}'] == 1
+    assert counts['pendant_command_refusals_total{endpoint="Relax",source="page",status="refused"}'] == 1

@@ -1,0 +1,107 @@
+"""`pendant check URL [--timeout S]`: exits 0 once a PULSE API answers there, 1 with a message otherwise."""
+
+from __future__ import annotations
+
+import http.server
+import subprocess
+import sys
+import threading
+from collections.abc import Iterator
+
+import pytest
+
+from pendant.simserver import SimServer
+from tests.api.server import LOOPBACK, REPO_ROOT, free_port, running_pendant
+
+CHECK_TIMEOUT_S = 60.0
+
+
+def check(url: str, *flags: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "pendant", "check", url, *flags],
+        cwd=REPO_ROOT,
+        capture_output=True,
+        text=True,
+        timeout=CHECK_TIMEOUT_S + 30.0,
+        check=False,
+    )
+
+
+@pytest.fixture
+def not_pulse() -> Iterator[str]:
+    """Some other HTTP server: it answers, but not as a PULSE controller would."""
+    server = http.server.ThreadingHTTPServer((LOOPBACK, 0), http.server.SimpleHTTPRequestHandler)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        yield f"http://{LOOPBACK}:{server.server_address[1]}"
+    finally:
+        server.shutdown()
+        server.server_close()
+        thread.join()
+
+
+def test_exits_0_when_the_simulator_answers() -> None:
+    with running_pendant() as url:
+        done = check(url, "--timeout", "5")
+    assert done.returncode == 0, done.stderr
+    assert f"PULSE API at {url} answers: IDLE" in done.stdout
+
+
+def test_waits_for_a_pendant_that_is_still_starting() -> None:
+    port = free_port()
+    url = f"http://{LOOPBACK}:{port}"
+    waiting = subprocess.Popen(
+        [sys.executable, "-m", "pendant", "check", url, "--timeout", f"{CHECK_TIMEOUT_S:g}"],
+        cwd=REPO_ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    pendant = subprocess.Popen(
+        [sys.executable, "-m", "pendant", "--no-ui", "--host", LOOPBACK, "--api-port", str(port)],
+        cwd=REPO_ROOT,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    try:
+        out, err = waiting.communicate(timeout=CHECK_TIMEOUT_S + 30.0)
+        assert waiting.returncode == 0, err
+        assert "answers: IDLE" in out
+    finally:
+        pendant.terminate()
+        pendant.wait(10)
+
+
+def test_a_controller_in_emergency_still_answers() -> None:
+    with SimServer() as server:
+        from pendant.sim import Fault
+
+        server.sim.inject_fault(Fault.EMERGENCY)
+        done = check(server.url, "--timeout", "5")
+    assert done.returncode == 0, done.stderr
+    assert "Robot unavailable in emergency state" in done.stdout
+
+
+def test_times_out_with_a_message_when_nothing_listens() -> None:
+    url = f"http://{LOOPBACK}:{free_port()}"
+    done = check(url, "--timeout", "0.5")
+    assert done.returncode == 1
+    assert f"no PULSE API answered at {url} within 0.5 s" in done.stderr
+    assert "ConnectError" in done.stderr
+
+
+def test_another_http_server_is_not_a_pulse_api(not_pulse: str) -> None:
+    done = check(not_pulse, "--timeout", "0.5")
+    assert done.returncode == 1
+    assert "HTTP 404" in done.stderr and "not a PULSE answer" in done.stderr
+
+
+@pytest.mark.parametrize(
+    ("flags", "message"),
+    [(["localhost:8081"], "URL must start with http://"), (["http://x", "--timeout", "0"], "--timeout")],
+)
+def test_bad_arguments_are_refused(flags: list[str], message: str) -> None:
+    done = check(*flags)
+    assert done.returncode == 2
+    assert message in done.stderr
