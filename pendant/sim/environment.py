@@ -7,6 +7,7 @@ change that would leave the arm already touching something is refused: every lat
 from __future__ import annotations
 
 import numpy as np
+from pydantic import BaseModel
 
 from pendant.controller.cell_types import (
     MAX_OBSTACLES,
@@ -26,6 +27,30 @@ from pendant.controller.types import Point, Tool
 from pendant.kinematics import ArmModel
 from pendant.kinematics.obstacles import Capsule, CellGeometry, box_shape, capsule_shape, plane_shape
 from pendant.kinematics.transforms import position_to_matrix
+
+# Beyond these an obstacle or a tool capsule is a typing error (and overflows the geometry arithmetic).
+MAX_OBSTACLE_EXTENT_M = 100.0
+MAX_TOOL_EXTENT_M = 2.0
+MSG_OBSTACLE_TOO_FAR = f"obstacle must lie within {MAX_OBSTACLE_EXTENT_M:g} m of the arm base"
+MSG_TOOL_SHAPE_TOO_BIG = f"tool shape must lie within {MAX_TOOL_EXTENT_M:g} m of the flange"
+
+
+def _numbers(value: object) -> list[float]:
+    """Every number in a JSON-like value, nested (coordinates, sides, radii)."""
+    if isinstance(value, bool):
+        return []
+    if isinstance(value, int | float):
+        return [float(value)]
+    if isinstance(value, dict):
+        return [n for item in value.values() for n in _numbers(item)]
+    if isinstance(value, list):
+        return [n for item in value for n in _numbers(item)]
+    return []
+
+
+def _check_extent(model: BaseModel, limit: float, message: str) -> None:
+    if any(abs(v) > limit for v in _numbers(model.model_dump())):
+        raise PreconditionFailed(message)
 
 
 def _vector(point: Point) -> np.ndarray:
@@ -77,6 +102,7 @@ class Environment:
         """Add (or replace, by name) an obstacle; refused if it touches the arm in any of `configurations`."""
         if obstacle.name not in self.obstacles and len(self.obstacles) >= MAX_OBSTACLES:
             raise PreconditionFailed(MSG_TOO_MANY_OBSTACLES)
+        _check_extent(obstacle, MAX_OBSTACLE_EXTENT_M, MSG_OBSTACLE_TOO_FAR)
         alone = CellGeometry(self.arm, [_obstacle_shape(obstacle)], self.geometry.tool)
         if any(alone.collides(q) for q in configurations):
             raise Collision(MSG_OBSTACLE_TOUCHES_ARM)
@@ -92,6 +118,7 @@ class Environment:
 
     def check_tool(self, shape: ToolShape, tool: Tool, configurations: list[np.ndarray]) -> CellGeometry:
         """The geometry with this tool shape and tool, or Collision if it touches anything already."""
+        _check_extent(shape, MAX_TOOL_EXTENT_M, MSG_TOOL_SHAPE_TOO_BIG)
         geometry = self._build(self.obstacles, shape, tool)
         if any(geometry.collides(q) for q in configurations):
             raise Collision(MSG_SHAPE_TOUCHES)
