@@ -7,6 +7,7 @@ from typing import Any
 from fastapi import FastAPI
 from fastapi.openapi.utils import get_openapi
 from fastapi_offline import FastAPIOffline
+from pydantic import TypeAdapter
 
 from pendant import __version__
 from pendant.access.http_guard import AccessGuard, AccessRules
@@ -15,15 +16,29 @@ from pendant.api.availability import UnavailableFirst
 from pendant.api.errors import install_error_handlers
 from pendant.api.limits import BODY_LIMITS, BodySizeLimit, body_limit, too_large_message
 from pendant.api.routers.base import base_router
+from pendant.api.routers.cell import cell_router
 from pendant.api.routers.gripper import gripper_router
 from pendant.api.routers.pose import pose_router
 from pendant.api.routers.position import position_router
 from pendant.api.routers.robot import robot_router
+from pendant.api.routers.run import run_router
+from pendant.api.routers.safety import safety_router
 from pendant.api.routers.signal import signal_router
 from pendant.api.routers.status import status_router
+from pendant.api.routers.system import system_router
 from pendant.api.routers.tool import tool_router
 from pendant.api.routing import DirectDispatch, direct_endpoints
+from pendant.controller.cell_types import Obstacle, ToolInfo, ToolShape
 from pendant.controller.protocol import Controller
+from pendant.controller.system_types import (
+    JoggingAcceleration,
+    JointPoses,
+    JointPositions,
+    LinearPoses,
+    LinearPositions,
+    PoseWaypoint,
+    PositionWaypoint,
+)
 from pendant.controller.types import Pose, Position, Tool
 from pendant.eventlog import EventLog
 
@@ -44,9 +59,13 @@ Position", "Unreachable Pose", "Collision detected") and for a query or path par
 of range (the message names it and its range); 500 "Robot does not respond"; 503 "Robot unavailable in
 emergency state".
 
-Motion commands take `speed` (1 to 100 %, mandatory), `type` (JOINT or LINEAR, default JOINT) and
-`tcp_max_velocity` (0.001 to 2 m/s, default 2). Rozum's later SDK's `motionType`, `velocity` and
-`acceleration` are accepted too.
+Motion commands take `speed` (above 0 up to 100 %, default 50), `type` (JOINT or LINEAR, default JOINT),
+`tcp_max_velocity` (above 0 up to 2 m/s, default 2) and `acceleration` (above 0 up to 200 %). Rozum's later
+SDK's `motionType` and `velocity` are accepted too, and so are its waypoint `blend` and `actions`.
+
+Beyond the reference guide, every operation of Rozum's SDK 1.8.4 (pulse-api / pdhttp) is served: the robot
+state and failures, identity and versions, the tool's info and shape, the environment's obstacles, the
+protective stop, free drive, jogging, gripper power, untwisting, the motors' log and the /run/* motions.
 
 Access: a pendant exposed beyond loopback (`pendant --host 0.0.0.0`) has an access token (printed at
 start-up, or `--token`). Every request that changes the robot (any method but GET, HEAD and OPTIONS) must
@@ -96,6 +115,10 @@ def create_app(
         robot_router(controller),
         gripper_router(controller),
         signal_router(controller),
+        system_router(controller),
+        cell_router(controller),
+        safety_router(controller),
+        run_router(controller),
     ]
     sim_type = _sim_controller_type()
     if sim_type is not None and isinstance(controller, sim_type):
@@ -140,15 +163,34 @@ def _openapi(app: FastAPI) -> dict[str, Any]:
     components = schema.setdefault("components", {}).setdefault("schemas", {})
     for unused in ("HTTPValidationError", "ValidationError"):
         components.pop(unused, None)
-    for model in (Position, Pose, Tool):
+    for model in (
+        Position,
+        Pose,
+        Tool,
+        PositionWaypoint,
+        PoseWaypoint,
+        ToolInfo,
+        ToolShape,
+        JoggingAcceleration,
+        LinearPositions,
+        LinearPoses,
+        JointPositions,
+        JointPoses,
+    ):
         _add_model_schema(components, model)
+    components.setdefault("Obstacle", TypeAdapter(Obstacle).json_schema(ref_template=_REF))
+    for name, definition in components["Obstacle"].pop("$defs", {}).items():
+        components.setdefault(name, definition)
     components["Tool"]["properties"]["radius"]["minimum"] = 0
     app.openapi_schema = schema
     return schema
 
 
+_REF = "#/components/schemas/{model}"
+
+
 def _add_model_schema(components: dict[str, Any], model: type[Any]) -> None:
-    model_schema = model.model_json_schema(ref_template="#/components/schemas/{model}")
+    model_schema = model.model_json_schema(ref_template=_REF)
     for name, definition in model_schema.pop("$defs", {}).items():
         components.setdefault(name, definition)
     components.setdefault(model.__name__, model_schema)

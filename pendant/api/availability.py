@@ -1,5 +1,6 @@
 """A controller in EMERGENCY (or not responding) answers every PULSE call with 503 (500) before it looks at
-the request: a malformed body or an out-of-range speed gets the same answer as a good one."""
+the request: a malformed body or an out-of-range speed gets the same answer as a good one. SDK 1.8.4's
+GET /status and /status/failure are the exception in EMERGENCY: they say so (and why)."""
 
 from __future__ import annotations
 
@@ -8,10 +9,12 @@ from collections.abc import Callable
 from starlette.types import ASGIApp, Receive, Scope, Send
 
 from pendant.api.errors import error_response
-from pendant.controller.errors import ControllerError
+from pendant.controller.errors import ControllerError, Emergency
 
 # Served by the pendant, not the controller: they answer whatever state the arm is in.
 NOT_THE_CONTROLLERS = ("/sim/", "/pendant/", "/metrics", "/docs", "/redoc", "/openapi.json")
+# SDK 1.8.4 asks these after a failure, to learn why: they answer in EMERGENCY too.
+ANSWER_IN_EMERGENCY = frozenset({"/status", "/status/failure"})
 
 
 class UnavailableFirst:
@@ -25,6 +28,10 @@ class UnavailableFirst:
         if scope["type"] == "http" and not scope["path"].startswith(NOT_THE_CONTROLLERS):
             try:
                 self.check_alive()
+            except Emergency as error:
+                if scope["path"] not in ANSWER_IN_EMERGENCY:
+                    await error_response(error)(scope, receive, send)
+                    return
             except ControllerError as error:
                 await error_response(error)(scope, receive, send)
                 return

@@ -8,6 +8,8 @@ from pydantic import BaseModel
 
 from pendant.api import errors as api_errors
 from pendant.api.wire import JSON, TEXT, text_literal
+
+__all__ = ["JSON", "MSG_NOT_RESPONDING", "TEXT"]
 from pendant.controller.errors import (
     MSG_BAD_FORMAT,
     MSG_COLLISION,
@@ -20,6 +22,10 @@ from pendant.controller.errors import (
 Responses = dict[int | str, dict[str, Any]]
 
 TAG_SIM = "Simulator only"
+TAG_SYSTEM = "System (SDK 1.8)"
+TAG_ENVIRONMENT = "Environment (SDK 1.8)"
+TAG_SAFETY = "Stop, free drive, jogging (SDK 1.8)"
+TAG_RUN = "Run (SDK 1.8)"
 
 TAGS: list[dict[str, str]] = [
     {"name": "Position", "description": "The TCP position: metres and radians, relative to the zero point."},
@@ -30,6 +36,36 @@ TAGS: list[dict[str, str]] = [
     {"name": "Robot", "description": "Identity and state commands: relax, freeze, recover, pack."},
     {"name": "Gripper", "description": "Opening and closing the gripper."},
     {"name": "Signals", "description": "Digital outputs 1-2 (relays) and inputs 1-4 on the control box."},
+    {
+        "name": TAG_SYSTEM,
+        "description": (
+            "Rozum's SDK 1.8.4: robot state and recent failures, model and serial numbers, versions, the "
+            "motors' logs, untwisting."
+        ),
+    },
+    {
+        "name": TAG_ENVIRONMENT,
+        "description": (
+            "Rozum's SDK 1.8.4: box, capsule and plane obstacles, kept by name and checked along the whole "
+            "path of every motion, with the tool's shape (capsules on the flange)."
+        ),
+    },
+    {
+        "name": TAG_SAFETY,
+        "description": (
+            "Rozum's SDK 1.8.4: the protective stop and its binding to digital inputs, free drive (zero "
+            "gravity), jogging by an acceleration vector."
+        ),
+    },
+    {
+        "name": TAG_RUN,
+        "description": (
+            "Rozum's SDK 1.8.4: runs through waypoints with BLEND, SPLINE or RAW interpolation; linear "
+            "velocity and acceleration in m/s and m/s^2, joint ones in percent; per-waypoint `blend` "
+            "(metres for positions, degrees for poses) and `actions` (set an output, open or close the "
+            "gripper when the waypoint is reached)."
+        ),
+    },
     {
         "name": TAG_SIM,
         "description": (
@@ -73,7 +109,6 @@ EXAMPLE_MOTOR = {
 }
 
 MOTION_PARAMETER_MESSAGES = (
-    api_errors.MSG_SPEED_MISSING,
     api_errors.MSG_SPEED,
     api_errors.MSG_TYPE,
     api_errors.MSG_TCP_MAX_VELOCITY,
@@ -143,6 +178,15 @@ def empty_ok(description: str = "Success (empty body)") -> Responses:
     return {
         200: {"description": description, "content": {TEXT: {"schema": {"type": "string", "maxLength": 0}}}}
     }
+
+
+def text_result(description: str, *examples: str) -> Responses:
+    """A 200 carrying the controller's message (a JSON string literal in text/plain)."""
+    return text_ok(description, {"type": "string"}, *examples)
+
+
+def stamped(example: dict[str, Any]) -> dict[str, Any]:
+    return {**example, "timestamp": "2026-11-22T10:00:00.000+00:00"}
 
 
 def ref(name: str) -> dict[str, str]:

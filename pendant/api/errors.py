@@ -4,10 +4,8 @@
   the controller's message.
 - A body that does not parse (bad JSON, NaN/Infinity, a missing field, a wrong number of angles, a string
   where a number belongs, an empty waypoint list) is 400 "Incorrect format of input Message".
-- A query or path parameter that is missing, not a number or out of range is 412 ("Incorrect input
-  parameters" in the reference) with a message naming the parameter and its range. A missing `speed` is a
-  parameter problem like an out-of-range one, so it is 412 too: 400 is the reference's "Message parsing
-  error", which is about the body.
+- A query or path parameter that is not a number or out of range is 412 ("Incorrect input parameters" in
+  the reference) with a message naming the parameter and its range (`speed` is optional: see params.py).
 - FastAPI's 422 never leaves the app: its validation errors are re-mapped here.
 - Anything else that goes wrong inside the controller is what a client of the real one would see: 500 "Robot
   does not respond" (the exception still propagates to the server's log).
@@ -30,6 +28,7 @@ from pendant.controller.errors import (
     PreconditionFailed,
 )
 from pendant.controller.types import (
+    ACCELERATION_MAX,
     GRIPPER_TIMEOUT_MAX_MS,
     INPUT_PORTS,
     OUTPUT_PORTS,
@@ -39,26 +38,23 @@ from pendant.controller.types import (
     TCP_MAX_VELOCITY_MIN,
 )
 
-MSG_SPEED = f"speed must be a number from {SPEED_MIN:g} to {SPEED_MAX:g} (percent of the maximum speed)"
-MSG_SPEED_MISSING = (
-    f"speed is required: a number from {SPEED_MIN:g} to {SPEED_MAX:g} (percent of the maximum speed), "
-    "or velocity and acceleration"
-)
+MSG_SPEED = f"speed must be a number above {SPEED_MIN:g}, up to {SPEED_MAX:g} (percent of the maximum speed)"
 MSG_VELOCITY = (
-    f"velocity must be a number from {SPEED_MIN:g} to {SPEED_MAX:g} (percent of the maximum velocity)"
+    f"velocity must be a number above {SPEED_MIN:g}, up to {SPEED_MAX:g} (percent of the maximum velocity)"
 )
 MSG_ACCELERATION = (
-    f"acceleration must be a number from {SPEED_MIN:g} to {SPEED_MAX:g} (percent of the maximum acceleration)"
+    f"acceleration must be a number above {SPEED_MIN:g}, up to {ACCELERATION_MAX:g} "
+    "(percent of the maximum acceleration)"
 )
 MSG_TCP_MAX_VELOCITY = (
-    f"tcp_max_velocity must be a number from {TCP_MAX_VELOCITY_MIN:g} to {TCP_MAX_VELOCITY_MAX:g} (m/s)"
+    f"tcp_max_velocity must be a number above {TCP_MAX_VELOCITY_MIN:g}, up to {TCP_MAX_VELOCITY_MAX:g} (m/s)"
 )
 MSG_TYPE = "type must be JOINT or LINEAR"
 MSG_MOTION_TYPE = "motionType must be JOINT or LINEAR"
-MSG_TIMEOUT = f"timeout must be a whole number of milliseconds from 0 to {GRIPPER_TIMEOUT_MAX_MS}"
+MSG_TIMEOUT = f"timeout must be a number of milliseconds from 0 to {GRIPPER_TIMEOUT_MAX_MS}"
 MSG_OUTPUT_PORT = f"port must be a digital output: {' or '.join(map(str, OUTPUT_PORTS))}"
 MSG_INPUT_PORT = f"port must be a digital input: {INPUT_PORTS[0]} to {INPUT_PORTS[-1]}"
-MSG_FAULT = "fault must be error, emergency, no_response or motion_failed"
+MSG_FAULT = "fault must be error, emergency, no_response, motion_failed, overheat or twisted"
 
 _PARAMETER_MESSAGES = {
     "speed": MSG_SPEED,

@@ -35,6 +35,15 @@ BODY_LIMITS: dict[tuple[str, str], int] = {
     ("POST", "/tool"): DOCUMENT_BODY_LIMIT,
     ("POST", "/base"): DOCUMENT_BODY_LIMIT,
     ("PUT", "/sim/pose"): DOCUMENT_BODY_LIMIT,
+    # SDK 1.8.4: a tool (16 capsules at most), one obstacle (a plane of 16 points at most), a jog, and runs.
+    ("POST", "/tool/info"): DOCUMENT_BODY_LIMIT,
+    ("POST", "/tool/shape"): DOCUMENT_BODY_LIMIT,
+    ("PUT", "/environment"): DOCUMENT_BODY_LIMIT,
+    ("PUT", "/jogging"): DOCUMENT_BODY_LIMIT,
+    ("PUT", "/run/linear/positions"): RUN_BODY_LIMIT,
+    ("PUT", "/run/linear/poses"): RUN_BODY_LIMIT,
+    ("PUT", "/run/joint/positions"): RUN_BODY_LIMIT,
+    ("PUT", "/run/joint/poses"): RUN_BODY_LIMIT,
 }
 
 

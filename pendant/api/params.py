@@ -18,10 +18,12 @@ from fastapi import Path, Query, Request
 from fastapi.concurrency import run_in_threadpool
 from pydantic import Field, TypeAdapter, ValidationError
 
-from pendant.api.errors import MSG_SPEED_MISSING, ParameterError
 from pendant.controller.errors import BadRequest
+from pendant.controller.system_types import PoseWaypoint, PositionWaypoint
 from pendant.controller.types import (
+    ACCELERATION_MAX,
     DEFAULT_GRIPPER_TIMEOUT_MS,
+    DEFAULT_SPEED_PERCENT,
     GRIPPER_TIMEOUT_MAX_MS,
     INPUT_PORTS,
     OUTPUT_PORTS,
@@ -44,8 +46,11 @@ INLINE_PARSE_MAX_BYTES = 4096
 POSITION = TypeAdapter(Position)
 POSE = TypeAdapter(Pose)
 TOOL = TypeAdapter(Tool)
-POSITIONS = TypeAdapter(Annotated[list[Position], Field(min_length=1)])
-POSES = TypeAdapter(Annotated[list[Pose], Field(min_length=1)])
+# Motion targets may carry SDK 1.7's `blend` and `actions`.
+TARGET_POSITION = TypeAdapter(PositionWaypoint)
+TARGET_POSE = TypeAdapter(PoseWaypoint)
+POSITIONS = TypeAdapter(Annotated[list[PositionWaypoint], Field(min_length=1)])
+POSES = TypeAdapter(Annotated[list[PoseWaypoint], Field(min_length=1)])
 
 
 async def read_body(request: Request, adapter: TypeAdapter[T]) -> T:
@@ -61,7 +66,8 @@ async def read_body(request: Request, adapter: TypeAdapter[T]) -> T:
 
 # --- query parameters of the motion commands -------------------------------------------------------------
 
-_PERCENT = {"ge": SPEED_MIN, "le": SPEED_MAX, "allow_inf_nan": False}
+# Bounds as Rozum's SDK checks them: above 0 (exclusive), at most 100 % (acceleration 200 %).
+_PERCENT = {"gt": SPEED_MIN, "le": SPEED_MAX, "allow_inf_nan": False}
 
 # Optional parameters are typed without `| None` so the schema says "number", not "number or null" (a query
 # string has no null); FastAPI uses the None default as is when the parameter is absent.
@@ -70,8 +76,9 @@ SpeedQuery = Annotated[
     Query(
         **_PERCENT,
         description=(
-            f"Speed in percent of the maximum speed, {SPEED_MIN:g} to {SPEED_MAX:g}. Mandatory (unless "
-            "`velocity` is given, as Rozum's later SDK sends)."
+            f"Speed in percent of the maximum speed, above {SPEED_MIN:g} up to {SPEED_MAX:g}. Optional: "
+            f"without it (and without `velocity`) the arm moves at {DEFAULT_SPEED_PERCENT:g} %, capped by "
+            "`tcp_max_velocity` (Rozum's SDK examples send only that)."
         ),
         examples=[50],
     ),
@@ -93,11 +100,12 @@ MotionTypeQuery = Annotated[
 TcpMaxVelocityQuery = Annotated[
     float,
     Query(
-        ge=TCP_MAX_VELOCITY_MIN,
+        gt=TCP_MAX_VELOCITY_MIN,
         le=TCP_MAX_VELOCITY_MAX,
         allow_inf_nan=False,
         description=(
-            f"Limit of the TCP velocity in m/s, {TCP_MAX_VELOCITY_MIN:g} to {TCP_MAX_VELOCITY_MAX:g}. "
+            f"Limit of the TCP velocity in m/s, above {TCP_MAX_VELOCITY_MIN:g} up to "
+            f"{TCP_MAX_VELOCITY_MAX:g}. "
             f"Default {TCP_MAX_VELOCITY_MAX:g}."
         ),
     ),
@@ -107,7 +115,7 @@ VelocityQuery = Annotated[
     Query(
         **_PERCENT,
         description=(
-            f"Rozum's later SDK: velocity in percent ({SPEED_MIN:g} to {SPEED_MAX:g}), used in place of "
+            f"Rozum's later SDK: velocity in percent (above {SPEED_MIN:g} up to {SPEED_MAX:g}), in place of "
             "`speed` (with `acceleration`)."
         ),
     ),
@@ -115,8 +123,13 @@ VelocityQuery = Annotated[
 AccelerationQuery = Annotated[
     float,
     Query(
-        **_PERCENT,
-        description=f"Rozum's later SDK: acceleration in percent ({SPEED_MIN:g} to {SPEED_MAX:g}).",
+        gt=SPEED_MIN,
+        le=ACCELERATION_MAX,
+        allow_inf_nan=False,
+        description=(
+            f"Acceleration in percent of the joints' limits (above {SPEED_MIN:g} up to "
+            f"{ACCELERATION_MAX:g}); default: the speed's percentage."
+        ),
     ),
 ]
 
@@ -135,7 +148,7 @@ async def motion_params(
     """
     chosen_speed = speed if speed is not None else velocity
     if chosen_speed is None:
-        raise ParameterError(MSG_SPEED_MISSING)
+        chosen_speed = DEFAULT_SPEED_PERCENT
     return MotionParams(
         speed=chosen_speed,
         motion_type=motion_type or motion_type_sdk or MotionType.JOINT,
@@ -145,12 +158,14 @@ async def motion_params(
 
 
 TimeoutQuery = Annotated[
-    int,
+    float,
     Query(
         ge=0,
         le=GRIPPER_TIMEOUT_MAX_MS,
+        allow_inf_nan=False,
         description=(
-            f"How long (ms) the arm waits for the gripper, 0 to {GRIPPER_TIMEOUT_MAX_MS}, default "
+            f"How long (ms, fractions allowed) the arm waits for the gripper, 0 to {GRIPPER_TIMEOUT_MAX_MS}, "
+            f"default "
             f"{DEFAULT_GRIPPER_TIMEOUT_MS}. Values above 0 are recommended."
         ),
     ),

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Sequence
+from datetime import UTC, datetime
 
 from pydantic import BaseModel, TypeAdapter
 from starlette.responses import JSONResponse, Response
@@ -61,6 +62,27 @@ def empty_result() -> TextResponse:
 
 def model_result(model: BaseModel) -> JSONBytesResponse:
     return JSONBytesResponse(model.__pydantic_serializer__.to_json(model))
+
+
+def iso_time(epoch_s: float) -> str:
+    """SDK >= 1.8's `timestamp`: ISO 8601, UTC, milliseconds."""
+    return datetime.fromtimestamp(epoch_s, UTC).isoformat(timespec="milliseconds")
+
+
+def timestamped_result(model: BaseModel, epoch_s: float) -> JSONBytesResponse:
+    """`model`'s JSON object with a `timestamp` field added (GET /pose, GET /position)."""
+    body = model.__pydantic_serializer__.to_json(model)
+    stamp = json.dumps(iso_time(epoch_s)).encode()
+    return JSONBytesResponse(body[:-1] + b',"timestamp":' + stamp + b"}")
+
+
+def json_result(value: object) -> JSONBytesResponse:
+    """Any JSON value as `application/json` (a bare string for GET /status, a number for /motors-log)."""
+    return JSONBytesResponse(json.dumps(value).encode())
+
+
+def models_result(models: Sequence[BaseModel]) -> JSONBytesResponse:
+    return JSONBytesResponse(b"[" + b",".join(m.__pydantic_serializer__.to_json(m) for m in models) + b"]")
 
 
 def motors_result(motors: Sequence[MotorStatus]) -> JSONBytesResponse:

@@ -10,6 +10,9 @@ MSG_UNREACHABLE_POSE = "Unreachable Pose"
 MSG_COLLISION = "Collision detected"
 MSG_NOT_RESPONDING = "Robot does not respond"
 MSG_EMERGENCY = "Robot unavailable in emergency state"
+MSG_GRIPPER_DISABLED = "The gripper is disabled: POST /gripper/enable first"
+MSG_PROTECTIVE_STOP = "Protective stop: the arm holds its position and refuses motion until PUT /recover"
+MSG_JOG_BLOCKED = "Cannot jog that way: a joint limit, the workspace edge or an obstacle is right there"
 
 
 class ControllerError(Exception):

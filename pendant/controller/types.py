@@ -114,8 +114,22 @@ class MotionType(StrEnum):
     LINEAR = "LINEAR"
 
 
-SPEED_MIN, SPEED_MAX = 1.0, 100.0
-TCP_MAX_VELOCITY_MIN, TCP_MAX_VELOCITY_MAX = 0.001, 2.0
+class InterpolationType(StrEnum):
+    """How a run goes through its waypoints (SDK 1.8.4's /run/* operations)."""
+
+    BLEND = "BLEND"  # straight segments, each corner rounded within its waypoint's blend
+    SPLINE = "SPLINE"  # joint runs: a smooth curve through every waypoint; linear: corners rounded widely
+    RAW = "RAW"  # straight segments, stopping at every waypoint
+
+
+# Speeds and accelerations are percent of the joint limits, exclusive of 0 as Rozum's SDK checks them;
+# acceleration may go to 200 % (SDK >= 1.6).
+SPEED_MIN, SPEED_MAX = 0.0, 100.0
+ACCELERATION_MAX = 200.0
+# A motion command that gives neither speed nor velocity (the SDK's own examples send only
+# tcp_max_velocity) moves at this percentage of the joint speed limits.
+DEFAULT_SPEED_PERCENT = 50.0
+TCP_MAX_VELOCITY_MIN, TCP_MAX_VELOCITY_MAX = 0.0, 2.0
 DEFAULT_GRIPPER_TIMEOUT_MS = 500
 # The arm stays idle this long at most waiting for the gripper: a minute is far beyond any gripper, and a
 # queue blocked for days by one command (2147483647 ms: 24.8 days) is a typo, not a wait.
@@ -128,11 +142,14 @@ INPUT_PORTS = (1, 2, 3, 4)
 
 class MotionParams(BaseModel):
     """How to move: `speed` in percent of the joint limits, or the later SDK's `velocity` and `acceleration`
-    (both percent). `tcp_max_velocity` caps the TCP speed in m/s. Ranges are checked by the API layer."""
+    (both percent). `tcp_max_velocity` caps the TCP speed in m/s. Ranges are checked by the API layer.
+    The /run/* operations add `interpolation` and `tcp_acceleration` (m/s^2 along the TCP path)."""
 
     model_config = ConfigDict(frozen=True)
 
-    speed: float
+    speed: float = DEFAULT_SPEED_PERCENT
     motion_type: MotionType = MotionType.JOINT
     tcp_max_velocity: float = TCP_MAX_VELOCITY_MAX
     acceleration: float | None = None
+    interpolation: InterpolationType | None = None
+    tcp_acceleration: float | None = None

@@ -14,10 +14,11 @@ from enum import StrEnum
 import numpy as np
 
 from pendant.controller.errors import PreconditionFailed
-from pendant.controller.types import SPEED_MAX, SPEED_MIN
+from pendant.controller.types import SPEED_MAX
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import inverse, rotvec_to_matrix
 
+JOG_SPEED_MIN = 1.0  # percent: the page's slider starts there (the API takes anything above 0)
 # Manual reduced speed (ISO 10218-1): the TCP never exceeds 250 mm/s while jogging.
 JOG_TCP_MAX_VELOCITY_M_S = 0.25
 JOG_MAX_ROTATION_RAD_S = np.radians(45.0)
@@ -66,8 +67,8 @@ class JogRequest:
             raise JogRefused(f"Jog axis must be 0 to {len(CARTESIAN_AXES) - 1}")
         if self.direction not in (-1, 1):
             raise JogRefused("Jog direction must be +1 or -1")
-        if not (math.isfinite(self.speed_percent) and SPEED_MIN <= self.speed_percent <= SPEED_MAX):
-            raise JogRefused(f"Jog speed must be {SPEED_MIN:g} to {SPEED_MAX:g} %")
+        if not (math.isfinite(self.speed_percent) and JOG_SPEED_MIN <= self.speed_percent <= SPEED_MAX):
+            raise JogRefused(f"Jog speed must be {JOG_SPEED_MIN:g} to {SPEED_MAX:g} %")
         if self.step is not None:
             largest = MAX_STEP_RAD if self.is_rotation else MAX_STEP_M
             if not (math.isfinite(self.step) and 0 < self.step <= largest + 1e-12):

@@ -157,6 +157,12 @@ class ArmModel:
         with self._pin_lock:
             return self._pin.collision.in_collision(q)
 
+    def moving_shapes(self, q: np.ndarray) -> list[tuple[object, np.ndarray]]:
+        """(coal shape, T_base_shape) of every collision shape on a moving link at q (obstacle checks)."""
+        q = _joint_vector(q)
+        with self._pin_lock:
+            return self._pin.collision.moving_shapes(q)
+
     def colliding_pairs(self, q: np.ndarray) -> list[tuple[str, str]]:
         """The (geometry, geometry) name pairs in contact at q ("floor" for the floor), for messages."""
         q = _joint_vector(q)

@@ -70,6 +70,18 @@ class ArmCollision:
                 pairs.append((objects[pair.first].name, objects[pair.second].name))
         return pairs
 
+    def moving_shapes(self, q: np.ndarray) -> list[tuple[coal.CollisionGeometry, np.ndarray]]:
+        """Every shape on a moving link (not the base, not the floor) with its pose T_base_shape at q."""
+        pin.updateGeometryPlacements(
+            self.model, self.data, self.geometry_model, self.geometry_data, self._to_pin(q)
+        )
+        objects = self.geometry_model.geometryObjects
+        return [
+            (objects[i].geometry, self.geometry_data.oMg[i].homogeneous.copy())
+            for i in range(len(objects))
+            if objects[i].parentJoint != UNIVERSE_JOINT
+        ]
+
     @property
     def pair_count(self) -> int:
         return len(self.geometry_model.collisionPairs)

@@ -28,6 +28,7 @@ from pendant.controller.types import (
     SignalLevel,
     Tool,
 )
+from pendant.remote.sdk18 import Pulse18Client, dump
 from pendant.remote.wire import decode_text, error_for_status, quote_body
 
 T = TypeVar("T")
@@ -58,7 +59,7 @@ class Health:
     last_seen: float | None
 
 
-class RemoteController:
+class RemoteController(Pulse18Client):
     """A PULSE controller reached over HTTP. Thread-safe: the UI may call it from several threads.
 
     Pass `transport` (an httpx transport) or a ready `client` (e.g. Starlette's TestClient, which is an
@@ -152,18 +153,18 @@ class RemoteController:
     # Motion
 
     def set_position(self, position: Position, params: MotionParams) -> Position:
-        response = self._request("PUT", "/position", json=position.model_dump(), params=_motion_query(params))
+        response = self._request("PUT", "/position", json=dump(position), params=_motion_query(params))
         return self._parse(response, "PUT /position", Position.model_validate_json)
 
     def set_pose(self, pose: Pose, params: MotionParams) -> None:
-        self._request("PUT", "/pose", json=pose.model_dump(), params=_motion_query(params))
+        self._request("PUT", "/pose", json=dump(pose), params=_motion_query(params))
 
     def run_positions(self, positions: list[Position], params: MotionParams) -> None:
-        body = [position.model_dump() for position in positions]
+        body = [dump(position) for position in positions]
         self._request("PUT", "/positions/run", json=body, params=_motion_query(params))
 
     def run_poses(self, poses: list[Pose], params: MotionParams) -> None:
-        body = [pose.model_dump() for pose in poses]
+        body = [dump(pose) for pose in poses]
         self._request("PUT", "/poses/run", json=body, params=_motion_query(params))
 
     def open_gripper(self, timeout_ms: int) -> None:

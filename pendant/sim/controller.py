@@ -8,12 +8,7 @@ checked up front, then appended to a timeline (`timeline.Motion`) that is evalua
 asked. There is no background thread and no busy loop; one re-entrant lock serialises callers (FastAPI and
 viser call from different threads).
 
-Planning (IK, collision sampling: up to a second for a long LINEAR run) happens outside the lock, so a
-freeze or a read never waits for it: the planner works from a snapshot of where the queue ends (`Start`),
-and the plan is queued only if the queue still ends there, with the same tool and zero point. Otherwise
-something came in meanwhile (another command, a fault, a reset, a hand on the arm) and the plan is made again
-from the new end. A freeze that came in while a command was being planned cancels it, as it would have had
-the command been queued a moment earlier: the command is accepted and nothing moves (Freeze always wins).
+Motion commands are planned outside the lock (motion_commands.py); SDK 1.8.4's operations are in pulse18.py.
 
 GET /position reports T_zero_tcp (cell.py); PUT /position and /positions/run take targets in that same frame,
 so `set_position(get_position())` does not move the arm.
@@ -22,21 +17,18 @@ so `set_position(get_position())` does not move the arm.
 from __future__ import annotations
 
 import functools
-import math
 import threading
-from collections.abc import Callable
 
 import numpy as np
 
 from pendant.controller.errors import (
     MSG_UNREACHABLE_POSE,
     Collision,
-    ControllerError,
     PreconditionFailed,
     Unreachable,
 )
+from pendant.controller.system_types import FailureLevel, FailureType, OutputAction, RobotAction
 from pendant.controller.types import (
-    MotionParams,
     MotionStatus,
     MotorStatus,
     Pose,
@@ -54,19 +46,23 @@ from pendant.sim.cell import (
     check_base_distance,
     check_tool_size,
 )
-from pendant.sim.clock import Clock, MonotonicClock, paused
-from pendant.sim.io import GRIPPER_CLOSED, GRIPPER_OPEN, POWER_ON_GRIPPER, IOBoard
+from pendant.sim.clock import Clock, MonotonicClock
+from pendant.sim.environment import Environment
+from pendant.sim.failures import FailureLog
+from pendant.sim.io import POWER_ON_GRIPPER, IOBoard
+from pendant.sim.motion_commands import (
+    MSG_QUEUE_BUSY,
+    PACK_POSE_DEG,
+    MotionCommands,
+)
 from pendant.sim.motors import ServoModel, servo_ids
 from pendant.sim.moves import (
     MAX_WAYPOINTS,
-    Start,
-    check_waypoint_count,
-    plan_to_configurations,
-    plan_to_positions,
 )
-from pendant.sim.planner import FLOOR_Z_M, Plan, Planner, check_params
+from pendant.sim.planner import FLOOR_Z_M, Planner
+from pendant.sim.pulse18 import Pulse18Operations
 from pendant.sim.queue import MAX_QUEUED_COMMANDS, MotionQueue
-from pendant.sim.states import Fault, Mode, check_alive, check_can_move
+from pendant.sim.states import FAULT_FAILURES, Fault, Mode, check_alive, check_can_move, motion_status
 from pendant.sim.timeline import Motion
 
 __all__ = [
@@ -84,18 +80,11 @@ __all__ = [
 # Power-on pose: upper arm up, forearm forward, tool pointing straight down (degrees, base first). Chosen
 # clear of the wrist singularity (q5 = 0) and of the roll/pitch/yaw gimbal lock (pitch = +-90 degrees).
 HOME_POSE_DEG = (0.0, -90.0, 90.0, -90.0, -90.0, 0.0)
-# Transportation pose for PUT /pack: upper arm up, forearm folded down beside it, tool pointing down.
-PACK_POSE_DEG = (0.0, -90.0, 150.0, -150.0, -90.0, 0.0)
-PACK_SPEED_PERCENT = 20.0
-# Where pack() goes first when the straight way to the transport pose is blocked (base angle kept).
-UPRIGHT_DEG = (0.0, -90.0, 0.0, -90.0, -90.0, 0.0)
 MSG_HAND_NEEDS_RELAX = "The arm can be moved by hand only in ZERO_GRAVITY: relax it first (PUT /relax)"
-# How often a plan is made again when the queue end keeps moving while it is planned (other clients).
-MAX_PLAN_ATTEMPTS = 3
-MSG_QUEUE_BUSY = (
-    f"the command queue changed while the move was planned, {MAX_PLAN_ATTEMPTS} times: send it again"
-)
 OVERHEAT_STATOR_C = 110.0  # PUT /sim/fault/overheat
+
+
+_DEAD = (Mode.EMERGENCY, Mode.NO_RESPONSE, Mode.ERROR)  # a protective stop cannot change these
 
 
 @functools.cache
@@ -104,15 +93,22 @@ def _load_arm(model: str) -> ArmModel:
     return ArmModel.load(model)
 
 
-class SimController:
+class SimController(MotionCommands, Pulse18Operations):
     """A simulated PULSE controller: every `Controller` method, plus simulator-only controls."""
 
-    def __init__(self, model: str = "pulse75", clock: Clock | None = None) -> None:
+    def __init__(
+        self, model: str = "pulse75", clock: Clock | None = None, epoch: float | None = None
+    ) -> None:
+        """`epoch`: the Unix time at which `clock` read 0, for timestamps; default: the clock's own."""
         self._lock = threading.RLock()
         self._clock: Clock = clock if clock is not None else MonotonicClock()
+        self._epoch = epoch
+        self.model = model
         self.arm: ArmModel = _load_arm(model)
         self._planner = Planner(self.arm)
-        self._motions = MotionQueue(ServoModel(self.arm.inverse_dynamics, self._clock.now()), self._failed)
+        self._failures = FailureLog(self.clock_time)
+        servos = ServoModel(self.arm.inverse_dynamics, self._clock.now())
+        self._motions = MotionQueue(servos, self._failed, self._run_action)
         self._robot_id = "".join(servo_ids(self.arm.name))
         self._home_q = np.radians(HOME_POSE_DEG)
         self._pack_q = np.radians(PACK_POSE_DEG)
@@ -127,9 +123,22 @@ class SimController:
         self._motions.reset(self._home_q, POWER_ON_GRIPPER, self._clock.now())
         self._io = IOBoard()
         self._frames = Frames()
+        self._environment = Environment(self.arm, DEFAULT_TOOL)
+        self._gripper_enabled = True
+        self._stop_bindings: dict[int, SignalLevel] = {}
+        self._failures.clear()
 
     def _failed(self) -> None:
         self._mode = Mode.MOTION_FAILED
+        self._failures.record(
+            FailureType.SOFTWARE_ERROR,
+            FailureLevel.ERROR,
+            "Motion failed: no clear way, the queue was dropped",
+        )
+
+    def _run_action(self, action: RobotAction) -> None:
+        if isinstance(action, OutputAction):  # the gripper's actions live in the Motion's opening
+            self._io.set_output(int(action.port), action.value)
 
     def _now(self) -> float:
         return self._clock.now()
@@ -137,61 +146,6 @@ class SimController:
     def check_alive(self) -> None:
         """Raise what every call answers in EMERGENCY (503) or when not responding (500)."""
         check_alive(self._mode)
-
-    def _append_plan(self, plan: Plan | None) -> None:
-        # A queued command engages the motors: ZERO_GRAVITY and MOTION_FAILED end here.
-        self._mode = Mode.ACTIVE
-        self._motions.append_plan(plan, self._now())
-
-    def _start(self) -> Start:
-        _, q0, _ = self._motions.end(self._now())
-        frames = self._frames
-        return Start(
-            q0.copy(), frames.tool.radius, frames.T_flange_tool, frames.T_origbase_zero, self._freezes
-        )
-
-    def _starts_at(self, start: Start) -> bool:
-        """The queue still ends where `start` was read, with the same tool and zero point."""
-        _, q0, _ = self._motions.end(self._now())
-        frames = self._frames
-        return (
-            frames.T_flange_tool is start.T_flange_tool
-            and frames.T_origbase_zero is start.T_origbase_zero
-            and np.array_equal(q0, start.q)
-        )
-
-    def _plan_and_enqueue(self, make_plan: Callable[[Start], Plan | None]) -> Position:
-        """Plan outside the lock, queue under it; returns the TCP position when the command was accepted.
-
-        A plan (or a refusal) made from a queue end that moved meanwhile is stale: plan again from there.
-        Planning takes no simulated time on a scaled clock (`paused`).
-        """
-        with paused(self._clock):
-            return self._plan_and_enqueue_now(make_plan)
-
-    def _plan_and_enqueue_now(self, make_plan: Callable[[Start], Plan | None]) -> Position:
-        for _ in range(MAX_PLAN_ATTEMPTS):
-            with self._lock:
-                check_can_move(self._mode)
-                self._motions.check_room(self._now())
-                start = self._start()
-            try:
-                plan = make_plan(start)
-            except ControllerError:
-                with self._lock:
-                    if self._starts_at(start):
-                        raise
-                continue
-            with self._lock:
-                # A fault that came in meanwhile wins (500 / 503, nothing queued); so does a freeze.
-                check_can_move(self._mode)
-                if self._freezes != start.freezes:
-                    return self._position_now()
-                if self._starts_at(start):
-                    self._motions.check_room(self._now())
-                    self._append_plan(plan)
-                    return self._position_now()
-        raise PreconditionFailed(MSG_QUEUE_BUSY)
 
     # --- reads ---------------------------------------------------------------------------------------------
 
@@ -211,10 +165,7 @@ class SimController:
     def get_motion_status(self) -> MotionStatus:
         with self._lock:
             self.check_alive()
-            if self._mode is Mode.ACTIVE:
-                running = self._motions.running(self._now())
-                return MotionStatus.RUNNING if running else MotionStatus.IDLE
-            return MotionStatus(self._mode.value)
+            return motion_status(self._mode, self._motions.running(self._now()))
 
     def get_motors(self) -> list[MotorStatus]:
         with self._lock:
@@ -239,85 +190,13 @@ class SimController:
     def get_output(self, port: int) -> SignalLevel:
         with self._lock:
             self.check_alive()
+            self._motions.settle(self._now())  # waypoint actions due by now have set their outputs
             return self._io.output(port)
 
     def get_input(self, port: int) -> SignalLevel:
         with self._lock:
             self.check_alive()
             return self._io.input(port)
-
-    # --- motion --------------------------------------------------------------------------------------------
-
-    # Planning runs without the lock (see the module doc): these methods take it only to read and to queue.
-
-    def set_position(self, position: Position, params: MotionParams) -> Position:
-        """Queue a stop-at-target move to a TCP position; returns where the arm is when it is accepted."""
-        return self._move_to_positions([position], params)
-
-    def run_positions(self, positions: list[Position], params: MotionParams) -> None:
-        self._move_to_positions(positions, params)
-
-    def set_pose(self, pose: Pose, params: MotionParams) -> None:
-        self._move_to_poses([pose], params)
-
-    def run_poses(self, poses: list[Pose], params: MotionParams) -> None:
-        self._move_to_poses(poses, params)
-
-    def _check_move(self, params: MotionParams, waypoints: int) -> None:
-        with self._lock:
-            check_can_move(self._mode)
-        check_params(params)
-        check_waypoint_count(waypoints)
-
-    def _move_to_poses(self, poses: list[Pose], params: MotionParams) -> None:
-        self._check_move(params, len(poses))
-        targets = [np.radians(pose.angles) for pose in poses]
-        self._plan_and_enqueue(lambda start: plan_to_configurations(self._planner, targets, params, start))
-
-    def _move_to_positions(self, positions: list[Position], params: MotionParams) -> Position:
-        self._check_move(params, len(positions))
-        planner = self._planner
-        return self._plan_and_enqueue(lambda start: plan_to_positions(planner, positions, params, start))
-
-    def open_gripper(self, timeout_ms: int) -> None:
-        with self._lock:
-            self._gripper(GRIPPER_OPEN, timeout_ms)
-
-    def close_gripper(self, timeout_ms: int) -> None:
-        with self._lock:
-            self._gripper(GRIPPER_CLOSED, timeout_ms)
-
-    def _gripper(self, target: float, timeout_ms: float) -> None:
-        check_can_move(self._mode)
-        if not (math.isfinite(timeout_ms) and timeout_ms >= 0):
-            raise PreconditionFailed(
-                f"gripper timeout must be a number of milliseconds >= 0 (got {timeout_ms})"
-            )
-        now = self._now()
-        self._motions.check_room(now)
-        self._mode = Mode.ACTIVE
-        self._motions.append_gripper(target, timeout_ms / 1000.0, now)
-
-    def pack(self) -> None:
-        """Queue a JOINT move to the transportation pose PACK_POSE_DEG at PACK_SPEED_PERCENT, through the
-        upright pose when the straight way is blocked. The reference lists no 412 for PUT /pack: with no
-        clear way the command is accepted and fails when its turn comes (MOTION_FAILED, queue dropped)."""
-        params = MotionParams(speed=PACK_SPEED_PERCENT)
-
-        def plan(start: Start) -> Plan | None:
-            for route in ([self._pack_q], [np.radians(UPRIGHT_DEG), self._pack_q]):
-                try:
-                    return plan_to_configurations(self._planner, route, params, start)
-                except (Collision, Unreachable):
-                    continue
-            return None
-
-        self._plan_and_enqueue(plan)
-
-    def busy_until(self) -> float:
-        """The clock time at which everything queued will be done (now, at rest)."""
-        with self._lock:
-            return self._motions.end(self._now())[0]
 
     @property
     def clock(self) -> Clock:
@@ -350,11 +229,11 @@ class SimController:
             self._mode = Mode.ACTIVE
 
     def recover(self) -> RecoverResult:
-        """ERROR or MOTION_FAILED -> IDLE (SUCCESS); IDLE stays IDLE (SUCCESS); RUNNING and ZERO_GRAVITY:
-        nothing to recover from (FAILED, nothing changes)."""
+        """ERROR, MOTION_FAILED or a protective stop -> IDLE (SUCCESS); IDLE stays IDLE (SUCCESS);
+        RUNNING, ZERO_GRAVITY and TWISTED (PUT /untwisting/finish): nothing to recover from (FAILED)."""
         with self._lock:
             self.check_alive()
-            if self._mode in (Mode.ERROR, Mode.MOTION_FAILED):
+            if self._mode in (Mode.ERROR, Mode.MOTION_FAILED, Mode.STOPPED):
                 self._motions.stop(self._now())
                 self._mode = Mode.ACTIVE
                 return RecoverResult.SUCCESS
@@ -378,12 +257,20 @@ class SimController:
             # A tool already in the floor would make every later move fail its first collision check, so it
             # is refused where the arm is now and where the queued commands leave it.
             T_flange_tool = position_to_matrix(tool.position)
-            now = self._now()
-            for q in (self._motions.q_now(now), self._motions.end(now)[1]):
+            configurations = self._configurations()
+            for q in configurations:
                 if not self._tool_clears_floor(q, T_flange_tool, tool.radius):
                     raise Collision()
+            shape = self._environment.tool_shape
+            geometry = self._environment.check_tool(shape, tool, configurations)
             self._frames.apply_tool(tool)
+            self._environment.set_tool(shape, tool, geometry)
             return self._frames.tool
+
+    def _configurations(self) -> list[np.ndarray]:
+        """Where the arm is now and where its queued commands leave it (what a cell change must clear)."""
+        now = self._now()
+        return [self._motions.q_now(now), self._motions.end(now)[1]]
 
     def _tool_clears_floor(self, q: np.ndarray, T_flange_tool: np.ndarray, radius: float) -> bool:
         """The planner's floor rule for one configuration: the tool sphere stays at or above the floor."""
@@ -406,9 +293,14 @@ class SimController:
     # --- simulator-only controls ---------------------------------------------------------------------------
 
     def set_input(self, port: int, level: SignalLevel) -> None:
-        """Drive a digital input (what a sensor wired to the control box would do)."""
+        """Drive a digital input (what a sensor wired to the control box would do). An input reaching the
+        level bound with PUT /stop/bind/{port}/... makes a protective stop."""
         with self._lock:
+            was = self._io.input(port)
             self._io.set_input(port, level)
+            bound = self._stop_bindings.get(port)
+            if bound is not None and level == bound and was != level and self._mode not in _DEAD:
+                self._protective_stop(f"Protective stop: digital input {port} went {bound.value}")
 
     def move_by_hand(self, pose: Pose) -> None:
         """Put the relaxed arm in `pose` as a hand would. Only in ZERO_GRAVITY; limits and collisions hold."""
@@ -429,6 +321,7 @@ class SimController:
             fault = Fault(fault)
             self._motions.stop(self._now())
             self._mode = Mode(fault.value)
+            self._failures.record(*FAULT_FAILURES[fault])
 
     def overheat(self, stator_c: float = OVERHEAT_STATOR_C) -> None:
         """The stator windings are suddenly this hot (a fault to test alarms on); they cool from there."""

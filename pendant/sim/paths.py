@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import bisect
 import itertools
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -122,6 +123,16 @@ def _dedupe(points: list[np.ndarray], distance) -> list[int]:  # type: ignore[no
     return keep
 
 
+def _waypoint_s(keep: list[int], corners: list[float], count: int) -> list[float]:
+    """s at each of `count` original waypoints (a dropped duplicate sits where the one it repeats does)."""
+    return [corners[max(0, bisect.bisect_right(keep, i) - 1)] for i in range(count)]
+
+
+def _widened(tol: float, blends: Sequence[float] | None, keep: list[int], j: int) -> float:
+    """The corner tolerance at kept waypoint j: the default, or the waypoint's own larger blend."""
+    return max(tol, float(blends[keep[j]])) if blends is not None else tol
+
+
 class JointPath:
     """A joint-space path through waypoints q_0..q_n (radians), blended within JOINT_BLEND_TOL_RAD.
 
@@ -129,7 +140,15 @@ class JointPath:
     ds/dt = 1 moves the leading joint at its speed limit.
     """
 
-    def __init__(self, waypoints: np.ndarray, vmax: np.ndarray, tol_rad: float = JOINT_BLEND_TOL_RAD) -> None:
+    def __init__(
+        self,
+        waypoints: np.ndarray,
+        vmax: np.ndarray,
+        tol_rad: float = JOINT_BLEND_TOL_RAD,
+        blends_rad: Sequence[float] | None = None,
+    ) -> None:
+        """`blends_rad[i]`: how far (radians, per joint) the path may pass from waypoint i, when larger than
+        `tol_rad` (a waypoint's `blend`)."""
         waypoints = np.atleast_2d(np.asarray(waypoints, dtype=float))
         keep = _dedupe(list(waypoints), lambda a, b: float(np.max(np.abs(a - b))))
         self.waypoints = waypoints[keep]
@@ -138,13 +157,19 @@ class JointPath:
         if len(self.waypoints) < 2:
             self.pieces: Pieces | None = None
             self.length = 0.0
+            self.waypoint_s = [0.0] * len(waypoints)
             return
         deltas = np.diff(self.waypoints, axis=0)
         lengths = np.max(np.abs(deltas) / vmax, axis=1)
         tangents = deltas / lengths[:, None]
+        self.waypoint_s = _waypoint_s(keep, [0.0, *np.cumsum(lengths).tolist()], len(waypoints))
         # Mid-blend deviation from the corner is |t2 - t1| d / 4 per joint.
         d_limit = [0.0] + [
-            float(4.0 * tol_rad / max(np.max(np.abs(tangents[j] - tangents[j - 1])), 1e-12))
+            float(
+                4.0
+                * _widened(tol_rad, blends_rad, keep, j)
+                / max(np.max(np.abs(tangents[j] - tangents[j - 1])), 1e-12)
+            )
             for j in range(1, len(lengths))
         ]
         self.pieces = blended_pieces(deltas, lengths, _blend_half_lengths(tangents, lengths, d_limit))
@@ -178,7 +203,10 @@ class CartesianPath:
     s is in metres: a segment's length is max(|dp|, ROTATION_LENGTH_M_PER_RAD * turn angle).
     """
 
-    def __init__(self, poses: list[np.ndarray]) -> None:
+    def __init__(self, poses: list[np.ndarray], blends_m: Sequence[float] | None = None) -> None:
+        """`blends_m[i]`: how far (metres) the path may pass from pose i, when larger than the default
+        tolerance (a waypoint's `blend`); the orientation may deviate in proportion."""
+
         def distance(a: np.ndarray, b: np.ndarray) -> float:
             return max(
                 float(np.linalg.norm(a[:3, 3] - b[:3, 3])),
@@ -192,6 +220,7 @@ class CartesianPath:
         if len(self.poses) < 2:
             self.pieces: Pieces | None = None
             self.length = 0.0
+            self.waypoint_s = [0.0] * len(poses)
             return
         deltas = np.array(
             [
@@ -209,11 +238,14 @@ class CartesianPath:
             ROTATION_LENGTH_M_PER_RAD * np.linalg.norm(deltas[:, 3:], axis=1),
         )
         tangents = deltas / lengths[:, None]
+        self.waypoint_s = _waypoint_s(keep, [0.0, *np.cumsum(lengths).tolist()], len(poses))
         d_limit = [0.0]
         for j in range(1, len(lengths)):
             dt = tangents[j] - tangents[j - 1]
-            d_pos = 4.0 * CARTESIAN_BLEND_TOL_M / max(float(np.linalg.norm(dt[:3])), 1e-12)
-            d_rot = 4.0 * CARTESIAN_BLEND_TOL_RAD / max(float(np.linalg.norm(dt[3:])), 1e-12)
+            tol_m = _widened(CARTESIAN_BLEND_TOL_M, blends_m, keep, j)
+            tol_rad = max(CARTESIAN_BLEND_TOL_RAD, tol_m / ROTATION_LENGTH_M_PER_RAD)
+            d_pos = 4.0 * tol_m / max(float(np.linalg.norm(dt[:3])), 1e-12)
+            d_rot = 4.0 * tol_rad / max(float(np.linalg.norm(dt[3:])), 1e-12)
             d_limit.append(min(d_pos, d_rot))
         self.pieces = blended_pieces(deltas, lengths, _blend_half_lengths(tangents, lengths, d_limit))
         self.length = self.pieces.length
@@ -302,6 +334,7 @@ class SplineJointPath:
         if n < 2:
             self.length = 0.0
             self._knots: list[float] = [0.0]
+            self.waypoint_s = [0.0] * len(waypoints)
             return
         deltas = np.diff(self.waypoints, axis=0)
         lengths = np.max(np.abs(deltas) / vmax, axis=1)
@@ -315,6 +348,7 @@ class SplineJointPath:
         self._tangents = tangents
         self._knots = np.concatenate([[0.0], np.cumsum(lengths)]).tolist()
         self.length = self._knots[-1]
+        self.waypoint_s = _waypoint_s(keep, self._knots, len(waypoints))
 
     def _segment(self, s: float) -> tuple[int, float, float]:
         j = max(0, min(len(self._knots) - 2, bisect.bisect_right(self._knots, s) - 1))

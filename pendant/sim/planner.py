@@ -6,6 +6,7 @@ the command starts, the tool, and the motion parameters. Nothing moves until a p
 
 from __future__ import annotations
 
+import bisect
 import itertools
 import math
 from collections import deque
@@ -15,14 +16,17 @@ import numpy as np
 
 from pendant.controller.errors import Collision, PreconditionFailed, Unreachable
 from pendant.controller.types import (
+    ACCELERATION_MAX,
     SPEED_MAX,
     SPEED_MIN,
     TCP_MAX_VELOCITY_MAX,
     TCP_MAX_VELOCITY_MIN,
+    InterpolationType,
     MotionParams,
 )
 from pendant.kinematics import ArmModel
 from pendant.kinematics.limits import JOINT_MAX_ACCEL_RAD_S2, JOINT_MAX_SPEED_RAD_S
+from pendant.kinematics.obstacles import CellGeometry
 from pendant.kinematics.transforms import inverse
 from pendant.sim import profile
 from pendant.sim.paths import CartesianPath, JointPath, SampledJointPath, SplineJointPath
@@ -43,6 +47,8 @@ POSE_MATCH_TOL_RAD = 1e-4
 TCP_CAP_MARGIN = 0.98
 FLOOR_Z_M = 0.0
 MAX_TCP_REFINE = 64
+# A LINEAR SPLINE run rounds every corner as far as its segments allow (blends are capped at half of each).
+LINEAR_SPLINE_BLEND_M = 10.0
 
 
 @dataclass(frozen=True)
@@ -52,29 +58,59 @@ class Plan:
     path: JointPath | SplineJointPath | SampledJointPath
     scaling: TimeScaling
     q_end: np.ndarray
+    waypoint_s: tuple[float, ...] = ()  # where on the path (s) each target is reached (or blended past)
+
+    def time_at(self, s: float) -> float:
+        """Seconds after the start at which the path reaches s (the scaling's grid, linear in between)."""
+        grid, times = self.scaling.s, self.scaling.t
+        if len(grid) < 2 or s <= grid[0]:
+            return 0.0
+        k = bisect.bisect_left(grid, s)
+        if k >= len(grid):
+            return times[-1]
+        s0, s1 = grid[k - 1], grid[k]
+        return times[k - 1] + (times[k] - times[k - 1]) * ((s - s0) / (s1 - s0) if s1 > s0 else 1.0)
 
     @property
     def duration(self) -> float:
         return self.scaling.duration
 
 
+# The SDK checks only "above 0"; below these a motion would take ages (or underflow to a standstill).
+MIN_PERCENT = 0.01
+MIN_TCP_VELOCITY_M_S = 1e-4
+MIN_TCP_ACCELERATION_M_S2 = 1e-4
+
+
 def check_params(params: MotionParams) -> None:
     """PreconditionFailed with a clear message when a parameter is out of its range."""
-    if not (math.isfinite(params.speed) and SPEED_MIN <= params.speed <= SPEED_MAX):
+    floors = (
+        ("speed", params.speed, MIN_PERCENT, "%"),
+        ("acceleration", params.acceleration, MIN_PERCENT, "%"),
+        ("tcp_max_velocity", params.tcp_max_velocity, MIN_TCP_VELOCITY_M_S, "m/s"),
+        ("acceleration", params.tcp_acceleration, MIN_TCP_ACCELERATION_M_S2, "m/s^2"),
+    )
+    for name, value, floor, unit in floors:
+        if value is not None and 0.0 < value < floor:
+            raise PreconditionFailed(f"{name} must be at least {floor:g} {unit} (got {value:g})")
+    if not (math.isfinite(params.speed) and SPEED_MIN < params.speed <= SPEED_MAX):
         raise PreconditionFailed(
-            f"speed must be between {SPEED_MIN:g} and {SPEED_MAX:g} % (got {params.speed})"
+            f"speed must be between {SPEED_MIN:g} (exclusive) and {SPEED_MAX:g} % (got {params.speed})"
         )
     tcp = params.tcp_max_velocity
-    if not (math.isfinite(tcp) and TCP_MAX_VELOCITY_MIN <= tcp <= TCP_MAX_VELOCITY_MAX):
+    if not (math.isfinite(tcp) and TCP_MAX_VELOCITY_MIN < tcp <= TCP_MAX_VELOCITY_MAX):
         raise PreconditionFailed(
-            f"tcp_max_velocity must be between {TCP_MAX_VELOCITY_MIN:g} and {TCP_MAX_VELOCITY_MAX:g} m/s "
-            f"(got {tcp})"
+            f"tcp_max_velocity must be between {TCP_MAX_VELOCITY_MIN:g} (exclusive) and "
+            f"{TCP_MAX_VELOCITY_MAX:g} m/s (got {tcp})"
         )
     acc = params.acceleration
-    if acc is not None and not (math.isfinite(acc) and SPEED_MIN <= acc <= SPEED_MAX):
+    if acc is not None and not (math.isfinite(acc) and SPEED_MIN < acc <= ACCELERATION_MAX):
         raise PreconditionFailed(
-            f"acceleration must be between {SPEED_MIN:g} and {SPEED_MAX:g} % (got {acc})"
+            f"acceleration must be between {SPEED_MIN:g} (exclusive) and {ACCELERATION_MAX:g} % (got {acc})"
         )
+    tcp_acc = params.tcp_acceleration
+    if tcp_acc is not None and not (math.isfinite(tcp_acc) and tcp_acc > 0.0):
+        raise PreconditionFailed(f"acceleration must be above 0 m/s^2 (got {tcp_acc})")
 
 
 class Planner:
@@ -95,19 +131,30 @@ class Planner:
         T_flange_tool: np.ndarray,
         tool_radius: float,
         unreachable_message: str,
+        cell: CellGeometry | None = None,
+        blends_rad: list[float] | None = None,
     ) -> Plan:
         """Joint-space motion from q_start to one target (a straight, synchronised move: all joints start
-        and end together) or through several (a smooth spline through each of them, without stopping)."""
+        and end together) or through several: a smooth spline through each of them, without stopping
+        (SPLINE, the default), or straight segments with corners rounded within each target's blend
+        (BLEND, or when a target has a blend)."""
         for q in targets:
             if not self.arm.within_limits(q):
                 raise Unreachable(unreachable_message)
         waypoints = np.vstack([q_start, *targets])
-        path: JointPath | SplineJointPath = (
-            JointPath(waypoints, self.vmax) if len(targets) == 1 else SplineJointPath(waypoints, self.vmax)
+        blended = params.interpolation is InterpolationType.BLEND or (
+            params.interpolation is None and blends_rad is not None and any(blends_rad)
         )
+        path: JointPath | SplineJointPath
+        if len(targets) == 1 or blended:
+            blends = None if blends_rad is None else [0.0, *blends_rad]
+            path = JointPath(waypoints, self.vmax, blends_rad=blends)
+        else:
+            path = SplineJointPath(waypoints, self.vmax)
+        marks = tuple(path.waypoint_s[1:])
         q_end = np.array(targets[-1], dtype=float)
         if path.length == 0.0:
-            return Plan(path, profile.still(), q_end)
+            return Plan(path, profile.still(), q_end, marks)
         s_grid = path.grid(CHECK_JOINT_STEP_RAD / float(np.max(self.vmax)))
         qs = np.array([path.q(s) for s in s_grid])
         # A spline may bulge past a joint limit between waypoints that are inside.
@@ -127,7 +174,7 @@ class Planner:
             qs = np.array([path.q(s) for s in s_grid])
             qs[-1] = q_end
             tcp = self.tcp_points(qs, T_flange_tool)
-        self._check_collisions(qs, tcp, tool_radius)
+        self._check_collisions(qs, tcp, tool_radius, cell)
         # Derivatives at the cells' ends and middles: exact for straight moves (constant dq/ds, no curvature),
         # and close for the spline, whose dq/ds is quadratic and d2q/ds2 linear inside a cell.
         mids = 0.5 * (s_grid[:-1] + s_grid[1:])
@@ -140,7 +187,7 @@ class Planner:
         peak_d1 = np.maximum(np.maximum(ends_d1[:-1], ends_d1[1:]), np.abs(mid_d1))
         peak_d2 = np.maximum(np.maximum(ends_d2[:-1], ends_d2[1:]), np.abs(mid_d2))
         scaling = self._time_scaling(s_grid, mid_d1, mid_d2, tcp, params, peak_d1, peak_d2)
-        return Plan(path, scaling, q_end)
+        return Plan(path, scaling, q_end, marks)
 
     # --- LINEAR --------------------------------------------------------------------------------------------
 
@@ -153,6 +200,8 @@ class Planner:
         tool_radius: float,
         unreachable_message: str,
         q_final: np.ndarray | None = None,
+        cell: CellGeometry | None = None,
+        blends_m: list[float] | None = None,
     ) -> Plan:
         """A straight TCP line (orientation slerped) from the current TCP through `tcp_targets` (T_base_tcp,
         original base frame), blended at the interior ones. With `q_final` the motion must end in that very
@@ -163,12 +212,16 @@ class Planner:
             if not np.all(np.isfinite(T_tcp)) or len(self.arm.ik_all(T_tcp @ T_tool_flange)) == 0:
                 raise Unreachable(unreachable_message)
         T_start = self.arm.fk(q_start) @ T_flange_tool
-        path = CartesianPath([T_start, *tcp_targets])
+        blends = None if blends_m is None else [0.0, *blends_m]
+        if params.interpolation is InterpolationType.SPLINE:
+            blends = [0.0] + [LINEAR_SPLINE_BLEND_M] * len(tcp_targets)  # as round as the segments allow
+        path = CartesianPath([T_start, *tcp_targets], blends_m=blends)
+        marks = tuple(path.waypoint_s[1:])
         if path.length == 0.0:
             q_end = q_start.copy() if q_final is None else np.array(q_final, dtype=float)
             if q_final is not None and np.max(np.abs(q_end - q_start)) > POSE_MATCH_TOL_RAD:
                 raise Unreachable(unreachable_message)
-            return Plan(SampledJointPath(np.array([0.0]), q_end[None, :]), profile.still(), q_end)
+            return Plan(SampledJointPath(np.array([0.0]), q_end[None, :]), profile.still(), q_end, marks)
         s_list, q_list, tcp_list = self._follow(path, q_start, T_tool_flange, unreachable_message)
         q_samples = np.array(q_list)
         if q_final is not None:
@@ -176,13 +229,13 @@ class Planner:
                 raise Unreachable(unreachable_message)
             q_samples[-1] = q_final
         tcp = np.array(tcp_list)
-        self._check_collisions(q_samples, tcp, tool_radius)
+        self._check_collisions(q_samples, tcp, tool_radius, cell)
         s_grid = np.array(s_list)
         sampled = SampledJointPath(s_grid, q_samples)
         slopes = sampled.slopes
         ddq = np.array([sampled.derivatives(float(0.5 * (a + b)))[2] for a, b in itertools.pairwise(s_grid)])
         scaling = self._time_scaling(s_grid, slopes, ddq, tcp, params)
-        return Plan(sampled, scaling, q_samples[-1].copy())
+        return Plan(sampled, scaling, q_samples[-1].copy(), marks)
 
     def _follow(
         self, path: CartesianPath, q_start: np.ndarray, T_tool_flange: np.ndarray, message: str
@@ -220,8 +273,11 @@ class Planner:
             out[k] = T[:3, 3] + T[:3, :3] @ offset
         return out
 
-    def _check_collisions(self, qs: np.ndarray, tcp: np.ndarray, tool_radius: float) -> None:
-        """Collision at the samples that are 2 degrees / 5 mm apart (and always at the last one)."""
+    def _check_collisions(
+        self, qs: np.ndarray, tcp: np.ndarray, tool_radius: float, cell: CellGeometry | None = None
+    ) -> None:
+        """Collision at the samples that are 2 degrees / 5 mm apart (and always at the last one): the arm
+        with itself and the floor, and with the cell's obstacles and the tool's shape."""
         if np.any(tcp[:, 2] - tool_radius < FLOOR_Z_M):
             raise Collision()
         last_q, last_p = qs[0], tcp[0]
@@ -232,7 +288,7 @@ class Planner:
                 or np.linalg.norm(tcp[k] - last_p) >= CHECK_TCP_STEP_M
             )
             if far or k == n - 1 or k == 1:
-                if self.arm.in_collision(qs[k]):
+                if self.arm.in_collision(qs[k]) or (cell is not None and cell.collides(qs[k])):
                     raise Collision()
                 last_q, last_p = qs[k], tcp[k]
 
@@ -264,4 +320,10 @@ class Planner:
         widened[1:] = np.maximum(widened[1:], rate[:-1])
         widened[:-1] = np.maximum(widened[:-1], rate[1:])
         v_cap = np.minimum(v_cap, TCP_CAP_MARGIN * params.tcp_max_velocity / np.maximum(widened, tiny))
+        if params.tcp_acceleration is not None:
+            # The TCP as one more "joint": its speed along the path is rate * s', its acceleration
+            # rate * s'' (the turn of a corner aside), capped like a joint's.
+            dq_ds = np.column_stack([dq_ds, rate])
+            ddq_ds2 = np.column_stack([ddq_ds2, np.zeros(len(rate))])
+            accel_limit = np.append(accel_limit, params.tcp_acceleration)
         return profile.plan(s_grid, v_cap, dq_ds, ddq_ds2, accel_limit)

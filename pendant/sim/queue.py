@@ -8,10 +8,12 @@ from __future__ import annotations
 
 from collections import deque
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 
 from pendant.controller.errors import PreconditionFailed
+from pendant.controller.system_types import RobotAction
 from pendant.controller.types import MotorStatus, Pose
 from pendant.sim.motors import ServoModel
 from pendant.sim.planner import Plan
@@ -29,9 +31,16 @@ def pose_of(q: np.ndarray) -> Pose:
 class MotionQueue:
     """Queued motions, the configuration and gripper opening at rest, and the servo thermal model."""
 
-    def __init__(self, servos: ServoModel, on_failed: Callable[[], None]) -> None:
+    def __init__(
+        self,
+        servos: ServoModel,
+        on_failed: Callable[[], None],
+        on_action: Callable[[RobotAction], None],
+    ) -> None:
         self.servos = servos
         self._on_failed = on_failed  # a queued command that cannot run was reached: MOTION_FAILED
+        self._on_action = on_action  # a waypoint action is due (outputs; the gripper is in the Motion)
+        self._fired = 0  # actions of the head motion already run
         self.queue: deque[Motion] = deque()
         self.history: list[Motion] = []
         self.rest_q = np.zeros(6)
@@ -41,6 +50,7 @@ class MotionQueue:
 
     def reset(self, q: np.ndarray, gripper: float, now: float) -> None:
         self.queue.clear()
+        self._fired = 0
         self.history = []
         self.rest_q = q.copy()
         self.rest_gripper = gripper
@@ -59,6 +69,7 @@ class MotionQueue:
                 self._pose_cache = None
                 self._on_failed()
                 break
+            self._run_actions(head, now)
             if head.t_end > now:
                 break
             done = queue.popleft()
@@ -67,7 +78,14 @@ class MotionQueue:
             self.integrate_thermal(now)
         return queue[0] if queue else None
 
+    def _run_actions(self, motion: Motion, until: float) -> None:
+        actions = motion.actions
+        while self._fired < len(actions) and motion.t0 + actions[self._fired][0] <= until:
+            self._on_action(actions[self._fired][1])
+            self._fired += 1
+
     def _retire(self, done: Motion) -> None:
+        self._fired = 0
         self.rest_q = done.q_end
         self.rest_gripper = done.gripper_end
         self.history.append(done)
@@ -92,6 +110,10 @@ class MotionQueue:
     def running(self, now: float) -> bool:
         return self.settle(now) is not None
 
+    def jogging(self, now: float) -> bool:
+        motion = self.settle(now)
+        return motion is not None and motion.jog
+
     def stop(self, now: float) -> None:
         """Stop dead where the arm is (freeze, relax, a fault) and forget the queued commands."""
         motion = self.settle(now)
@@ -108,10 +130,10 @@ class MotionQueue:
             return last.t_end, last.q_end, last.gripper_end
         return now, self.rest_q, self.rest_gripper
 
-    def check_room(self, now: float) -> None:
+    def check_room(self, now: float, adding: int = 1) -> None:
         self.settle(now)  # what is done is no longer queued
         queued = len(self.queue)
-        if queued >= MAX_QUEUED_COMMANDS:
+        if queued + adding > MAX_QUEUED_COMMANDS:
             raise PreconditionFailed(
                 f"queue must hold at most {MAX_QUEUED_COMMANDS} commands (got {queued} queued): "
                 "wait for the arm to work through them"
@@ -122,15 +144,30 @@ class MotionQueue:
         self._pose_cache = None
         self.settle(now)
 
-    def append_plan(self, plan: Plan | None, now: float) -> None:
+    def append_plan(
+        self,
+        plan: Plan | None,
+        now: float,
+        actions: tuple[tuple[float, RobotAction], ...] = (),
+        jog: bool = False,
+    ) -> None:
         """Queue a planned motion; None queues a command that fails when its turn comes (MOTION_FAILED)."""
         t0, q0, g0 = self.end(now)
         if plan is None:
             motion = Motion(t0=t0, duration=0.0, q_end=q0, gripper_start=g0, gripper_end=g0, fails=True)
         else:
             motion = Motion(
-                t0=t0, duration=plan.duration, q_end=plan.q_end, gripper_start=g0, gripper_end=g0, plan=plan
+                t0=t0,
+                duration=plan.duration,
+                q_end=plan.q_end,
+                gripper_start=g0,
+                gripper_end=g0,
+                plan=plan,
+                actions=actions,
+                jog=jog,
             )
+            if actions:
+                motion = replace(motion, gripper_end=motion.gripper_at(motion.t_end))
         self.append(motion, now)
 
     def append_gripper(self, target: float, duration_s: float, now: float) -> None:

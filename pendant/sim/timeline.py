@@ -10,6 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pendant.controller.system_types import GripperAction, RobotAction
+from pendant.sim.io import GRIPPER_CLOSED, GRIPPER_OPEN
 from pendant.sim.planner import Plan
 
 
@@ -24,6 +26,9 @@ class Motion:
     gripper_end: float
     plan: Plan | None = None  # None: a gripper action, the arm holds q_end
     fails: bool = False  # a command that turned out impossible: when reached, the queue stops (MOTION_FAILED)
+    # Waypoint actions (SDK >= 1.7), seconds after t0, in time order: outputs and gripper, run when reached.
+    actions: tuple[tuple[float, RobotAction], ...] = ()
+    jog: bool = False  # a jog (PUT /jogging): the state is JOGGING while it runs
 
     @property
     def t_end(self) -> float:
@@ -50,6 +55,14 @@ class Motion:
 
     def gripper_at(self, t: float) -> float:
         """Gripper opening (0 closed .. 1 open) at clock time t."""
+        if self.actions:  # a run that opens or closes the gripper at its waypoints
+            opening = self.gripper_start
+            for dt, action in self.actions:
+                if self.t0 + dt > t:
+                    break
+                if isinstance(action, GripperAction):
+                    opening = GRIPPER_OPEN if action.value == "OPEN" else GRIPPER_CLOSED
+            return opening
         if self.duration <= 0.0 or t >= self.t_end:
             return self.gripper_end
         fraction = max(0.0, (t - self.t0) / self.duration)
@@ -67,4 +80,6 @@ class Motion:
             gripper_start=self.gripper_start,
             gripper_end=self.gripper_at(t),
             plan=self.plan,
+            actions=tuple(item for item in self.actions if self.t0 + item[0] <= t),
+            jog=self.jog,
         )

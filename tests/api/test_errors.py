@@ -130,9 +130,8 @@ def motion_body(path: str, client: TestClient) -> Any:
 @pytest.mark.parametrize(
     "params, message",
     [
-        ({}, api_errors.MSG_SPEED_MISSING),
         ({"speed": 0}, api_errors.MSG_SPEED),
-        ({"speed": 0.5}, api_errors.MSG_SPEED),
+        ({"speed": -1}, api_errors.MSG_SPEED),
         ({"speed": 101}, api_errors.MSG_SPEED),
         ({"speed": "fast"}, api_errors.MSG_SPEED),
         ({"speed": "nan"}, api_errors.MSG_SPEED),
@@ -144,9 +143,10 @@ def motion_body(path: str, client: TestClient) -> Any:
         ({"speed": 50, "tcp_max_velocity": 0}, api_errors.MSG_TCP_MAX_VELOCITY),
         ({"speed": 50, "tcp_max_velocity": 2.5}, api_errors.MSG_TCP_MAX_VELOCITY),
         ({"speed": 50, "tcp_max_velocity": "-inf"}, api_errors.MSG_TCP_MAX_VELOCITY),
-        ({"acceleration": 50}, api_errors.MSG_SPEED_MISSING),
+        ({"acceleration": 0}, api_errors.MSG_ACCELERATION),
+        ({"tcp_max_velocity": -0.1}, api_errors.MSG_TCP_MAX_VELOCITY),
         ({"velocity": 0, "acceleration": 50}, api_errors.MSG_VELOCITY),
-        ({"velocity": 50, "acceleration": 200}, api_errors.MSG_ACCELERATION),
+        ({"velocity": 50, "acceleration": 200.5}, api_errors.MSG_ACCELERATION),
     ],
 )
 def test_a_bad_motion_parameter_is_412_naming_it(
@@ -159,10 +159,11 @@ def test_a_bad_motion_parameter_is_412_naming_it(
 
 
 def test_parameter_messages_name_the_range() -> None:
-    assert "speed" in api_errors.MSG_SPEED and "1 to 100" in api_errors.MSG_SPEED
+    assert "speed" in api_errors.MSG_SPEED and "above 0, up to 100" in api_errors.MSG_SPEED
+    assert "up to 200" in api_errors.MSG_ACCELERATION
     assert (
         "tcp_max_velocity" in api_errors.MSG_TCP_MAX_VELOCITY
-        and "0.001 to 2" in api_errors.MSG_TCP_MAX_VELOCITY
+        and "above 0, up to 2" in api_errors.MSG_TCP_MAX_VELOCITY
     )
     assert "JOINT or LINEAR" in api_errors.MSG_TYPE
 
@@ -299,4 +300,4 @@ def test_fastapi_422_never_appears(client: TestClient, method: str, path: str, b
 
 
 def test_parameters_are_checked_before_the_body(client: TestClient) -> None:
-    assert_error(client.put("/pose", content=b"{"), 412, api_errors.MSG_SPEED_MISSING)
+    assert_error(client.put("/pose", params={"speed": 0}, content=b"{"), 412, api_errors.MSG_SPEED)

@@ -65,9 +65,10 @@ def run_body(size: int) -> bytes:
     return body + b" " * (size - len(body))
 
 
-def state(api: httpx.Client) -> tuple[str, str, str]:
-    """What a refused request must leave as it was: the pose, the motion status and the tool."""
-    return api.get("/pose").text, api.get("/status/motion").text, api.get("/tool").text
+def state(api: httpx.Client) -> tuple[list[float], str, str]:
+    """What a refused request must leave as it was: the pose (its angles: the timestamp moves on), the
+    motion status and the tool."""
+    return api.get("/pose").json()["angles"], api.get("/status/motion").text, api.get("/tool").text
 
 
 def assert_too_large(response: httpx.Response, limit: int) -> None:

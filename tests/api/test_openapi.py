@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
+import importlib
+import importlib.metadata
+import inspect
 import json
+import pkgutil
+import re
 from typing import Any
 
 import pytest
@@ -39,8 +44,53 @@ PULSE_OPERATIONS = {
     ("post", "/tool"),
     ("post", "/base"),
 }
+# What Rozum's SDK 1.8.4 adds (reference/pulse-api-1.8.md): 30 operations; the SDK sends 51 in all.
+SDK_OPERATIONS = {
+    ("get", "/status"),
+    ("get", "/status/failure"),
+    ("get", "/robot/info"),
+    ("get", "/tool/info"),
+    ("post", "/tool/info"),
+    ("get", "/tool/shape"),
+    ("post", "/tool/shape"),
+    ("put", "/environment"),
+    ("get", "/environment"),
+    ("get", "/environment/{obstacle}"),
+    ("delete", "/environment"),
+    ("delete", "/environment/{obstacle}"),
+    ("get", "/version/hardware"),
+    ("get", "/version/software"),
+    ("get", "/version/software/robot"),
+    ("post", "/motors-log"),
+    ("put", "/untwisting/finish"),
+    ("put", "/jogging"),
+    ("post", "/gripper/enable"),
+    ("post", "/gripper/disable"),
+    ("post", "/stop"),
+    ("put", "/stop/bind/{port}/high"),
+    ("put", "/stop/bind/{port}/low"),
+    ("delete", "/stop"),
+    ("put", "/zg/on"),
+    ("put", "/zg/off"),
+    ("put", "/run/linear/positions"),
+    ("put", "/run/linear/poses"),
+    ("put", "/run/joint/positions"),
+    ("put", "/run/joint/poses"),
+}
+# Answer in EMERGENCY (SDK 1.8.4's README asks them why a script failed): no 503.
+ANSWER_IN_EMERGENCY = {("get", "/status"), ("get", "/status/failure")}
+SDK_BODY_OPERATIONS = [
+    ("post", "/tool/info"),
+    ("post", "/tool/shape"),
+    ("put", "/environment"),
+    ("put", "/jogging"),
+    ("put", "/run/linear/positions"),
+    ("put", "/run/linear/poses"),
+    ("put", "/run/joint/positions"),
+    ("put", "/run/joint/poses"),
+]
 MOTION_OPERATIONS = [("put", "/position"), ("put", "/pose"), ("put", "/poses/run"), ("put", "/positions/run")]
-BODY_OPERATIONS = [*MOTION_OPERATIONS, ("post", "/tool"), ("post", "/base")]
+BODY_OPERATIONS = [*MOTION_OPERATIONS, ("post", "/tool"), ("post", "/base"), *SDK_BODY_OPERATIONS]
 
 
 @pytest.fixture
@@ -54,9 +104,28 @@ def operations(schema: dict[str, Any]) -> dict[tuple[str, str], dict[str, Any]]:
     return {(method, path): op for path, item in schema["paths"].items() for method, op in item.items()}
 
 
-def test_the_pulse_operations_are_exactly_the_references(schema: dict[str, Any]) -> None:
+def test_the_pulse_operations_are_the_references_and_the_sdks(schema: dict[str, Any]) -> None:
     pulse = {key for key, op in operations(schema).items() if TAG_SIM not in op["tags"]}
-    assert pulse == PULSE_OPERATIONS
+    assert pulse == PULSE_OPERATIONS | SDK_OPERATIONS
+    assert len(pulse) == 53  # the reference's 23 and SDK 1.8.4's 30 more (it never calls GET/POST /tool)
+
+
+def pdhttp_operations() -> set[tuple[str, str]]:
+    """Every (method, path) the installed pdhttp 1.8.4 client can send, read from its generated source."""
+    import pdhttp.api
+
+    found: set[tuple[str, str]] = set()
+    for module in pkgutil.iter_modules(pdhttp.api.__path__):
+        source = inspect.getsource(importlib.import_module(f"pdhttp.api.{module.name}"))
+        found |= {(m.lower(), p) for p, m in re.findall(r"'(/[^']*)', '(GET|PUT|POST|DELETE)'", source)}
+    return found
+
+
+def test_every_operation_of_the_real_sdk_is_documented(schema: dict[str, Any]) -> None:
+    assert importlib.metadata.version("pdhttp") == "1.8.4"
+    sdk = pdhttp_operations()
+    assert len(sdk) == 51
+    assert sdk <= set(operations(schema))
 
 
 def test_simulator_routes_are_tagged_apart_under_sim(schema: dict[str, Any]) -> None:
@@ -78,10 +147,11 @@ def test_no_422_is_documented(schema: dict[str, Any]) -> None:
 
 
 def test_every_pulse_operation_has_a_summary_and_its_arm_errors(schema: dict[str, Any]) -> None:
-    for key in PULSE_OPERATIONS:
+    for key in PULSE_OPERATIONS | SDK_OPERATIONS:
         op = operations(schema)[key]
         assert op["summary"], key
-        for status, message in (("500", MSG_NOT_RESPONDING), ("503", MSG_EMERGENCY)):
+        errors = (("500", MSG_NOT_RESPONDING), ("503", MSG_EMERGENCY))
+        for status, message in errors[:1] if key in ANSWER_IN_EMERGENCY else errors:
             examples = op["responses"][status]["content"]["text/plain"]["examples"]
             assert json.dumps(message) in [example["value"] for example in examples.values()], key
 
@@ -99,9 +169,14 @@ def test_body_operations_document_the_body_and_400(schema: dict[str, Any], key: 
 def test_motion_parameters_are_documented_with_ranges(schema: dict[str, Any], key: tuple[str, str]) -> None:
     params = {param["name"]: param for param in operations(schema)[key]["parameters"]}
     assert set(params) >= {"speed", "type", "tcp_max_velocity", "motionType", "velocity", "acceleration"}
-    assert (params["speed"]["schema"]["minimum"], params["speed"]["schema"]["maximum"]) == (1, 100)
+    # Bounds as Rozum's SDK checks them: above 0 (exclusive); acceleration up to 200 %.
+    speed = params["speed"]["schema"]
+    assert (speed["exclusiveMinimum"], speed["maximum"]) == (0, 100)
+    assert "required" not in params["speed"] or not params["speed"]["required"]
+    acceleration = params["acceleration"]["schema"]
+    assert (acceleration["exclusiveMinimum"], acceleration["maximum"]) == (0, 200)
     tcp = params["tcp_max_velocity"]["schema"]
-    assert (tcp["minimum"], tcp["maximum"], tcp["default"]) == (0.001, 2, 2)
+    assert (tcp["exclusiveMinimum"], tcp["maximum"], tcp["default"]) == (0, 2, 2)
     assert "412" in operations(schema)[key]["responses"]
 
 
@@ -123,6 +198,34 @@ def test_string_results_are_documented_as_plain_text_enums(schema: dict[str, Any
     assert "IDLE" in motion["schema"]["enum"]
     recover = operations(schema)[("put", "/recover")]["responses"]["200"]["content"]["text/plain"]
     assert recover["schema"]["enum"] == ["SUCCESS", "FAILED"]
+
+
+@pytest.mark.parametrize(
+    "key, model",
+    [
+        (("get", "/status/failure"), "Failure"),
+        (("get", "/robot/info"), "RobotInfo"),
+        (("get", "/version/hardware"), "Version"),
+        (("get", "/tool/info"), "ToolInfo"),
+        (("get", "/tool/shape"), "ToolShape"),
+        (("get", "/pose"), "PoseTimestamp"),
+        (("get", "/position"), "PositionTimestamp"),
+    ],
+)
+def test_sdk_reads_document_their_model(schema: dict[str, Any], key: tuple[str, str], model: str) -> None:
+    content = operations(schema)[key]["responses"]["200"]["content"]["application/json"]
+    assert model in json.dumps(content["schema"])
+    assert model in schema["components"]["schemas"]
+
+
+def test_sdk_bodies_and_obstacles_are_in_the_schema(schema: dict[str, Any]) -> None:
+    components = schema["components"]["schemas"]
+    for name in ("BoxObstacle", "CapsuleObstacle", "PlaneObstacle", "LinearMotionParameters"):
+        assert name in components, name
+    waypoint = components["PositionWaypoint"]["properties"]
+    assert {"blend", "actions"} <= set(waypoint)
+    state = operations(schema)[("get", "/status")]["responses"]["200"]["content"]["application/json"]
+    assert "EMERGENCY" in state["schema"]["enum"]
 
 
 def test_the_docs_page_is_served(client: TestClient) -> None:

@@ -28,7 +28,7 @@ def test_get_position_is_the_tcp_point_and_rotation(client: TestClient, sim: Any
     assert response.status_code == 200
     assert response.headers["content-type"] == JSON
     body = response.json()
-    assert set(body) == {"point", "rotation"}
+    assert set(body) == {"point", "rotation", "timestamp"}
     assert set(body["point"]) == {"x", "y", "z"}
     assert set(body["rotation"]) == {"roll", "pitch", "yaw"}
     assert Position.model_validate(body) == sim.get_position()

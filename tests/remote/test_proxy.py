@@ -7,6 +7,7 @@ through the proxy. Every request goes to both; status, content type and body mus
 from __future__ import annotations
 
 import json
+import time
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -33,6 +34,17 @@ TOOL = {
     "rotation": {"roll": 0, "pitch": 0, "yaw": 0},
     "radius": 0.05,
 }
+
+
+ORIGIN = {"x": 0.0, "y": 0.0, "z": 0.0}
+BOX = {
+    "obstacleType": "BOX",
+    "name": "far box",
+    "sides": {"x": 0.1, "y": 0.1, "z": 0.1},
+    "centerPosition": POSITION | {"point": {"x": 1.0, "y": 1.0, "z": 1.0}},
+}
+LINEAR = {"interpolationType": "BLEND", "velocity": 0.3, "acceleration": 1.0}
+JOINT = {"interpolation_type": "SPLINE", "velocity": 40, "acceleration": 40}
 
 
 @dataclass(frozen=True)
@@ -76,6 +88,48 @@ CALLS = [
     Call("PUT", "/relax"),
     Call("PUT", "/recover"),
     Call("PUT", "/freeze"),
+    # SDK 1.8.4's operations
+    Call("GET", "/status"),
+    Call("GET", "/robot/info"),
+    Call("GET", "/version/hardware"),
+    Call("GET", "/version/software"),
+    Call("GET", "/version/software/robot"),
+    Call("POST", "/motors-log"),
+    Call("GET", "/tool/info"),
+    Call.json(
+        "POST", "/tool/info", {"name": "cup", "tcp": POSITION | {"point": {"x": 0, "y": 0, "z": 0.05}}}
+    ),
+    Call("GET", "/tool/shape"),
+    Call.json("POST", "/tool/shape", {"shape": [{"radius": 0.02, "begin": ORIGIN, "finish": ORIGIN}]}),
+    Call.json("PUT", "/environment", BOX),
+    Call("GET", "/environment"),
+    Call("GET", "/environment/far%20box"),
+    Call("DELETE", "/environment/far%20box"),
+    Call("GET", "/environment/far%20box"),
+    Call("DELETE", "/environment"),
+    Call.json("PUT", "/jogging", {"acceleration": {"z": 0.5}}),
+    Call("GET", "/status"),
+    Call.json("PUT", "/jogging", {"acceleration": {}}),
+    Call("POST", "/gripper/disable"),
+    Call("PUT", "/gripper/close"),
+    Call("POST", "/gripper/enable"),
+    Call("PUT", "/stop/bind/3/high"),
+    Call("PUT", "/sim/signal/input/3/high"),
+    Call("DELETE", "/stop"),
+    Call("POST", "/stop"),
+    Call.json("PUT", "/pose?speed=40", POSE),
+    Call("GET", "/status/failure"),
+    Call("PUT", "/recover"),
+    Call("PUT", "/zg/on"),
+    Call("PUT", "/zg/off"),
+    Call.json("PUT", "/run/linear/positions", {"positions": [POSITION], "motionParameters": LINEAR}),
+    Call.json("PUT", "/run/linear/poses", {"poses": [POSE], "motionParameters": LINEAR}),
+    Call.json("PUT", "/run/joint/positions", {"positions": [POSITION], "motionParameters": JOINT}),
+    Call.json("PUT", "/run/joint/poses", {"poses": [POSE], "motionParameters": JOINT}),
+    Call("PUT", "/freeze"),
+    Call("PUT", "/sim/fault/twisted"),
+    Call("PUT", "/untwisting/finish"),
+    Call("PUT", "/untwisting/finish"),
     # Refused: 400, 412, 404, 405
     Call("PUT", "/pose?speed=40", b"{not json", "application/json"),
     Call.json("PUT", "/pose?speed=40", {"angles": [1, 2, 3]}),
@@ -97,6 +151,8 @@ CALLS = [
     Call("GET", "/pose"),
     Call("PUT", "/sim/fault/emergency"),
     Call("GET", "/pose"),
+    Call("GET", "/status"),
+    Call("GET", "/status/failure"),
     Call("PUT", "/relax"),
     Call("PUT", "/sim/reset"),
     Call("GET", "/status/motion"),
@@ -105,8 +161,9 @@ CALLS = [
 
 @pytest.fixture(scope="module")
 def direct_and_proxied() -> Iterator[tuple[httpx.Client, httpx.Client]]:
-    direct_app = create_app(SimController("pulse75", FakeClock()))
-    proxied_app = create_app(SimController("pulse75", FakeClock()))
+    epoch = time.time()  # the same time of day on both: timestamps and failure dates agree
+    direct_app = create_app(SimController("pulse75", FakeClock(), epoch))
+    proxied_app = create_app(SimController("pulse75", FakeClock(), epoch))
     with (
         serve_in_thread(direct_app) as direct_url,
         serve_in_thread(proxied_app) as controller_url,

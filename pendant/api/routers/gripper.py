@@ -7,14 +7,19 @@ from fastapi import APIRouter
 from pendant.api import docs
 from pendant.api.errors import MSG_TIMEOUT
 from pendant.api.params import TimeoutQuery
-from pendant.api.wire import TextResponse, empty_result
+from pendant.api.wire import TextResponse, empty_result, string_result
+from pendant.controller.errors import MSG_GRIPPER_DISABLED
 from pendant.controller.protocol import Controller
 from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS
 
 
 def gripper_router(controller: Controller) -> APIRouter:
     router = APIRouter(tags=["Gripper"])
-    responses = {**docs.empty_ok(), **docs.precondition(MSG_TIMEOUT), **docs.arm_errors()}
+    responses = {
+        **docs.empty_ok(),
+        **docs.precondition(MSG_TIMEOUT, MSG_GRIPPER_DISABLED),
+        **docs.arm_errors(),
+    }
 
     @router.put(
         "/gripper/open",
@@ -37,5 +42,28 @@ def gripper_router(controller: Controller) -> APIRouter:
     async def close_gripper(timeout: TimeoutQuery = DEFAULT_GRIPPER_TIMEOUT_MS) -> TextResponse:
         controller.close_gripper(timeout)
         return empty_result()
+
+    @router.post(
+        "/gripper/enable",
+        summary="Powering the gripper on",
+        description="SDK 1.8.4. The gripper works again (it is on at power-on).",
+        response_class=TextResponse,
+        responses={**docs.text_result("Done", "Gripper enabled"), **docs.arm_errors()},
+    )
+    async def enable_gripper() -> TextResponse:
+        return string_result(controller.enable_gripper())
+
+    @router.post(
+        "/gripper/disable",
+        summary="Powering the gripper off",
+        description=(
+            "SDK 1.8.4. The gripper can be unplugged with the arm on; until POST /gripper/enable, opening "
+            "or closing it (or a run with a gripper action) answers 412."
+        ),
+        response_class=TextResponse,
+        responses={**docs.text_result("Done", "Gripper disabled: it may be unplugged"), **docs.arm_errors()},
+    )
+    async def disable_gripper() -> TextResponse:
+        return string_result(controller.disable_gripper())
 
     return router

@@ -12,10 +12,11 @@ from fastapi import APIRouter, Depends, Request
 from fastapi.concurrency import run_in_threadpool
 
 from pendant.api import docs
-from pendant.api.params import POSE, POSES, json_body, motion_params, read_body
-from pendant.api.wire import JSONBytesResponse, TextResponse, empty_result, model_result
+from pendant.api.params import POSES, TARGET_POSE, json_body, motion_params, read_body
+from pendant.api.wire import JSONBytesResponse, TextResponse, empty_result, timestamped_result
 from pendant.controller.protocol import Controller
-from pendant.controller.types import MotionParams, Pose
+from pendant.controller.system_types import PoseTimestamp
+from pendant.controller.types import MotionParams
 
 Params = Annotated[MotionParams, Depends(motion_params)]
 
@@ -28,10 +29,15 @@ def pose_router(controller: Controller) -> APIRouter:
         summary="Getting the actual arm pose",
         description="The output flange angles of the six servos, in degrees, base first.",
         response_class=JSONBytesResponse,
-        responses={**docs.json_ok(Pose, "Actual arm pose", docs.EXAMPLE_POSE), **docs.arm_errors()},
+        responses={
+            **docs.json_ok(
+                PoseTimestamp, "Actual arm pose, with when it was read", docs.stamped(docs.EXAMPLE_POSE)
+            ),
+            **docs.arm_errors(),
+        },
     )
     async def get_pose() -> JSONBytesResponse:
-        return model_result(controller.get_pose())
+        return timestamped_result(controller.get_pose(), controller.clock_time())
 
     @router.put(
         "/pose",
@@ -39,10 +45,14 @@ def pose_router(controller: Controller) -> APIRouter:
         description="Moves the arm to a pose: six servo angles in degrees, base first (exactly six numbers).",
         response_class=TextResponse,
         responses={**docs.empty_ok(), **docs.bad_format(), **docs.pose_errors(), **docs.arm_errors()},
-        openapi_extra=json_body(docs.ref("Pose"), docs.EXAMPLE_POSE, "Target pose"),
+        openapi_extra=json_body(
+            docs.ref("PoseWaypoint"),
+            docs.EXAMPLE_POSE,
+            "Target pose (SDK 1.7's `blend` and `actions` allowed)",
+        ),
     )
     async def set_pose(request: Request, params: Params) -> TextResponse:
-        target = await read_body(request, POSE)
+        target = await read_body(request, TARGET_POSE)
         await run_in_threadpool(controller.set_pose, target, params)
         return empty_result()
 
@@ -55,7 +65,11 @@ def pose_router(controller: Controller) -> APIRouter:
         ),
         response_class=TextResponse,
         responses={**docs.empty_ok(), **docs.bad_format(), **docs.pose_errors(), **docs.arm_errors()},
-        openapi_extra=json_body(docs.waypoints("Pose"), [docs.EXAMPLE_POSE], "Waypoints"),
+        openapi_extra=json_body(
+            docs.waypoints("PoseWaypoint"),
+            [docs.EXAMPLE_POSE],
+            "Waypoints, each with an optional `blend` and `actions`",
+        ),
     )
     async def run_poses(request: Request, params: Params) -> TextResponse:
         waypoints = await read_body(request, POSES)

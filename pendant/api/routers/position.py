@@ -12,9 +12,10 @@ from fastapi import APIRouter, Depends, Request
 from fastapi.concurrency import run_in_threadpool
 
 from pendant.api import docs
-from pendant.api.params import POSITION, POSITIONS, json_body, motion_params, read_body
-from pendant.api.wire import JSONBytesResponse, TextResponse, empty_result, model_result
+from pendant.api.params import POSITIONS, TARGET_POSITION, json_body, motion_params, read_body
+from pendant.api.wire import JSONBytesResponse, TextResponse, empty_result, model_result, timestamped_result
 from pendant.controller.protocol import Controller
+from pendant.controller.system_types import PositionTimestamp
 from pendant.controller.types import MotionParams, Position
 
 Params = Annotated[MotionParams, Depends(motion_params)]
@@ -32,12 +33,16 @@ def position_router(controller: Controller) -> APIRouter:
         ),
         response_class=JSONBytesResponse,
         responses={
-            **docs.json_ok(Position, "Actual arm position", docs.EXAMPLE_POSITION),
+            **docs.json_ok(
+                PositionTimestamp,
+                "Actual arm position, with when it was read",
+                docs.stamped(docs.EXAMPLE_POSITION),
+            ),
             **docs.arm_errors(),
         },
     )
     async def get_position() -> JSONBytesResponse:
-        return model_result(controller.get_position())
+        return timestamped_result(controller.get_position(), controller.clock_time())
 
     @router.put(
         "/position",
@@ -54,10 +59,14 @@ def position_router(controller: Controller) -> APIRouter:
             **docs.position_errors(),
             **docs.arm_errors(),
         },
-        openapi_extra=json_body(docs.ref("Position"), docs.EXAMPLE_POSITION, "Target position"),
+        openapi_extra=json_body(
+            docs.ref("PositionWaypoint"),
+            docs.EXAMPLE_POSITION,
+            "Target position (SDK 1.7's `blend` and `actions` allowed)",
+        ),
     )
     async def set_position(request: Request, params: Params) -> JSONBytesResponse:
-        target = await read_body(request, POSITION)
+        target = await read_body(request, TARGET_POSITION)
         return model_result(await run_in_threadpool(controller.set_position, target, params))
 
     @router.put(
@@ -74,7 +83,11 @@ def position_router(controller: Controller) -> APIRouter:
             **docs.position_errors(),
             **docs.arm_errors(),
         },
-        openapi_extra=json_body(docs.waypoints("Position"), [docs.EXAMPLE_POSITION], "Waypoints"),
+        openapi_extra=json_body(
+            docs.waypoints("PositionWaypoint"),
+            [docs.EXAMPLE_POSITION],
+            "Waypoints, each with an optional `blend` and `actions`",
+        ),
     )
     async def run_positions(request: Request, params: Params) -> TextResponse:
         waypoints = await read_body(request, POSITIONS)

@@ -28,6 +28,7 @@ class FaultName(StrEnum):
     no_response = "no_response"
     motion_failed = "motion_failed"
     overheat = "overheat"
+    twisted = "twisted"
 
 
 FaultPath = Annotated[
@@ -38,7 +39,8 @@ FaultPath = Annotated[
             "EMERGENCY, every PULSE call answers 503 until /sim/reset. no_response: every PULSE call answers "
             "500 until /sim/reset. motion_failed: the running motion fails, status MOTION_FAILED. "
             "overheat: the stator windings jump to 110 °C, then cool as the thermal model says (about 80 s "
-            "above 80 °C)."
+            "above 80 °C). twisted: GET /status says TWISTED, motion answers 412 until PUT "
+            "/untwisting/finish."
         )
     ),
 ]

@@ -1,0 +1,132 @@
+"""The cell's obstacles (by name) and the tool's shape, as SDK 1.8.4 sets them, and their collision geometry.
+
+Every change makes a new `CellGeometry`, so a plan made from an older one is stale (see controller.py). A
+change that would leave the arm already touching something is refused: every later move would fail.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from pydantic import BaseModel
+
+from pendant.controller.cell_types import (
+    MAX_OBSTACLES,
+    MSG_NO_OBSTACLE,
+    MSG_OBSTACLE_TOUCHES_ARM,
+    MSG_PLANE_ON_A_LINE,
+    MSG_SHAPE_TOUCHES,
+    MSG_TOO_MANY_OBSTACLES,
+    BoxObstacle,
+    CapsuleObstacle,
+    Obstacle,
+    PlaneObstacle,
+    ToolShape,
+)
+from pendant.controller.errors import Collision, PreconditionFailed
+from pendant.controller.types import Point, Tool
+from pendant.kinematics import ArmModel
+from pendant.kinematics.obstacles import Capsule, CellGeometry, box_shape, capsule_shape, plane_shape
+from pendant.kinematics.transforms import position_to_matrix
+
+# Beyond these an obstacle or a tool capsule is a typing error (and overflows the geometry arithmetic).
+MAX_OBSTACLE_EXTENT_M = 100.0
+MAX_TOOL_EXTENT_M = 2.0
+MSG_OBSTACLE_TOO_FAR = f"obstacle must lie within {MAX_OBSTACLE_EXTENT_M:g} m of the arm base"
+MSG_TOOL_SHAPE_TOO_BIG = f"tool shape must lie within {MAX_TOOL_EXTENT_M:g} m of the flange"
+
+
+def _numbers(value: object) -> list[float]:
+    """Every number in a JSON-like value, nested (coordinates, sides, radii)."""
+    if isinstance(value, bool):
+        return []
+    if isinstance(value, int | float):
+        return [float(value)]
+    if isinstance(value, dict):
+        return [n for item in value.values() for n in _numbers(item)]
+    if isinstance(value, list):
+        return [n for item in value for n in _numbers(item)]
+    return []
+
+
+def _check_extent(model: BaseModel, limit: float, message: str) -> None:
+    if any(abs(v) > limit for v in _numbers(model.model_dump())):
+        raise PreconditionFailed(message)
+
+
+def _vector(point: Point) -> np.ndarray:
+    return np.array([point.x, point.y, point.z])
+
+
+def _obstacle_shape(obstacle: Obstacle):  # type: ignore[no-untyped-def]
+    if isinstance(obstacle, BoxObstacle):
+        return box_shape(_vector(obstacle.sides), position_to_matrix(obstacle.centerPosition))
+    if isinstance(obstacle, CapsuleObstacle):
+        return capsule_shape(Capsule(obstacle.radius, _vector(obstacle.begin), _vector(obstacle.finish)))
+    assert isinstance(obstacle, PlaneObstacle)
+    shape = plane_shape(np.array([_vector(p) for p in obstacle.points]))
+    if shape is None:
+        raise PreconditionFailed(MSG_PLANE_ON_A_LINE)
+    return shape
+
+
+def _tool_capsules(shape: ToolShape, tool: Tool) -> list[Capsule]:
+    capsules = [Capsule(c.radius, _vector(c.begin), _vector(c.finish)) for c in shape.shape]
+    if tool.radius > 0.0:  # the reference's tool sphere at the TCP belongs to the same tool
+        tcp = _vector(tool.point)
+        capsules.append(Capsule(tool.radius, tcp, tcp))
+    return capsules
+
+
+class Environment:
+    """Obstacles kept by name (insertion order), the tool shape, and the geometry built from them."""
+
+    def __init__(self, arm: ArmModel, tool: Tool) -> None:
+        self.arm = arm
+        self.obstacles: dict[str, Obstacle] = {}
+        self.tool_shape = ToolShape(shape=[])
+        self._tool = tool
+        self.geometry = self._build(self.obstacles, self.tool_shape, tool)
+
+    def _build(self, obstacles: dict[str, Obstacle], shape: ToolShape, tool: Tool) -> CellGeometry:
+        return CellGeometry(
+            self.arm, [_obstacle_shape(o) for o in obstacles.values()], _tool_capsules(shape, tool)
+        )
+
+    def get(self, name: str) -> Obstacle:
+        try:
+            return self.obstacles[name]
+        except KeyError:
+            raise PreconditionFailed(MSG_NO_OBSTACLE.format(name=name)) from None
+
+    def add(self, obstacle: Obstacle, configurations: list[np.ndarray]) -> None:
+        """Add (or replace, by name) an obstacle; refused if it touches the arm in any of `configurations`."""
+        if obstacle.name not in self.obstacles and len(self.obstacles) >= MAX_OBSTACLES:
+            raise PreconditionFailed(MSG_TOO_MANY_OBSTACLES)
+        _check_extent(obstacle, MAX_OBSTACLE_EXTENT_M, MSG_OBSTACLE_TOO_FAR)
+        alone = CellGeometry(self.arm, [_obstacle_shape(obstacle)], self.geometry.tool)
+        if any(alone.collides(q) for q in configurations):
+            raise Collision(MSG_OBSTACLE_TOUCHES_ARM)
+        obstacles = {**self.obstacles, obstacle.name: obstacle}
+        self._commit(obstacles, self.tool_shape, self._tool)
+
+    def remove(self, name: str) -> None:
+        self.get(name)
+        self._commit({k: v for k, v in self.obstacles.items() if k != name}, self.tool_shape, self._tool)
+
+    def clear(self) -> None:
+        self._commit({}, self.tool_shape, self._tool)
+
+    def check_tool(self, shape: ToolShape, tool: Tool, configurations: list[np.ndarray]) -> CellGeometry:
+        """The geometry with this tool shape and tool, or Collision if it touches anything already."""
+        _check_extent(shape, MAX_TOOL_EXTENT_M, MSG_TOOL_SHAPE_TOO_BIG)
+        geometry = self._build(self.obstacles, shape, tool)
+        if any(geometry.collides(q) for q in configurations):
+            raise Collision(MSG_SHAPE_TOUCHES)
+        return geometry
+
+    def set_tool(self, shape: ToolShape, tool: Tool, geometry: CellGeometry) -> None:
+        self.tool_shape, self._tool, self.geometry = shape, tool, geometry
+
+    def _commit(self, obstacles: dict[str, Obstacle], shape: ToolShape, tool: Tool) -> None:
+        geometry = self._build(obstacles, shape, tool)
+        self.obstacles, self.tool_shape, self._tool, self.geometry = obstacles, shape, tool, geometry
