@@ -37,9 +37,9 @@ class LoggedJogger(Jogger):
         self._desk = desk
         self._on_start = on_start
 
-    def hold(self, request: JogRequest) -> bool:
+    def hold(self, request: JogRequest, releases: int | None = None) -> bool:
         starting = self.active != request
-        moved = super().hold(request)
+        moved = super().hold(request, releases)
         if starting and moved:
             self._on_start()
             self._events.record(

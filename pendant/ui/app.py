@@ -24,6 +24,7 @@ from pendant.kinematics.transforms import position_to_matrix
 from pendant.program import ProgramWorkspace
 from pendant.telemetry import Telemetry
 from pendant.ui.activity import ActivityLog, LoggedJogger
+from pendant.ui.client_page import serve_client_page
 from pendant.ui.commands import CommandRunner
 from pendant.ui.dashboard_panel import EVENTS_SHOWN, PlotData, plot_data, render_events, render_motor_table
 from pendant.ui.gui_target import GuiTarget
@@ -67,6 +68,7 @@ class PendantUI:
         self.events = events if events is not None else EventLog()
         self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
         self.server.gui.configure_theme(control_width="large", show_logo=False)
+        serve_client_page(self.server)
         self.desk = ControlDesk(self.events, token=token)
         self.runner = CommandRunner(controller, gate=self.desk.gate)
         self.activity = ActivityLog(self.events, self.desk)
