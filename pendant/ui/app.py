@@ -17,11 +17,12 @@ import numpy as np
 import viser
 
 from pendant.access import TOKEN_QUERY
-from pendant.controller import Controller, ControllerError
+from pendant.controller import Controller, ControllerError, MotionStatus
 from pendant.eventlog import EventKind, EventLog
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import position_to_matrix
 from pendant.program import ProgramWorkspace
+from pendant.program.runner import RunState
 from pendant.telemetry import Telemetry
 from pendant.ui.activity import ActivityLog, LoggedJogger
 from pendant.ui.client_page import serve_client_page
@@ -41,6 +42,7 @@ MOTORS_EVERY_N_TICKS = 3  # motors at 10 Hz into the shared history
 TABLE_EVERY_N_TICKS = 6  # the motor table and the event log redrawn at 5 Hz
 PLOTS_EVERY_N_TICKS = 15  # the 60 s plots at 2 Hz ...
 PLOT_EVERY_NTH_SAMPLE = 2  # ... with a point every 0.2 s
+PROGRAM_RUNNING = "A program is running: Pause or Stop it first"
 
 
 class PendantUI:
@@ -81,6 +83,8 @@ class PendantUI:
         self.telemetry = Telemetry(controller)
         self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
         self.programs.on_change(lambda change: self.activity.program_changed(self.programs, change))
+        self.runner.motion_block = self._motion_block
+        self.runner.explain = self._explain
         if self.programs.store.restore_problem is not None:
             self.events.record(EventKind.ERROR, "program", self.programs.store.restore_problem)
         self.scene = ArmScene(self.server, arm.urdf_path)
@@ -253,6 +257,22 @@ class PendantUI:
                 self._wake.clear()
                 next_at = time.monotonic()  # the ticks go on from now
             next_at = max(next_at, time.monotonic() - period)  # after a stall, do not race to catch up
+
+    def _motion_block(self) -> str | None:
+        """The page moves the arm only when no program does (Freeze, Pause and Stop always work)."""
+        if self.programs.progress.state is RunState.RUNNING:
+            return PROGRAM_RUNNING
+        return None
+
+    def _explain(self, message: str) -> str:
+        """A refused motion in ERROR says so: the controller's own words ("Robot does not respond") name
+        no cause."""
+        state = self.latest.motion_status
+        if state in (MotionStatus.ERROR, MotionStatus.MOTION_FAILED):
+            return (
+                f"The arm is in {state.value}: press Recover under the status first (controller: {message})"
+            )
+        return message
 
     @staticmethod
     def _read_quietly(read, default):  # type: ignore[no-untyped-def]

@@ -7,15 +7,18 @@
 //    deadman stops the arm when they stop arriving (tab closed, network cut).
 // 2. Touch: a finger jogs only after TOUCH_DELAY_MS without moving more than TOUCH_SLOP_PX, so a swipe
 //    that starts on a jog button scrolls the panel and never moves the arm.
-// 3. Software WebGL (no GPU): no multisampling and a capped pixel ratio, which halves the frame time.
+// 3. Software WebGL (no GPU): no multisampling, a capped pixel ratio and frame rate, which leave the main
+//    thread time for input.
+// 4. Freeze pinned to the top of the panel.
 (() => {
   "use strict";
   const HOLD_HZ = 20;
   const TOUCH_DELAY_MS = 60;
   const TOUCH_SLOP_PX = 10;
   const ALIVE_MS = 100;
-  const MAIN_STALL_MS = 1000;
+  const MAIN_STALL_MS = 1500;
   const SOFTWARE_MAX_DPR = 0.75;
+  const SOFTWARE_FRAME_MS = 50;
 
   // --- 3. rendering cost in software WebGL ------------------------------------------------------------
   function softwareWebGL() {
@@ -31,9 +34,11 @@
       return false;
     }
   }
+  // ?render=viser: viser's own rendering, for comparison (benchmarks/jog.py).
+  const tuned = new URLSearchParams(location.search).get("render") !== "viser";
   const software = softwareWebGL();
-  window.__pendant = { software };
-  if (software) {
+  window.__pendant = { software, tuned };
+  if (software && tuned) {
     const getContext = HTMLCanvasElement.prototype.getContext;
     HTMLCanvasElement.prototype.getContext = function (type, options) {
       if (type === "webgl2" || type === "webgl") {
@@ -41,8 +46,19 @@
       }
       return getContext.call(this, type, options);
     };
-    const dpr = Math.min(window.devicePixelRatio || 1, SOFTWARE_MAX_DPR);
+    const asked = parseFloat(new URLSearchParams(location.search).get("dpr") || "");  // ?dpr=1: sharper
+    const dpr = Math.min(window.devicePixelRatio || 1, asked > 0 ? asked : SOFTWARE_MAX_DPR);
     Object.defineProperty(window, "devicePixelRatio", { get: () => dpr, configurable: true });
+    // Frames back to back leave the main thread no time for input: a release would wait for the next
+    // frame too. At most one frame per SOFTWARE_FRAME_MS leaves it gaps.
+    const raf = window.requestAnimationFrame.bind(window);
+    let lastFrame = 0;
+    window.requestAnimationFrame = (callback) => raf((now) => {
+      const wait = lastFrame + SOFTWARE_FRAME_MS - now;
+      const run = (t) => { lastFrame = t; callback(t); };
+      if (wait <= 0) run(now);
+      else setTimeout(() => raf(run), wait);
+    });
   }
 
   // --- 1. the hold signal from viser's websocket worker ----------------------------------------------
@@ -170,6 +186,27 @@
   window.addEventListener("blur", finishAll);
   document.addEventListener("visibilitychange", () => { if (document.hidden) finishAll(); });
   window.addEventListener("pagehide", finishAll);
+
+  // --- Freeze stays in reach: pinned to the top of the panel at every scroll position of every tab ------
+  let pinned = null;
+  function pinFreeze() {
+    if (pinned !== null && pinned.isConnected) return;
+    const freeze = [...document.querySelectorAll("button")].find((b) => b.textContent.trim() === "Freeze");
+    if (freeze === undefined || freeze.parentElement === null) return;
+    pinned = freeze.parentElement; // viser's box around the button, a child of the panel's content
+    // Between it and the panel's scrolling viewport, a box that hides its overflow would be the one the
+    // pin sticks to (and never scrolls): clipping instead keeps the look and lets the pin work.
+    for (let box = pinned.parentElement; box !== null; box = box.parentElement) {
+      if (box.classList.contains("mantine-ScrollArea-viewport")) break;
+      const style = getComputedStyle(box);
+      if (style.overflowY === "hidden" || style.overflowX === "hidden") box.style.overflow = "clip";
+    }
+    Object.assign(pinned.style, {
+      position: "sticky", top: "0", zIndex: "20", paddingTop: "6px",
+      background: "var(--mantine-color-body, white)", boxShadow: "0 4px 6px -4px rgba(0,0,0,0.25)",
+    });
+  }
+  new MutationObserver(pinFreeze).observe(document.documentElement, { childList: true, subtree: true });
 
   // Keyboard: Space or Enter held on a focused jog button.
   document.addEventListener("keydown", (event) => {

@@ -22,7 +22,7 @@ from pendant.ui.snapshot import Snapshot
 
 CAP_PROBE_RAD = 1e-4  # a small turn of one joint, to see how fast the TCP moves per radian
 BUTTON_STYLE = (
-    "height:38px;font-size:1.3em;font-weight:bold;border:1px solid #adb5bd;border-radius:6px;"
+    "height:34px;font-size:1.3em;font-weight:bold;border:1px solid #adb5bd;border-radius:6px;"
     "background:#f1f3f5;color:#212529;touch-action:pan-y;user-select:none;-webkit-user-select:none;"
     "-webkit-touch-callout:none;cursor:pointer"
 )
@@ -100,7 +100,7 @@ def render_pad(
         }
         rows.append(
             f'<div style="display:grid;grid-template-columns:64px 1fr 64px;gap:6px;align-items:center;'
-            f'margin-bottom:4px">{buttons[-1]}<div style="text-align:center;white-space:nowrap">'
+            f'margin-bottom:3px">{buttons[-1]}<div style="text-align:center;white-space:nowrap">'
             f'<span style="font-size:0.85em;color:#495057">{name}</span> '
             f'<b data-jog-value="{axis}">{html.escape(values[axis])}</b></div>{buttons[+1]}</div>'
         )

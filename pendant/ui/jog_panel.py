@@ -119,8 +119,10 @@ class JogPanel:
         """Whether the page may not jog now; says so once per press."""
         now = time.monotonic()
         if now - self._refused_at < REFUSAL_REPEAT_S:
-            return self._runner.gate(client) is not None if client is not None else False
-        refused = self._runner.refusal(client, label) is not None
+            if client is None:
+                return False
+            return self._runner.gate(client) is not None or self._runner.motion_block() is not None
+        refused = self._runner.refusal(client, label, motion=True) is not None
         if refused:
             self._refused_at = now
         return refused
@@ -134,7 +136,7 @@ class JogPanel:
         except ControllerError as error:
             if time.monotonic() - self._refused_at >= REFUSAL_REPEAT_S:
                 self._refused_at = time.monotonic()
-                notify_refusal(client, f"{request.label()} refused", error.message)
+                notify_refusal(client, f"{request.label()} refused", self._runner.explain(error.message))
 
     def _bind(self, button: viser.GuiButtonHandle, axis: int, direction: int) -> None:
         @button.on_hold(callback_hz=HOLD_CONFIRM_HZ)
@@ -153,12 +155,14 @@ class JogPanel:
             try:
                 if request.step is None:
                     self._jogger.release("released")  # the click arrives on release: stop at once
-                elif self._runner.refusal(event.client, request.label()) is None and not self._jogger.step(
-                    request
-                ):
+                elif self._runner.refusal(
+                    event.client, request.label(), motion=True
+                ) is None and not self._jogger.step(request):
                     notify_refusal(event.client, request.label(), "Cannot move further that way")
             except ControllerError as error:
-                notify_refusal(event.client, f"{request.label()} refused", error.message)
+                notify_refusal(
+                    event.client, f"{request.label()} refused", self._runner.explain(error.message)
+                )
 
 
 def _log_failure(future: asyncio.Future[None]) -> None:

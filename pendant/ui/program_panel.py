@@ -301,9 +301,11 @@ class ProgramPanel:
         params = MotionParams(speed=GO_TO_SPEED_PERCENT, motion_type=step.motion)
         label = f"Go to {step.waypoint.name}"
         if step.motion is MotionType.JOINT:
-            self._runner.submit(label, lambda c: c.set_pose(step.waypoint.pose, params), client)
+            self._runner.submit(label, lambda c: c.set_pose(step.waypoint.pose, params), client, motion=True)
         else:
-            self._runner.submit(label, lambda c: c.set_position(step.waypoint.position, params), client)
+            self._runner.submit(
+                label, lambda c: c.set_position(step.waypoint.position, params), client, motion=True
+            )
 
     # --- running ------------------------------------------------------------------------------------
     def _start(self, label: str, client: viser.ClientHandle | None) -> None:

@@ -68,7 +68,7 @@ class ClientSession:
         self.client_id = client_id
         self._desk = desk
         self.freeze = add_freeze_button(target, runner)
-        self.status = StatusPanel(target, mode_line)
+        self.status = StatusPanel(target, mode_line, runner)
         self.control = ControlPanel(target, desk, client_id, url_token)
         self.tabs = target.gui.add_tab_group()
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
@@ -101,7 +101,7 @@ class ClientSession:
     def _commanding_handles(self) -> Iterable[viser.GuiInputHandle]:
         """Every control that moves the arm or changes IO or settings (Freeze is not one of them)."""
         jog = self.jog
-        yield from (jog.frame, jog.step, jog.speed, *jog.buttons.values(), jog.stop)
+        yield from (self.status.recover, jog.frame, jog.step, jog.speed, *jog.buttons.values(), jog.stop)
         target = self.target_panel
         yield from (*target.sliders, target.speed, target.from_current)
         p = self.program

@@ -116,9 +116,13 @@ def api_hold(api: httpx.Client, hold_s: float, direction: int = +1) -> Timeline:
 
 
 def button_centre(page: Any, label: str) -> tuple[float, float]:
-    box = page.get_by_role("button", name=label, exact=True).bounding_box()
-    assert box is not None, f"{label} is not on the page"
-    return box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    """Where `label` is (the pad is redrawn as the values change: a button may be replaced under a read)."""
+    for _ in range(10):
+        box = page.get_by_role("button", name=label, exact=True).bounding_box()
+        if box is not None:
+            return box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        time.sleep(0.1)
+    raise AssertionError(f"{label} is not on the page")
 
 
 def mouse_hold(page: Any, api: httpx.Client, label: str, hold_s: float) -> Timeline:
