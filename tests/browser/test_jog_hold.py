@@ -121,8 +121,11 @@ def on_top(page, name: str) -> bool:  # type: ignore[no-untyped-def]
     """The button is inside the viewport and nothing covers its centre."""
     return bool(
         page.get_by_role("button", name=name, exact=True).evaluate(
-            """(b) => { const r = b.getBoundingClientRect(), x = r.left + r.width / 2, y = r.top + r.height / 2;
-                        if (x < 0 || y < 0 || x > innerWidth || y > innerHeight) return false;
-                        const hit = document.elementFromPoint(x, y); return hit !== null && b.contains(hit); }"""
+            """(b) => {
+                const r = b.getBoundingClientRect(), x = r.left + r.width / 2, y = r.top + r.height / 2;
+                if (x < 0 || y < 0 || x > innerWidth || y > innerHeight) return false;
+                const hit = document.elementFromPoint(x, y);
+                return hit !== null && b.contains(hit);
+            }"""
         )
     )

@@ -7,6 +7,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
+import pytest
 
 from pendant.controller import MotionParams, MotionStatus, Pose
 from pendant.jog import JogFrame, JogRequest
@@ -15,11 +16,16 @@ from pendant.sim import FakeClock, Fault, SimController
 from pendant.ui.app import PROGRAM_RUNNING, PendantUI
 from pendant.ui.session import ClientSession
 
-from .doubles import FakeBrowser, fire
-from .test_panels import button, confirm_hold, operator, pose_deg  # noqa: F401 (operator: a fixture)
+from .doubles import OPERATOR, FakeBrowser, fire
+from .test_panels import button, confirm_hold, pose_deg
 
 ANGLE_TOL_DEG = 1e-6
 WAIT_S = 5.0
+
+
+@pytest.fixture
+def operator() -> FakeBrowser:
+    return FakeBrowser(OPERATOR)
 
 
 def wait_for(condition, what: str) -> None:  # type: ignore[no-untyped-def]
