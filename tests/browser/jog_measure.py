@@ -139,6 +139,21 @@ def mouse_hold(page: Any, api: httpx.Client, label: str, hold_s: float) -> Timel
     return _relative(sampler.stop(released), pressed)
 
 
+def close_while_held(page: Any, api: httpx.Client, label: str, hold_s: float) -> Timeline:
+    """Hold `label` by mouse, then close the tab while it is still held (the worker and the socket die)."""
+    wait_idle(api)
+    x, y = button_centre(page, label)
+    page.mouse.move(x, y)
+    sampler = PoseSampler(api)
+    sampler.start()
+    pressed = sampler.mark()
+    page.mouse.down()
+    time.sleep(max(0.0, hold_s - (sampler.mark() - pressed)))
+    released = sampler.mark()
+    page.close()
+    return _relative(sampler.stop(released), pressed)
+
+
 def touch(cdp: Any, kind: str, x: float, y: float) -> None:
     points = [] if kind == "touchEnd" else [{"x": x, "y": y, "id": 1}]
     cdp.send("Input.dispatchTouchEvent", {"type": kind, "touchPoints": points})

@@ -15,12 +15,15 @@ from collections.abc import Iterator
 import pytest
 
 from .conftest import ARTIFACTS, Pendant
-from .jog_measure import api_hold, mouse_hold, touch_hold, touch_swipe, wait_idle
+from .jog_measure import api_hold, close_while_held, mouse_hold, touch_hold, touch_swipe, wait_idle
 
 HOLD_S = 1.0
 PRESSES = 3
 MIN_SHARE = 0.9  # of the API-sent motion, median over the presses
-STILL_AFTER_S = 0.5  # released: the arm has stopped within this (the deadman alone would take 0.2 s)
+# Released: the arm stops within this, well inside the 3 s a continuous jog plans ahead (so it was the
+# release that stopped it, not the end of the plan). The p99 on a quiet machine is in README/benchmarks.
+STOP_WITHIN_S = 1.5
+STILL_AFTER_S = 0.5
 STILL_TOL_DEG = 0.01
 TABS = ("Jog", "Target", "Program", "IO", "Robot", "Simulator", "Dashboard")
 DESKTOP, TABLET_LANDSCAPE, TABLET_PORTRAIT, PHONE = (1400, 900), (1024, 768), (768, 1024), (390, 844)
@@ -49,7 +52,7 @@ def test_holding_j1_by_mouse_moves_it_as_far_as_the_api_and_stops_on_release(pag
         timeline = mouse_hold(page, pendant.api, "J1+" if i % 2 == 0 else "J1-", HOLD_S)
         held.append(timeline.moved_deg)
         assert timeline.stalls_while_held() == 0, "the arm stopped while the button was held"
-        assert timeline.stop_after_release_s() < STILL_AFTER_S, "the arm went on after the release"
+        assert timeline.stop_after_release_s() < STOP_WITHIN_S, "the arm went on after the release"
         still_after(pendant)
     assert statistics.median(held) >= MIN_SHARE * statistics.median(api), (held, api)
 
@@ -61,7 +64,7 @@ def test_a_finger_held_on_j1_jogs_it_and_lifting_the_finger_stops_it(touch_page,
     for i in range(PRESSES):
         timeline = touch_hold(touch_page, cdp, pendant.api, "J1+" if i % 2 == 0 else "J1-", HOLD_S)
         held.append(timeline.moved_deg)
-        assert timeline.stop_after_release_s() < STILL_AFTER_S, "the arm went on after the finger lifted"
+        assert timeline.stop_after_release_s() < STOP_WITHIN_S, "the arm went on after the finger lifted"
         still_after(pendant)
     assert statistics.median(held) >= MIN_SHARE * statistics.median(api), (held, api)
 
@@ -71,6 +74,16 @@ def test_a_swipe_that_starts_on_a_jog_button_never_moves_the_arm(touch_page, pen
     for _ in range(3):
         assert touch_swipe(touch_page, cdp, pendant.api, "J1+").moved_deg < STILL_TOL_DEG
     wait_idle(pendant.api)
+
+
+def test_closing_the_tab_while_a_jog_button_is_held_stops_the_arm(browser, pendant: Pendant) -> None:  # type: ignore[no-untyped-def]
+    tab = browser.new_page(viewport={"width": 1400, "height": 900})
+    tab.goto(pendant.ui_url)
+    tab.locator("#jog-pad").wait_for(timeout=60_000)
+    timeline = close_while_held(tab, pendant.api, "J1+", 0.6)
+    assert timeline.moved_deg > 1.0, "the held button did not jog"
+    assert timeline.stop_after_release_s() < STOP_WITHIN_S, "the arm went on after the tab closed"
+    still_after(pendant)
 
 
 @pytest.mark.parametrize("viewport", [DESKTOP, TABLET_LANDSCAPE], ids=["1400x900", "1024x768"])
