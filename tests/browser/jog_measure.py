@@ -115,14 +115,36 @@ def api_hold(api: httpx.Client, hold_s: float, direction: int = +1) -> Timeline:
     return _relative(sampler.stop(released), pressed)
 
 
-def button_centre(page: Any, label: str) -> tuple[float, float]:
+def button_box(page: Any, label: str) -> dict[str, float]:
     """Where `label` is (the pad is redrawn as the values change: a button may be replaced under a read)."""
     for _ in range(10):
         box = page.get_by_role("button", name=label, exact=True).bounding_box()
         if box is not None:
-            return box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+            return box
         time.sleep(0.1)
     raise AssertionError(f"{label} is not on the page")
+
+
+def button_centre(page: Any, label: str) -> tuple[float, float]:
+    box = button_box(page, label)
+    return box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+
+
+def open_as_operator(page: Any, url: str) -> None:
+    """Load the pendant and make sure this page has control (a page that left a moment ago may still have
+    held it when this one joined)."""
+    page.goto(url)
+    ensure_operator(page)
+
+
+def ensure_operator(page: Any) -> None:
+    page.locator("#jog-pad").wait_for(timeout=90_000)
+    enabled = page.locator("#jog-pad button:not([disabled])").first
+    try:
+        enabled.wait_for(timeout=5_000)
+    except Exception:  # Playwright's TimeoutError: a viewer, so take control
+        page.get_by_role("button", name="Take control").click()
+        enabled.wait_for(timeout=30_000)
 
 
 def mouse_hold(page: Any, api: httpx.Client, label: str, hold_s: float) -> Timeline:
