@@ -186,6 +186,7 @@
   window.addEventListener("blur", finishAll);
   document.addEventListener("visibilitychange", () => { if (document.hidden) finishAll(); });
   window.addEventListener("pagehide", finishAll);
+  window.addEventListener("beforeunload", finishAll); // the tab is closing: stop now, not when it is gone
 
   // --- Freeze stays in reach: pinned to the top of the panel at every scroll position of every tab ------
   let pinned = null;

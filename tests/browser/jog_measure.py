@@ -162,7 +162,8 @@ def mouse_hold(page: Any, api: httpx.Client, label: str, hold_s: float) -> Timel
 
 
 def close_while_held(page: Any, api: httpx.Client, label: str, hold_s: float) -> Timeline:
-    """Hold `label` by mouse, then close the tab while it is still held (the worker and the socket die)."""
+    """Hold `label` by mouse, then close the tab while it is still held, as a person closes it (the page's
+    unload handlers run; then the worker and the socket die)."""
     wait_idle(api)
     x, y = button_centre(page, label)
     page.mouse.move(x, y)
@@ -172,7 +173,7 @@ def close_while_held(page: Any, api: httpx.Client, label: str, hold_s: float) ->
     page.mouse.down()
     time.sleep(max(0.0, hold_s - (sampler.mark() - pressed)))
     released = sampler.mark()
-    page.close()
+    page.close(run_before_unload=True)
     return _relative(sampler.stop(released), pressed)
 
 
