@@ -145,6 +145,9 @@ def ensure_operator(page: Any) -> None:
     except Exception:  # Playwright's TimeoutError: a viewer, so take control
         page.get_by_role("button", name="Take control").click()
         enabled.wait_for(timeout=30_000)
+    # A page still building its scene can take seconds to answer its first input: start when it draws.
+    page.evaluate("new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)))")
+    page.wait_for_timeout(1_000)
 
 
 def mouse_hold(page: Any, api: httpx.Client, label: str, hold_s: float) -> Timeline:
