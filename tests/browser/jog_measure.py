@@ -140,11 +140,13 @@ def open_as_operator(page: Any, url: str) -> None:
 def ensure_operator(page: Any) -> None:
     page.locator("#jog-pad").wait_for(timeout=90_000)
     enabled = page.locator("#jog-pad button:not([disabled])").first
-    try:
-        enabled.wait_for(timeout=5_000)
-    except Exception:  # Playwright's TimeoutError: a viewer, so take control
-        page.get_by_role("button", name="Take control").click()
-        enabled.wait_for(timeout=30_000)
+    take = page.get_by_role("button", name="Take control")
+    deadline = time.monotonic() + 60.0
+    while not enabled.is_visible():
+        assert time.monotonic() < deadline, "this page never got control"
+        if take.is_enabled():  # a viewer (another page had control when this one joined): take it
+            take.click()
+        time.sleep(0.5)
     # A page still building its scene can take seconds to answer its first input: start when it draws.
     page.evaluate("new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)))")
     page.wait_for_timeout(1_000)
