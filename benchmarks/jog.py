@@ -9,12 +9,19 @@
    adds one frame: Chromium renders WebGL in software here, at about 15-20 frames/s on 2 loaded cores.)
    For comparison, the server's own part: jog request -> the moved arm handed to viser, in-process.
 
-Run: .venv/bin/python benchmarks/jog.py [--trials 20]
+3. Hold J1 for 1.0 s in a real Chromium (software WebGL) at 1400x900, by mouse and by finger (CDP touch
+   events), against the same motion sent to the API (PUT /pose at 10 %, PUT /freeze 1.0 s later): degrees
+   moved, press -> first motion, release -> arm still, stalls inside one press; a swipe that starts on a
+   jog button; and the page's frame time while the arm moves (requestAnimationFrame intervals, and how
+   long the main thread is blocked at a time), viser's own rendering against the pendant's.
+
+Run: .venv/bin/python benchmarks/jog.py [--trials 20] [--holds 5]
 """
 
 from __future__ import annotations
 
 import argparse
+import itertools
 import statistics
 import subprocess
 import sys
@@ -153,6 +160,129 @@ def browser_latencies(trials: int) -> list[float]:
     return latencies
 
 
+# Frame intervals of the page, and how long the main thread is blocked at a time (what a release waits for).
+_FRAMES = """
+window.__frames = []; (function f(t) { window.__frames.push(t); requestAnimationFrame(f); })(0);
+window.__blocked = [];
+new PerformanceObserver((list) => { for (const e of list.getEntries()) window.__blocked.push(e.duration); })
+  .observe({ type: "longtask" });
+"""
+
+
+def frame_report(rounds: int) -> None:
+    """The page while the arm moves (a 30° PUT /pose at 10 %), at 1400x900 in software WebGL: viser's own
+    rendering (?render=viser) against the pendant's (no MSAA, pixel ratio 0.75, frames spaced), one page
+    at a time, alternating, so both see the same load."""
+    from playwright.sync_api import sync_playwright
+
+    ui_port, api_port = free_port(), free_port()
+    process = subprocess.Popen(
+        [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    api = httpx.Client(base_url=f"http://127.0.0.1:{api_port}", timeout=5.0)
+    variants = {"viser's rendering": "?render=viser", "the pendant's": ""}
+    frames: dict[str, list[float]] = {name: [] for name in variants}
+    blocked: dict[str, list[float]] = {name: [] for name in variants}
+    try:
+        wait_until(lambda: api.get("/pose").status_code == 200, what="the pendant answering")
+        with sync_playwright() as playwright:
+            browser = playwright.chromium.launch(executable_path="/usr/bin/chromium", args=CHROMIUM_ARGS)
+            for i in range(rounds):
+                for name, query in variants.items():
+                    page = browser.new_page(viewport={"width": 1400, "height": 900})
+                    page.add_init_script(_FRAMES)
+                    page.goto(f"http://127.0.0.1:{ui_port}/{query}")
+                    page.locator("#jog-pad").wait_for(timeout=90_000)
+                    time.sleep(1.5)
+                    target = api.get("/pose").json()["angles"]
+                    target[0] += 30.0 if i % 2 == 0 else -30.0
+                    api.put("/pose", params={"speed": 10}, json={"angles": target})
+                    time.sleep(0.3)
+                    page.evaluate("window.__frames.length = 0; window.__blocked.length = 0")
+                    time.sleep(2.0)
+                    stamps = page.evaluate("window.__frames.slice()")
+                    frames[name] += [(b - a) / 1000.0 for a, b in itertools.pairwise(stamps)]
+                    blocked[name] += [d / 1000.0 for d in page.evaluate("window.__blocked.slice()")]
+                    api.put("/freeze")
+                    page.close()
+            browser.close()
+    finally:
+        process.terminate()
+        process.wait(10)
+    for name in variants:
+        if frames[name]:
+            _report(f"frame interval while the arm moves, {name}", frames[name])
+        if blocked[name]:
+            _report(f"main thread blocked at a time (long tasks), {name}", blocked[name])
+
+
+def hold_report(holds: int) -> None:
+    """Hold J1 by mouse and by finger against the API-sent equivalent; a swipe; the frame time."""
+    from playwright.sync_api import sync_playwright
+
+    from tests.browser.jog_measure import api_hold, close_while_held, mouse_hold, touch_hold, touch_swipe
+
+    ui_port, api_port = free_port(), free_port()
+    process = subprocess.Popen(
+        [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    api = httpx.Client(base_url=f"http://127.0.0.1:{api_port}", timeout=5.0)
+    try:
+        wait_until(lambda: api.get("/pose").status_code == 200, what="the pendant answering")
+        with sync_playwright() as playwright:
+            browser = playwright.chromium.launch(executable_path="/usr/bin/chromium", args=CHROMIUM_ARGS)
+            page = browser.new_page(viewport={"width": 1400, "height": 900}, has_touch=True)
+            page.add_init_script(_FRAMES)
+            page.goto(f"http://127.0.0.1:{ui_port}/")
+            page.locator("#jog-pad").wait_for(timeout=90_000)
+            time.sleep(2.0)
+            cdp = page.context.new_cdp_session(page)
+            results: dict[str, list] = {"api": [], "mouse": [], "touch": []}
+            frames: list[float] = []
+            for i in range(holds):
+                label = "J1+" if i % 2 == 0 else "J1-"
+                results["api"].append(api_hold(api, 1.0, +1 if i % 2 == 0 else -1))
+                page.evaluate("window.__frames.length = 0")
+                results["mouse"].append(mouse_hold(page, api, label, 1.0))
+                stamps = page.evaluate("window.__frames.slice()")
+                frames += [b - a for a, b in itertools.pairwise(stamps)]
+                results["touch"].append(touch_hold(page, cdp, api, label, 1.0))
+            swipes = [touch_swipe(page, cdp, api, "J1+").moved_deg for _ in range(max(2, holds // 2))]
+            page.close()
+            closed = []
+            for _ in range(max(2, holds // 2)):
+                tab = browser.new_page(viewport={"width": 1400, "height": 900})
+                tab.goto(f"http://127.0.0.1:{ui_port}/")
+                tab.locator("#jog-pad").wait_for(timeout=90_000)
+                time.sleep(1.0)
+                closed.append(close_while_held(tab, api, "J1+", 0.6).stop_after_release_s())
+            browser.close()
+    finally:
+        process.terminate()
+        process.wait(10)
+    api_deg = statistics.median(t.moved_deg for t in results["api"])
+    print(f"hold 1.0 s, API-sent equivalent: J1 moved median {api_deg:.2f} deg")
+    for how in ("mouse", "touch"):
+        runs = results[how]
+        ratios = [t.moved_deg / api_deg * 100 for t in runs]
+        firsts = [t.first_motion_s() for t in runs if t.first_motion_s() is not None]
+        _report(f"{how}: press -> first motion", firsts)
+        _report(f"{how}: release -> arm still", [t.stop_after_release_s() for t in runs])
+        print(
+            f"{how}: hold 1.0 s moved {min(ratios):.0f}-{max(ratios):.0f} % of the API-sent motion "
+            f"(median {statistics.median(ratios):.0f} %), "
+            f"stalls while held: {sum(t.stalls_while_held() for t in runs)}"
+        )
+    print(f"swipe starting on J1+: J1 moved {max(swipes):.3f} deg at most ({len(swipes)} swipes)")
+    _report("tab closed while J1+ is held -> arm still", closed)
+    if frames:
+        _report("frame time while the arm moves (1400x900)", [f / 1000.0 for f in frames])
+
+
 def _report(name: str, values: list[float]) -> None:
     ms = sorted(v * 1000 for v in values)
     p99 = ms[min(len(ms) - 1, round(0.99 * (len(ms) - 1)))]
@@ -162,7 +292,13 @@ def _report(name: str, values: list[float]) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--trials", type=int, default=20)
+    parser.add_argument("--holds", type=int, default=5)
+    parser.add_argument("--only-browser", action="store_true", help="only part 3")
     args = parser.parse_args()
+    frame_report(max(1, args.holds // 2))
+    hold_report(args.holds)
+    if args.only_browser:
+        return
     _report("deadman: last confirmation -> arm frozen", deadman_latencies(args.trials))
     _report("server: jog request -> moved arm handed to viser", server_latencies(args.trials))
     _report("browser: J1+ pressed -> first pose change on the page", browser_latencies(args.trials))

@@ -62,8 +62,19 @@ class Jogger:
     def active(self) -> JogRequest | None:
         return self._active
 
-    def hold(self, request: JogRequest) -> bool:
-        """Confirm the deadman and keep `request` moving; False when the arm cannot go further that way."""
+    @property
+    def releases(self) -> int:
+        """How many times a jog was stopped: read it where the page's messages arrive in order, and pass it
+        to `hold`, so a confirmation sent before a release but handled after it cannot restart the arm."""
+        with self._state:
+            return self._released
+
+    def hold(self, request: JogRequest, releases: int | None = None) -> bool:
+        """Confirm the deadman and keep `request` moving; False when the arm cannot go further that way, or
+        when the confirmation is stale (`releases`: the count it was sent under, and a release came since)."""
+        with self._state:
+            if releases is not None and releases != self._released:
+                return False
         self.deadman.confirm()
         if not self._lock.acquire(blocking=False):
             return True  # an earlier confirmation is still sending: this one has confirmed, that is enough
@@ -74,6 +85,8 @@ class Jogger:
             if running:  # another jog or motion is under way: stop it rather than queue behind it
                 self._controller.freeze()
             with self._state:
+                if releases is not None and releases != self._released:
+                    return False  # released while the previous motion was being frozen
                 self._active = request
                 releases = self._released
             moved = self._send(request)

@@ -47,12 +47,12 @@ class LoggedJogger(Jogger):
         self._on_start = on_start
         self._refused: JogRequest | None = None  # this press was refused: say so once, not 20 times a second
 
-    def hold(self, request: JogRequest) -> bool:
+    def hold(self, request: JogRequest, releases: int | None = None) -> bool:
         starting = self.active != request
         if starting and self._remote is not None and not self._claim(request):
             return False
         try:
-            moved = super().hold(request)
+            moved = super().hold(request, releases)
         finally:
             if self._remote is not None and self.active is None:
                 self._remote.end_jog()  # it did not start (or stopped at once): the API's turn again

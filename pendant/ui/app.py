@@ -21,7 +21,7 @@ from pendant.access import TOKEN_QUERY
 from pendant.access.origin import OriginPolicy
 from pendant.access.remote import RemoteControl
 from pendant.access.throttle import FailedAttempts
-from pendant.controller import Controller, ControllerError
+from pendant.controller import Controller, ControllerError, MotionStatus
 from pendant.eventlog import EventKind, EventLog
 from pendant.eventquery import EventQuery
 from pendant.kinematics import ArmModel
@@ -29,8 +29,10 @@ from pendant.kinematics.transforms import position_to_matrix
 from pendant.monitoring import PendantMetrics
 from pendant.monitoring import data_dir as resolve_data_dir
 from pendant.program import ProgramWorkspace
+from pendant.program.runner import RunState
 from pendant.telemetry import ArmState, Telemetry, recordings_dir
 from pendant.ui.activity import ActivityLog, LoggedJogger
+from pendant.ui.client_page import page_first
 from pendant.ui.commands import CommandRunner
 from pendant.ui.dashboard_events import render_events
 from pendant.ui.dashboard_panel import render_motor_table
@@ -50,6 +52,7 @@ IO_EVERY_N_TICKS = 6  # IO and tool change rarely: read them at 5 Hz
 MOTORS_EVERY_N_TICKS = 3  # motors at 10 Hz into the shared history
 TABLE_EVERY_N_TICKS = 6  # the motor table and the event log redrawn at 5 Hz
 PLOTS_EVERY_N_TICKS = 15  # the plots at 2 Hz (at most MAX_POINTS a series)
+PROGRAM_RUNNING = "A program is running: Pause or Stop it first"
 
 
 class PendantUI:
@@ -86,7 +89,7 @@ class PendantUI:
         self.arm = arm
         self.mode_line = mode_line
         self.events = events if events is not None else EventLog()
-        with guarded_viser_server(origins):
+        with guarded_viser_server(origins, wrap=page_first):  # the pendant's page, behind the guard
             self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
         self.server.gui.configure_theme(control_width="large", show_logo=False)
         self.join_urls = join_urls(host, self.server.get_port())  # the QR code people in the room scan
@@ -106,6 +109,8 @@ class PendantUI:
         self.events.on_record(self.telemetry.log_event)
         self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
         self.programs.on_change(lambda change: self.activity.program_changed(self.programs, change))
+        self.runner.motion_block = self._motion_block
+        self.runner.explain = self._explain
         if self.programs.store.restore_problem is not None:
             self.events.record(EventKind.ERROR, "program", self.programs.store.restore_problem)
         self.scene = ArmScene(self.server, arm.urdf_path)
@@ -304,6 +309,22 @@ class PendantUI:
                 self._wake.clear()
                 next_at = time.monotonic()  # the ticks go on from now
             next_at = max(next_at, time.monotonic() - period)  # after a stall, do not race to catch up
+
+    def _motion_block(self) -> str | None:
+        """The page moves the arm only when no program does (Freeze, Pause and Stop always work)."""
+        if self.programs.progress.state is RunState.RUNNING:
+            return PROGRAM_RUNNING
+        return None
+
+    def _explain(self, message: str) -> str:
+        """A refused motion in ERROR says so: the controller's own words ("Robot does not respond") name
+        no cause."""
+        state = self.latest.motion_status
+        if state in (MotionStatus.ERROR, MotionStatus.MOTION_FAILED):
+            return (
+                f"The arm is in {state.value}: press Recover under the status first (controller: {message})"
+            )
+        return message
 
     @staticmethod
     def _read_quietly(read, default):  # type: ignore[no-untyped-def]

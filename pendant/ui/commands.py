@@ -20,6 +20,8 @@ FREEZE_HOTKEY_LABEL = "Esc"
 
 
 Gate = Callable[[viser.ClientHandle | None], str | None]
+# Why the page may not move the arm now (a program is running), or None.
+MotionBlock = Callable[[], str | None]
 # Told of every command, for the event log: label, sender, refusal (None: accepted) and, for a controller
 # call, its future (None: an action of the pendant's own, such as a program edit or run).
 OnSubmit = Callable[[str, viser.ClientHandle | None, str | None, Future[object] | None], None]
@@ -40,19 +42,25 @@ class CommandRunner:
 
     `gate(client)` says why a browser may not command (None: it may); internal callers pass client=None.
     Urgent commands (Freeze) skip the gate, since stopping is always allowed, and run on their own thread
-    so they never wait behind a slow command.
+    so they never wait behind a slow command. `motion_block()` says why a browser may not move the arm now
+    (a program is running); commands sent with `motion=True` are then refused.
     """
 
     def __init__(self, controller: Controller, gate: Gate | None = None) -> None:
         self._controller = controller
         self.gate: Gate = gate if gate is not None else (lambda client: None)
         self.on_submit: OnSubmit | None = None
+        self.motion_block: MotionBlock = lambda: None
+        # Words a refusal of a motion needs besides the controller's own (the arm is in ERROR: Recover).
+        self.explain: Callable[[str], str] = lambda message: message
         self._pool = ThreadPoolExecutor(max_workers=2, thread_name_prefix="pendant-command")
         self._urgent = ThreadPoolExecutor(max_workers=1, thread_name_prefix="pendant-freeze")
 
-    def refusal(self, client: viser.ClientHandle | None, label: str) -> str | None:
-        """Why `client` may not send `label` (and tell it so), or None."""
+    def refusal(self, client: viser.ClientHandle | None, label: str, *, motion: bool = False) -> str | None:
+        """Why `client` may not send `label` (and tell it so), or None; `motion`: it moves the arm."""
         reason = self.gate(client) if client is not None else None
+        if reason is None and motion and client is not None:
+            reason = self.motion_block()
         if reason is not None:
             notify_refusal(client, f"{label} refused", reason)
             if self.on_submit is not None:
@@ -71,8 +79,9 @@ class CommandRunner:
         client: viser.ClientHandle | None,
         *,
         urgent: bool = False,
+        motion: bool = False,
     ) -> Future[object]:
-        reason = None if urgent else self.refusal(client, label)
+        reason = None if urgent else self.refusal(client, label, motion=motion)
         if reason is not None:  # refusal() has told the page and the event log
             refused: Future[object] = Future()
             refused.set_exception(CommandRefused(reason))
@@ -82,7 +91,9 @@ class CommandRunner:
             try:
                 return action(self._controller)
             except ControllerError as error:
-                notify_refusal(client, f"{label} refused", error.message)
+                notify_refusal(
+                    client, f"{label} refused", self.explain(error.message) if motion else error.message
+                )
                 raise
 
         future = (self._urgent if urgent else self._pool).submit(run)
@@ -119,7 +130,7 @@ def freeze(runner: CommandRunner, client: viser.ClientHandle | None) -> Future[o
 
 
 def add_robot_commands(target: GuiTarget, runner: CommandRunner) -> dict[str, viser.GuiButtonHandle]:
-    """Home, Relax, Recover and Pack."""
+    """Home, Relax, Recover and Pack (all but Recover move the arm)."""
     actions: dict[str, Callable[[Controller], object]] = {
         "Home": lambda c: c.set_pose(
             Pose(angles=list(HOME_POSE_DEG)), MotionParams(speed=HOME_SPEED_PERCENT)
@@ -131,6 +142,10 @@ def add_robot_commands(target: GuiTarget, runner: CommandRunner) -> dict[str, vi
     buttons: dict[str, viser.GuiButtonHandle] = {}
     for label, action in actions.items():
         button = target.gui.add_button(label)
-        button.on_click(lambda event, label=label, action=action: runner.submit(label, action, event.client))
+        button.on_click(
+            lambda event, label=label, action=action: runner.submit(
+                label, action, event.client, motion=label != "Recover"
+            )
+        )
         buttons[label] = button
     return buttons

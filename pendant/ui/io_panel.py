@@ -30,12 +30,12 @@ class IoPanel:
         self.gripper_close = target.gui.add_button("Close gripper", icon=viser.Icon.ARROWS_MINIMIZE)
         self.gripper_open.on_click(
             lambda e: runner.submit(
-                "Open gripper", lambda c: c.open_gripper(DEFAULT_GRIPPER_TIMEOUT_MS), e.client
+                "Open gripper", lambda c: c.open_gripper(DEFAULT_GRIPPER_TIMEOUT_MS), e.client, motion=True
             )
         )
         self.gripper_close.on_click(
             lambda e: runner.submit(
-                "Close gripper", lambda c: c.close_gripper(DEFAULT_GRIPPER_TIMEOUT_MS), e.client
+                "Close gripper", lambda c: c.close_gripper(DEFAULT_GRIPPER_TIMEOUT_MS), e.client, motion=True
             )
         )
 

@@ -100,9 +100,13 @@ class WaypointSection:
         params = MotionParams(speed=GO_TO_SPEED_PERCENT, motion_type=motion)
         label = f"Go to {waypoint.name}"
         if motion is MotionType.JOINT:
-            self._host.commands.submit(label, lambda c: c.set_pose(waypoint.pose, params), client)
+            self._host.commands.submit(
+                label, lambda c: c.set_pose(waypoint.pose, params), client, motion=True
+            )
         else:
-            self._host.commands.submit(label, lambda c: c.set_position(waypoint.position, params), client)
+            self._host.commands.submit(
+                label, lambda c: c.set_position(waypoint.position, params), client, motion=True
+            )
 
     # --- display ------------------------------------------------------------------------------------
     def redraw(self, selected: Step | None) -> None:

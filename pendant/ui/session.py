@@ -76,11 +76,11 @@ class ClientSession:
         self.client_id = client_id
         self._desk = desk
         self.freeze = add_freeze_button(target, runner)
-        self.status = StatusPanel(target, mode_line)
+        self.status = StatusPanel(target, mode_line, runner)
         self.control = ControlPanel(target, desk, client_id, url_token, remote)
         self.tabs = target.gui.add_tab_group()
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
-            self.jog = JogPanel(target, jogger, runner)
+            self.jog = JogPanel(target, jogger, runner, arm, current_tool)
         with self.tabs.add_tab("Target", viser.Icon.TARGET):
             self.target_panel = TargetPanel(target, arm, runner, current_q, current_tool)
         with self.tabs.add_tab("Program", viser.Icon.LIST_NUMBERS):
@@ -113,7 +113,7 @@ class ClientSession:
         if self.control.remote is not None:
             yield self.control.remote
         jog = self.jog
-        yield from (jog.frame, jog.step, jog.speed, *jog.buttons.values())
+        yield from (self.status.recover, jog.frame, jog.step, jog.speed, *jog.buttons.values(), jog.stop)
         target = self.target_panel
         yield from (*target.sliders, target.speed, target.from_current)
         yield from self.program.commanding_handles()
@@ -150,6 +150,7 @@ class ClientSession:
         for handle in self._operator_only:
             _set_disabled(handle, self.locked)
         self.target_panel.locked = self.locked
+        self.jog.locked = self.locked
         self.program.locked = self.locked
         ok = self.target_panel.executable
         _set_disabled(self.target_panel.move_j, self.locked or not ok)
@@ -163,6 +164,7 @@ class ClientSession:
 
     def show(self, snapshot: Snapshot, *, with_io: bool) -> None:
         self.status.show(snapshot)
+        self.jog.show(snapshot)
         if with_io:  # 5 Hz is enough for these, and spares every browser six sliders' worth of messages
             self.io.show(snapshot)
             self.target_panel.follow(snapshot.q, moving=snapshot.motion_status is MotionStatus.RUNNING)

@@ -5,7 +5,10 @@ from __future__ import annotations
 import html
 import math
 
+import viser
+
 from pendant.controller import MotionStatus, SignalLevel
+from pendant.ui.commands import CommandRunner
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.html import inset
 from pendant.ui.snapshot import Snapshot
@@ -80,10 +83,18 @@ def render_status(snapshot: Snapshot, mode_line: str) -> str:
     return inset("".join(parts))
 
 
+# States Recover clears: offered right under the banner that announces them.
+RECOVERABLE = {MotionStatus.ERROR, MotionStatus.MOTION_FAILED}
+
+
 class StatusPanel:
-    def __init__(self, target: GuiTarget, mode_line: str) -> None:
+    def __init__(self, target: GuiTarget, mode_line: str, runner: CommandRunner) -> None:
         self._mode_line = mode_line
         self._html = target.gui.add_html(render_status(Snapshot(taken_at=0.0), mode_line))
+        self.recover = target.gui.add_button(
+            "Recover", color="red", icon=viser.Icon.REFRESH, visible=False, hint="Clear the error and go on"
+        )
+        self.recover.on_click(lambda event: runner.submit("Recover", lambda c: c.recover(), event.client))
         self._last = ""
 
     @property
@@ -91,6 +102,9 @@ class StatusPanel:
         return self._last
 
     def show(self, snapshot: Snapshot) -> None:
+        recoverable = snapshot.motion_status in RECOVERABLE
+        if self.recover.visible != recoverable:
+            self.recover.visible = recoverable
         content = render_status(snapshot, self._mode_line)
         if content != self._last:
             self._html.content = content

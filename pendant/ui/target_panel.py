@@ -150,9 +150,12 @@ class TargetPanel:
         q_target = check.q.copy()
         if motion is MotionType.JOINT:
             pose = Pose(angles=[float(v) for v in np.degrees(q_target)])
-            return self._runner.submit("Move J", lambda c: c.set_pose(pose, params), client)
+            return self._runner.submit("Move J", lambda c: c.set_pose(pose, params), client, motion=True)
         return self._runner.submit(
-            "Move L", lambda c: c.set_position(self._zero_tool_target(c, q_target), params), client
+            "Move L",
+            lambda c: c.set_position(self._zero_tool_target(c, q_target), params),
+            client,
+            motion=True,
         )
 
     def _zero_tool_target(self, controller: Controller, q: np.ndarray) -> Position:

@@ -73,10 +73,14 @@ def guard_process_response(inner: ProcessResponse | None) -> ProcessResponse:
     return process_response
 
 
+Wrap = Callable[[ProcessRequest | None], ProcessRequest]
+
+
 @contextlib.contextmanager
-def guarded_viser_server(policy: OriginPolicy | None) -> Iterator[None]:
-    """While open, a websockets server started (by viser) gets `policy` in front of its process_request."""
-    if policy is None:
+def guarded_viser_server(policy: OriginPolicy | None, wrap: Wrap | None = None) -> Iterator[None]:
+    """While open, a websockets server started (by viser) gets `wrap` around its process_request (the
+    pendant's page, say) and `policy` in front of everything, so no request skips the guard."""
+    if policy is None and wrap is None:
         yield
         return
     with _patching:
@@ -89,12 +93,13 @@ def guarded_viser_server(policy: OriginPolicy | None) -> Iterator[None]:
             process_response: ProcessResponse | None = None,
             **kwargs: Any,
         ) -> Any:
+            if wrap is not None:
+                process_request = wrap(process_request)
+            if policy is not None:
+                process_request = guard_process_request(policy, process_request)
+                process_response = guard_process_response(process_response)
             return original(
-                handler,
-                *args,
-                process_request=guard_process_request(policy, process_request),
-                process_response=guard_process_response(process_response),
-                **kwargs,
+                handler, *args, process_request=process_request, process_response=process_response, **kwargs
             )
 
         ws_server.serve = serve  # type: ignore[misc,assignment]

@@ -3,6 +3,8 @@ fired as a browser's click, hold or edit would fire them, the simulator on a fak
 
 from __future__ import annotations
 
+import asyncio
+import inspect
 import math
 from concurrent.futures import Future, wait
 
@@ -39,9 +41,12 @@ CARTESIAN_LABELS = [f"{a}{s}" for a in ("X", "Y", "Z", "Roll", "Pitch", "Yaw") f
 
 
 def confirm_hold(button: viser.GuiButtonHandle, browser: FakeBrowser) -> None:
-    """One of the calls viser makes, HOLD_CONFIRM_HZ times a second, while a browser holds `button`."""
+    """One of the calls viser makes, HOLD_CONFIRM_HZ times a second, while a browser holds `button` (viser
+    awaits an async callback on its event loop; the controller work it hands to a thread is waited for)."""
     for callback in list(button._impl.hold_cbs_from_freq[HOLD_CONFIRM_HZ]):
-        callback(event(button, browser))
+        result = callback(event(button, browser))
+        if inspect.iscoroutine(result):
+            asyncio.run(result)
 
 
 class Commands:

@@ -1,0 +1,227 @@
+// The pendant's additions to viser's page (served by client_page.py, before viser's own script runs).
+//
+// 1. Hold-to-run that does not depend on the render loop: while a jog button is held, the "still held"
+//    confirmations come from a timer in viser's websocket Web Worker, which keeps its pace however long
+//    a (software WebGL) frame blocks the page's main thread. Release, cancel, blur and a hidden tab stop
+//    them at once; a main thread that stops answering for MAIN_STALL_MS stops them too, and the server's
+//    deadman stops the arm when they stop arriving (tab closed, network cut).
+// 2. Touch: a finger jogs only after TOUCH_DELAY_MS without moving more than TOUCH_SLOP_PX, so a swipe
+//    that starts on a jog button scrolls the panel and never moves the arm.
+// 3. Software WebGL (no GPU): no multisampling, a capped pixel ratio and frame rate, which leave the main
+//    thread time for input.
+// 4. Freeze pinned to the top of the panel.
+(() => {
+  "use strict";
+  const HOLD_HZ = 20;
+  const TOUCH_DELAY_MS = 60;
+  const TOUCH_SLOP_PX = 10;
+  const ALIVE_MS = 100;
+  const MAIN_STALL_MS = 1500;
+  const SOFTWARE_MAX_DPR = 0.75;
+  const SOFTWARE_FRAME_MS = 50;
+
+  // --- 3. rendering cost in software WebGL ------------------------------------------------------------
+  function softwareWebGL() {
+    try {
+      const gl = document.createElement("canvas").getContext("webgl");
+      if (!gl) return true;
+      const info = gl.getExtension("WEBGL_debug_renderer_info");
+      const name = info ? String(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)) : "";
+      const lose = gl.getExtension("WEBGL_lose_context");
+      if (lose) lose.loseContext();
+      return /swiftshader|llvmpipe|softpipe|software/i.test(name);
+    } catch (e) {
+      return false;
+    }
+  }
+  // ?render=viser: viser's own rendering, for comparison (benchmarks/jog.py).
+  const tuned = new URLSearchParams(location.search).get("render") !== "viser";
+  const software = softwareWebGL();
+  window.__pendant = { software, tuned };
+  if (software && tuned) {
+    const getContext = HTMLCanvasElement.prototype.getContext;
+    HTMLCanvasElement.prototype.getContext = function (type, options) {
+      if (type === "webgl2" || type === "webgl") {
+        options = Object.assign({}, options || {}, { antialias: false });
+      }
+      return getContext.call(this, type, options);
+    };
+    const asked = parseFloat(new URLSearchParams(location.search).get("dpr") || "");  // ?dpr=1: sharper
+    const dpr = Math.min(window.devicePixelRatio || 1, asked > 0 ? asked : SOFTWARE_MAX_DPR);
+    Object.defineProperty(window, "devicePixelRatio", { get: () => dpr, configurable: true });
+    // Frames back to back leave the main thread no time for input: a release would wait for the next
+    // frame too. At most one frame per SOFTWARE_FRAME_MS leaves it gaps.
+    const raf = window.requestAnimationFrame.bind(window);
+    let lastFrame = 0;
+    window.requestAnimationFrame = (callback) => raf((now) => {
+      const wait = lastFrame + SOFTWARE_FRAME_MS - now;
+      const run = (t) => { lastFrame = t; callback(t); };
+      if (wait <= 0) run(now);
+      else setTimeout(() => raf(run), wait);
+    });
+  }
+
+  // --- 1. the hold signal from viser's websocket worker ----------------------------------------------
+  // Runs inside the worker, before viser's code: it sends through viser's own handler (same socket,
+  // same encoding), so the server sees exactly the messages viser's button would send.
+  const WORKER_PREAMBLE = `{
+    let holdTimer = null, lastAlive = 0;
+    const send = (message) => {
+      if (typeof self.onmessage === "function") self.onmessage({ data: { type: "send", message } });
+    };
+    const stop = () => { if (holdTimer !== null) { clearInterval(holdTimer); holdTimer = null; } };
+    self.addEventListener("message", (event) => {
+      const d = event.data;
+      if (!d || typeof d.type !== "string" || !d.type.startsWith("pendant_")) return;
+      event.stopImmediatePropagation();
+      if (d.type === "pendant_hold") {
+        stop();
+        lastAlive = performance.now();
+        const hold = { type: "GuiButtonHoldMessage", uuid: d.uuid, frequency: d.hz };
+        send(hold);
+        holdTimer = setInterval(() => {
+          if (performance.now() - lastAlive > ${MAIN_STALL_MS}) { stop(); return; }  // the page hung
+          send(hold);
+        }, 1000 / d.hz);
+      } else if (d.type === "pendant_alive") {
+        lastAlive = performance.now();
+      } else if (d.type === "pendant_release") {
+        stop();
+        send({ type: "GuiUpdateMessage", uuid: d.uuid, updates: { value: true } });
+      }
+    });
+  }
+`;
+  const NativeWorker = window.Worker;
+  let socketWorker = null;
+  function PendantWorker(url, options) {
+    if (socketWorker === null && String(url).startsWith("blob:")) {
+      try {
+        // Vite revokes the blob URL right after construction: read it now, synchronously.
+        const xhr = new XMLHttpRequest();
+        xhr.open("GET", url, false);
+        xhr.send();
+        const source = xhr.responseText;
+        if (source.includes("set_server") && source.includes("zstd_wasm")) {
+          const blob = new Blob([WORKER_PREAMBLE, source], { type: "text/javascript" });
+          socketWorker = new NativeWorker(URL.createObjectURL(blob), options);
+          return socketWorker;
+        }
+      } catch (error) {
+        console.warn("pendant: hold signal from the page instead of the worker", error);
+      }
+    }
+    return new NativeWorker(url, options);
+  }
+  PendantWorker.prototype = NativeWorker.prototype;
+  window.Worker = PendantWorker;
+
+  const post = (message) => { if (socketWorker !== null) socketWorker.postMessage(message); };
+  const holds = new Map(); // pointer id (or "key") -> { uuid, stop, started, timer, x, y }
+  let aliveTimer = null;
+
+  function start(hold) {
+    hold.started = true;
+    hold.timer = null;
+    post({ type: "pendant_hold", uuid: hold.uuid, hz: HOLD_HZ });
+    if (aliveTimer === null) aliveTimer = setInterval(() => post({ type: "pendant_alive" }), ALIVE_MS);
+    document.documentElement.dataset.jogging = hold.uuid;
+  }
+
+  // `click`: the release of a press (the server stops a continuous jog, or makes one step); otherwise a
+  // cancel (swipe, focus lost) that must only stop, never step.
+  function finish(id, click) {
+    const hold = holds.get(id);
+    if (hold === undefined) return;
+    holds.delete(id);
+    if (hold.timer !== null) clearTimeout(hold.timer);
+    if (click) post({ type: "pendant_release", uuid: hold.uuid });
+    else if (hold.started) post({ type: "pendant_release", uuid: hold.stop });
+    if (holds.size === 0) {
+      if (aliveTimer !== null) clearInterval(aliveTimer);
+      aliveTimer = null;
+      delete document.documentElement.dataset.jogging;
+    }
+  }
+  const finishAll = () => { for (const id of [...holds.keys()]) finish(id, false); };
+
+  function jogButton(target) {
+    const button = target instanceof Element ? target.closest("[data-jog-uuid]") : null;
+    return button !== null && !button.disabled ? button : null;
+  }
+
+  document.addEventListener("pointerdown", (event) => {
+    const button = jogButton(event.target);
+    if (button === null || (event.pointerType === "mouse" && event.button !== 0)) return;
+    if (holds.size > 0) finishAll(); // one jog at a time: a second finger stops the first
+    const hold = {
+      uuid: button.dataset.jogUuid, stop: button.closest("[data-jog-stop]").dataset.jogStop,
+      started: false, timer: null, x: event.clientX, y: event.clientY,
+    };
+    holds.set(event.pointerId, hold);
+    // A touch captures its pointer to the button it began on; the pad is redrawn with new values while
+    // the arm moves, and events of a captured pointer would go to the detached old button and never reach
+    // this document. Released, they go to whatever is under the finger.
+    if (button.hasPointerCapture(event.pointerId)) button.releasePointerCapture(event.pointerId);
+    if (event.pointerType !== "touch") {
+      start(hold);
+      return;
+    }
+    // Decide after the delay, in a frame callback: Chrome hands moves and cancels to the page just before
+    // the frame, so a swipe the page was too busy to see yet is seen before this decides.
+    hold.timer = setTimeout(() => {
+      requestAnimationFrame(() => { if (holds.get(event.pointerId) === hold && !hold.started) start(hold); });
+    }, TOUCH_DELAY_MS);
+  }, true);
+  document.addEventListener("pointermove", (event) => {
+    const hold = holds.get(event.pointerId);
+    if (hold === undefined || event.pointerType !== "touch") return;
+    if (Math.hypot(event.clientX - hold.x, event.clientY - hold.y) > TOUCH_SLOP_PX) {
+      finish(event.pointerId, false); // a swipe, not a press
+    }
+  }, true);
+  document.addEventListener("pointerup", (event) => finish(event.pointerId, true), true);
+  document.addEventListener("pointercancel", (event) => finish(event.pointerId, false), true);
+  document.addEventListener("contextmenu", (event) => { if (jogButton(event.target)) event.preventDefault(); }, true);
+  window.addEventListener("blur", finishAll);
+  document.addEventListener("visibilitychange", () => { if (document.hidden) finishAll(); });
+  window.addEventListener("pagehide", finishAll);
+  window.addEventListener("beforeunload", finishAll); // the tab is closing: stop now, not when it is gone
+
+  // --- Freeze stays in reach: pinned to the top of the panel at every scroll position of every tab ------
+  let pinned = null;
+  function pinFreeze() {
+    if (pinned !== null && pinned.isConnected) return;
+    const freeze = [...document.querySelectorAll("button")].find((b) => b.textContent.trim() === "Freeze");
+    if (freeze === undefined || freeze.parentElement === null) return;
+    pinned = freeze.parentElement; // viser's box around the button, a child of the panel's content
+    // Between it and the panel's scrolling viewport, a box that hides its overflow would be the one the
+    // pin sticks to (and never scrolls): clipping instead keeps the look and lets the pin work.
+    for (let box = pinned.parentElement; box !== null; box = box.parentElement) {
+      if (box.classList.contains("mantine-ScrollArea-viewport")) break;
+      const style = getComputedStyle(box);
+      if (style.overflowY === "hidden" || style.overflowX === "hidden") box.style.overflow = "clip";
+    }
+    Object.assign(pinned.style, {
+      position: "sticky", top: "0", zIndex: "20", paddingTop: "6px",
+      background: "var(--mantine-color-body, white)", boxShadow: "0 4px 6px -4px rgba(0,0,0,0.25)",
+    });
+  }
+  new MutationObserver(pinFreeze).observe(document.documentElement, { childList: true, subtree: true });
+
+  // Keyboard: Space or Enter held on a focused jog button.
+  document.addEventListener("keydown", (event) => {
+    if ((event.key !== " " && event.key !== "Enter") || event.repeat) return;
+    const button = jogButton(event.target);
+    if (button === null) return;
+    event.preventDefault();
+    finishAll();
+    const hold = { uuid: button.dataset.jogUuid, stop: button.closest("[data-jog-stop]").dataset.jogStop,
+                   started: false, timer: null, x: 0, y: 0 };
+    holds.set("key", hold);
+    start(hold);
+  }, true);
+  document.addEventListener("keyup", (event) => {
+    if (event.key === " " || event.key === "Enter") finish("key", true);
+  }, true);
+})();

@@ -1,0 +1,223 @@
+"""Measuring a jog the way the operator feels it: the arm's pose sampled over the API while a real browser
+holds a jog button with the mouse or a finger, against the same motion sent straight to the API.
+
+Used by tests/browser/test_jog_hold.py (behaviour, generous bounds) and benchmarks/jog.py (the numbers).
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import httpx
+
+JOG_SPEED_PERCENT = 10
+FAR_DEG = 90.0  # a target further than any hold reaches: the API-sent motion is frozen on the way
+MOVED_DEG = 0.01  # J1 changed by more than this: the arm moved
+STILL_S = 0.15  # no change for this long after the last one: the arm is still
+
+
+@dataclass(frozen=True)
+class Timeline:
+    """J1 (degrees) sampled over the API while something moves it; times relative to the press."""
+
+    samples: list[tuple[float, float]]
+    released_at: float
+
+    @property
+    def moved_deg(self) -> float:
+        return abs(self.samples[-1][1] - self.samples[0][1])
+
+    def first_motion_s(self) -> float | None:
+        start = self.samples[0][1]
+        return next((t for t, v in self.samples if abs(v - start) > MOVED_DEG), None)
+
+    def last_motion_s(self) -> float:
+        """When J1 last changed: the arm is still from then on."""
+        last = self.samples[0][0]
+        for (_, a), (t, b) in zip(self.samples, self.samples[1:], strict=False):
+            if b != a:
+                last = t
+        return last
+
+    def stop_after_release_s(self) -> float:
+        return max(0.0, self.last_motion_s() - self.released_at)
+
+    def stalls_while_held(self, gap_s: float = STILL_S) -> int:
+        """How often J1 stood still for `gap_s` between the first motion and the release (a deadman stop
+        inside one press shows up as one)."""
+        first = self.first_motion_s()
+        if first is None:
+            return 0
+        stalls, since = 0, first
+        for (_, a), (t, b) in zip(self.samples, self.samples[1:], strict=False):
+            if t <= first or t > self.released_at:
+                continue
+            if b != a:
+                if t - since > gap_s:
+                    stalls += 1
+                since = t
+        return stalls
+
+
+class PoseSampler:
+    """Reads J1 over the API as fast as loopback allows, on a thread, between `start()` and `stop()`."""
+
+    def __init__(self, api: httpx.Client) -> None:
+        self._api = api
+        self._samples: list[tuple[float, float]] = []
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self.t0 = 0.0
+
+    def _run(self) -> None:
+        while not self._stop.is_set():
+            j1 = self._api.get("/pose").json()["angles"][0]
+            self._samples.append((time.monotonic() - self.t0, j1))
+
+    def start(self) -> None:
+        self.t0 = time.monotonic()
+        self._thread.start()
+        while not self._samples:
+            time.sleep(0.001)
+
+    def mark(self) -> float:
+        return time.monotonic() - self.t0
+
+    def stop(self, released_at: float, settle_s: float = 0.6) -> Timeline:
+        time.sleep(settle_s)
+        self._stop.set()
+        self._thread.join()
+        return Timeline(list(self._samples), released_at)
+
+
+def wait_idle(api: httpx.Client, timeout_s: float = 30.0) -> None:
+    deadline = time.monotonic() + timeout_s
+    while api.get("/status/motion").text.strip('"') != "IDLE":
+        assert time.monotonic() < deadline, "the arm did not come to rest"
+        time.sleep(0.05)
+
+
+def api_hold(api: httpx.Client, hold_s: float, direction: int = +1) -> Timeline:
+    """The API-sent equivalent of holding J1 for `hold_s`: PUT /pose at the jog speed, PUT /freeze later."""
+    wait_idle(api)
+    target = api.get("/pose").json()["angles"]
+    target[0] += direction * FAR_DEG
+    sampler = PoseSampler(api)
+    sampler.start()
+    pressed = sampler.mark()
+    api.put("/pose", params={"speed": JOG_SPEED_PERCENT}, json={"angles": target}).raise_for_status()
+    time.sleep(max(0.0, hold_s - (sampler.mark() - pressed)))
+    released = sampler.mark()
+    api.put("/freeze").raise_for_status()
+    return _relative(sampler.stop(released), pressed)
+
+
+def button_box(page: Any, label: str) -> dict[str, float]:
+    """Where `label` is (the pad is redrawn as the values change: a button may be replaced under a read)."""
+    for _ in range(10):
+        box = page.get_by_role("button", name=label, exact=True).bounding_box()
+        if box is not None:
+            return box
+        time.sleep(0.1)
+    raise AssertionError(f"{label} is not on the page")
+
+
+def button_centre(page: Any, label: str) -> tuple[float, float]:
+    box = button_box(page, label)
+    return box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+
+
+def open_as_operator(page: Any, url: str) -> None:
+    """Load the pendant and make sure this page has control (a page that left a moment ago may still have
+    held it when this one joined)."""
+    page.goto(url)
+    ensure_operator(page)
+
+
+def ensure_operator(page: Any) -> None:
+    page.locator("#jog-pad").wait_for(timeout=90_000)
+    enabled = page.locator("#jog-pad button:not([disabled])").first
+    take = page.get_by_role("button", name="Take control")
+    deadline = time.monotonic() + 60.0
+    while not enabled.is_visible():
+        assert time.monotonic() < deadline, "this page never got control"
+        if take.is_enabled():  # a viewer (another page had control when this one joined): take it
+            take.click()
+        time.sleep(0.5)
+    # A page still building its scene can take seconds to answer its first input: start when it draws.
+    page.evaluate("new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)))")
+    page.wait_for_timeout(1_000)
+
+
+def mouse_hold(page: Any, api: httpx.Client, label: str, hold_s: float) -> Timeline:
+    wait_idle(api)
+    x, y = button_centre(page, label)
+    page.mouse.move(x, y)
+    sampler = PoseSampler(api)
+    sampler.start()
+    pressed = sampler.mark()
+    page.mouse.down()
+    time.sleep(max(0.0, hold_s - (sampler.mark() - pressed)))
+    released = sampler.mark()
+    page.mouse.up()
+    return _relative(sampler.stop(released), pressed)
+
+
+def close_while_held(page: Any, api: httpx.Client, label: str, hold_s: float) -> Timeline:
+    """Hold `label` by mouse, then close the tab while it is still held, as a person closes it (the page's
+    unload handlers run; then the worker and the socket die)."""
+    wait_idle(api)
+    x, y = button_centre(page, label)
+    page.mouse.move(x, y)
+    sampler = PoseSampler(api)
+    sampler.start()
+    pressed = sampler.mark()
+    page.mouse.down()
+    time.sleep(max(0.0, hold_s - (sampler.mark() - pressed)))
+    released = sampler.mark()
+    page.close(run_before_unload=True)
+    return _relative(sampler.stop(released), pressed)
+
+
+def touch(cdp: Any, kind: str, x: float, y: float) -> None:
+    points = [] if kind == "touchEnd" else [{"x": x, "y": y, "id": 1}]
+    cdp.send("Input.dispatchTouchEvent", {"type": kind, "touchPoints": points})
+
+
+def touch_hold(page: Any, cdp: Any, api: httpx.Client, label: str, hold_s: float) -> Timeline:
+    """A finger on `label` for `hold_s`, then lifted (the page must have been opened with has_touch)."""
+    wait_idle(api)
+    x, y = button_centre(page, label)
+    sampler = PoseSampler(api)
+    sampler.start()
+    pressed = sampler.mark()
+    touch(cdp, "touchStart", x, y)
+    time.sleep(max(0.0, hold_s - (sampler.mark() - pressed)))
+    released = sampler.mark()
+    touch(cdp, "touchEnd", x, y)
+    return _relative(sampler.stop(released), pressed)
+
+
+def touch_swipe(page: Any, cdp: Any, api: httpx.Client, label: str, distance_px: float = 150.0) -> Timeline:
+    """A finger put on `label` and swiped upwards (to scroll the panel) over 0.2 s, then lifted."""
+    wait_idle(api)
+    x, y = button_centre(page, label)
+    sampler = PoseSampler(api)
+    sampler.start()
+    pressed = sampler.mark()
+    touch(cdp, "touchStart", x, y)
+    steps = 10
+    for i in range(1, steps + 1):
+        time.sleep(0.02)
+        touch(cdp, "touchMove", x, y - distance_px * i / steps)
+    released = sampler.mark()
+    touch(cdp, "touchEnd", x, y - distance_px)
+    return _relative(sampler.stop(released), pressed)
+
+
+def _relative(timeline: Timeline, pressed: float) -> Timeline:
+    samples = [(t - pressed, v) for t, v in timeline.samples]
+    return Timeline(samples, timeline.released_at - pressed)

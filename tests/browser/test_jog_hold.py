@@ -1,0 +1,156 @@
+"""Jogging in a real Chromium (software WebGL), measured as the operator feels it: the arm's pose sampled over
+the API while the page holds a jog button by mouse or finger, against the same motion sent to the API.
+
+Bounds are generous and physical (the machine is shared, so the timing targets live in benchmarks/jog.py):
+a held button delivers most of the API-sent motion without a stop inside the press, the arm is still soon
+after the release, a swipe that starts on a jog button never moves the arm, Freeze stays on screen.
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+from collections.abc import Iterator
+
+import pytest
+
+from .conftest import ARTIFACTS, Pendant
+from .jog_measure import (
+    api_hold,
+    button_box,
+    close_while_held,
+    ensure_operator,
+    mouse_hold,
+    open_as_operator,
+    touch_hold,
+    touch_swipe,
+    wait_idle,
+)
+
+HOLD_S = 1.0
+PRESSES = 3
+MIN_SHARE = 0.9  # of the API-sent motion, median over the presses
+# Released: the arm stops within this, well inside the 3 s a continuous jog plans ahead (so it was the
+# release that stopped it, not the end of the plan). The p99 on a quiet machine is in README/benchmarks.
+STOP_WITHIN_S = 1.5
+STILL_AFTER_S = 0.5
+STILL_TOL_DEG = 0.01
+TABS = ("Jog", "Target", "Program", "IO", "Robot", "Simulator", "Dashboard")
+DESKTOP, TABLET_LANDSCAPE, TABLET_PORTRAIT, PHONE = (1400, 900), (1024, 768), (768, 1024), (390, 844)
+
+
+@pytest.fixture
+def touch_page(browser, pendant: Pendant) -> Iterator[object]:  # type: ignore[no-untyped-def]
+    page = browser.new_page(viewport={"width": 1024, "height": 768}, has_touch=True)
+    open_as_operator(page, pendant.ui_url)
+    yield page
+    page.close()
+
+
+def still_after(pendant: Pendant) -> None:
+    first = pendant.pose()
+    time.sleep(STILL_AFTER_S)
+    assert max(abs(a - b) for a, b in zip(pendant.pose(), first, strict=True)) < STILL_TOL_DEG
+
+
+def test_holding_j1_by_mouse_moves_it_as_far_as_the_api_and_stops_on_release(page, pendant: Pendant) -> None:
+    ensure_operator(page)
+    api = [api_hold(pendant.api, HOLD_S, +1 if i % 2 == 0 else -1).moved_deg for i in range(PRESSES)]
+    held, stalls = [], 0
+    for i in range(PRESSES):
+        timeline = mouse_hold(page, pendant.api, "J1+" if i % 2 == 0 else "J1-", HOLD_S)
+        held.append(timeline.moved_deg)
+        stalls += timeline.stalls_while_held()
+        assert timeline.stop_after_release_s() < STOP_WITHIN_S, "the arm went on after the release"
+        still_after(pendant)
+    assert statistics.median(held) >= MIN_SHARE * statistics.median(api), (held, api)
+    # Before the worker sent the confirmations, every press had several deadman stops. On this shared
+    # machine (load average up to 15) the server itself can miss 200 ms now and then: fewer stops than
+    # presses is what separates the two; benchmarks/jog.py counts them.
+    assert stalls < PRESSES, f"the arm stopped {stalls} times in {PRESSES} presses while held"
+
+
+def test_a_finger_held_on_j1_jogs_it_and_lifting_the_finger_stops_it(touch_page, pendant: Pendant) -> None:
+    api = [api_hold(pendant.api, HOLD_S, +1 if i % 2 == 0 else -1).moved_deg for i in range(PRESSES)]
+    held = []
+    cdp = touch_page.context.new_cdp_session(touch_page)
+    for i in range(PRESSES):
+        timeline = touch_hold(touch_page, cdp, pendant.api, "J1+" if i % 2 == 0 else "J1-", HOLD_S)
+        held.append(timeline.moved_deg)
+        assert timeline.stop_after_release_s() < STOP_WITHIN_S, "the arm went on after the finger lifted"
+        still_after(pendant)
+    assert statistics.median(held) >= MIN_SHARE * statistics.median(api), (held, api)
+
+
+def test_a_swipe_that_starts_on_a_jog_button_never_moves_the_arm(touch_page, pendant: Pendant) -> None:
+    cdp = touch_page.context.new_cdp_session(touch_page)
+    for _ in range(3):
+        assert touch_swipe(touch_page, cdp, pendant.api, "J1+").moved_deg < STILL_TOL_DEG
+    wait_idle(pendant.api)
+
+
+def test_closing_the_tab_while_a_jog_button_is_held_stops_the_arm(browser, pendant: Pendant) -> None:  # type: ignore[no-untyped-def]
+    tab = browser.new_page(viewport={"width": 1400, "height": 900})
+    open_as_operator(tab, pendant.ui_url)
+    timeline = close_while_held(tab, pendant.api, "J1+", 0.6)
+    assert timeline.moved_deg > 1.0, "the held button did not jog"
+    assert timeline.stop_after_release_s() < STOP_WITHIN_S, "the arm went on after the tab closed"
+    still_after(pendant)
+
+
+@pytest.mark.parametrize("viewport", [DESKTOP, TABLET_LANDSCAPE], ids=["1400x900", "1024x768"])
+def test_all_six_axes_of_the_pad_are_on_screen_without_scrolling(browser, pendant: Pendant, viewport) -> None:  # type: ignore[no-untyped-def]
+    page = browser.new_page(viewport={"width": viewport[0], "height": viewport[1]})
+    try:
+        page.goto(pendant.ui_url)
+        page.locator("#jog-pad").wait_for(timeout=60_000)
+        for label in ("J1-", "J1+", "J6-", "J6+"):
+            box = button_box(page, label)
+            assert box["y"] >= 0 and box["y"] + box["height"] <= viewport[1], label
+            assert on_top(page, label), f"{label} is covered"
+    finally:
+        page.close()
+
+
+@pytest.mark.parametrize(
+    "viewport",
+    [DESKTOP, TABLET_LANDSCAPE, TABLET_PORTRAIT, PHONE],
+    ids=["desktop", "tablet-landscape", "tablet-portrait", "phone"],
+)
+def test_freeze_is_on_screen_at_every_scroll_position_of_every_tab(
+    browser, pendant: Pendant, viewport
+) -> None:  # type: ignore[no-untyped-def]
+    page = browser.new_page(
+        viewport={"width": viewport[0], "height": viewport[1]}, has_touch=viewport != DESKTOP
+    )
+    try:
+        page.goto(pendant.ui_url)
+        page.locator("#jog-pad").wait_for(timeout=60_000, state="attached")
+        for tab in TABS:
+            # The tab by its own click handler: this is about Freeze, not about Playwright's input waits
+            page.get_by_role("tab", name=tab).dispatch_event("click")
+            for fraction in (0.0, 0.5, 1.0):
+                page.evaluate(
+                    """(f) => { for (const v of document.querySelectorAll('.mantine-ScrollArea-viewport'))
+                                  v.scrollTop = f * (v.scrollHeight - v.clientHeight); }""",
+                    fraction,
+                )
+                page.wait_for_timeout(100)
+                assert on_top(page, "Freeze"), f"Freeze hidden in {tab} scrolled to {fraction:.0%}"
+        page.screenshot(path=str(ARTIFACTS / f"freeze-{viewport[0]}x{viewport[1]}.png"))
+    finally:
+        page.close()
+
+
+def on_top(page, name: str) -> bool:  # type: ignore[no-untyped-def]
+    """The button is inside the viewport and nothing covers its centre."""
+    return bool(
+        page.get_by_role("button", name=name, exact=True).evaluate(
+            """(b) => {
+                const r = b.getBoundingClientRect(), x = r.left + r.width / 2, y = r.top + r.height / 2;
+                if (x < 0 || y < 0 || x > innerWidth || y > innerHeight) return false;
+                const hit = document.elementFromPoint(x, y);
+                return hit !== null && b.contains(hit);
+            }"""
+        )
+    )
