@@ -167,6 +167,7 @@ class JogPanel:
 
         @button.on_click
         def _(event: viser.GuiEvent) -> None:
+            self._refused_at = -math.inf  # a press ended: the next one is told its refusal again
             try:
                 if self.step.value == CONTINUOUS:  # the click arrives on release: stop at once, whatever
                     self._jogger.release("released")  # else the page sent
