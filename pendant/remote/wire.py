@@ -14,6 +14,7 @@ from pendant.controller.errors import (
     ControllerOffline,
     PreconditionFailed,
     Unreachable,
+    Unsupported,
 )
 
 _MAX_QUOTED_BODY = 200  # characters of an unexpected body quoted in an error message
@@ -59,6 +60,8 @@ def error_for_status(status_code: int, body: bytes, request_line: str) -> Contro
     error_type = ERRORS_BY_STATUS.get(status_code)
     if error_type is not None:
         return error_type(message or None)
+    if status_code == 404:  # a working controller without this operation: the page greys the feature out
+        return Unsupported(f"The controller does not support {request_line} (HTTP 404: older firmware)")
     return ControllerOffline(
         f"Unexpected answer from the controller to {request_line}: HTTP {status_code} {quote_body(body)}"
     )

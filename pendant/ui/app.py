@@ -11,23 +11,29 @@ import logging
 import threading
 import time
 from dataclasses import replace
+from pathlib import Path
 from urllib.parse import parse_qs, urlsplit
 
 import numpy as np
 import viser
 
 from pendant.access import TOKEN_QUERY
-from pendant.controller import Controller, ControllerError
+from pendant.cell.file import cells_dir
+from pendant.cell.geometry import CellModel
+from pendant.controller import Controller, ControllerError, Tool
 from pendant.eventlog import EventKind, EventLog
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import position_to_matrix
 from pendant.program import ProgramWorkspace
 from pendant.telemetry import Telemetry
 from pendant.ui.activity import ActivityLog, LoggedJogger
+from pendant.ui.cell_scene import ObstacleDrawing, ToolShapeDrawing
+from pendant.ui.cell_state import CellState, read_cell_state
 from pendant.ui.commands import CommandRunner
 from pendant.ui.dashboard_panel import EVENTS_SHOWN, PlotData, plot_data, render_events, render_motor_table
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.roles import ControlDesk
+from pendant.ui.safety_panel import read_identity
 from pendant.ui.scene import ArmScene
 from pendant.ui.session import ClientSession
 from pendant.ui.snapshot import Snapshot, read_snapshot
@@ -40,6 +46,7 @@ MOTORS_EVERY_N_TICKS = 3  # motors at 10 Hz into the shared history
 TABLE_EVERY_N_TICKS = 6  # the motor table and the event log redrawn at 5 Hz
 PLOTS_EVERY_N_TICKS = 15  # the 60 s plots at 2 Hz ...
 PLOT_EVERY_NTH_SAMPLE = 2  # ... with a point every 0.2 s
+CELL_EVERY_N_TICKS = 10  # the cell, system state and failures at 3 Hz (a script may change the cell)
 
 
 class PendantUI:
@@ -60,6 +67,7 @@ class PendantUI:
         token: str | None = None,
         events: EventLog | None = None,
         programs_dir: str | None = None,
+        cells_folder: str | None = None,
     ) -> None:
         self.controller = controller
         self.arm = arm
@@ -84,6 +92,14 @@ class PendantUI:
         self.scene = ArmScene(self.server, arm.urdf_path)
         self.latest = Snapshot(taken_at=0.0)
         self.T_flange_tool = np.eye(4)  # the tool's TCP on the flange: the scene's TCP frame and the gizmo
+        self.cells_dir = Path(cells_folder) if cells_folder is not None else cells_dir()
+        self.cell_state = CellState()
+        self.cell_model: CellModel | None = None  # the controller's cell as geometry, for the page's checks
+        self.identity = ""  # /robot/info and /version/*, read once the controller answers
+        self.obstacles = ObstacleDrawing(self.server.scene, "/cell")
+        self.tool_shape = ToolShapeDrawing(self.server.scene)
+        self._tool: Tool | None = None
+        self.cell_model_tool: Tool | None = None
         self.sessions: dict[int, ClientSession] = {}
         self._sessions_lock = threading.Lock()
         self._gone: set[int] = set()  # clients that left before their session was built
@@ -107,6 +123,9 @@ class PendantUI:
             mode_line=self.mode_line,
             current_q=lambda: self.latest.q,
             current_tool=lambda: self.T_flange_tool,
+            current_cell=lambda: self.cell_model,
+            cell_state=lambda: self.cell_state,
+            cells_dir=self.cells_dir,
             desk=self.desk,
             telemetry=self.telemetry,
             programs=self.programs,
@@ -119,6 +138,7 @@ class PendantUI:
 
     def start(self) -> PendantUI:
         self.refresh()
+        self.refresh_cell()
         self.jogger.start_watchdog()
         self._thread.start()
         return self
@@ -144,6 +164,7 @@ class PendantUI:
             tool = self._read_quietly(self.controller.get_tool, None)
             if tool is not None:
                 self.T_flange_tool = position_to_matrix(tool.position)
+                self._tool = tool
                 snapshot = replace(snapshot, tool_name=tool.name)
             if not self._robot_id:  # the controller was unreachable when the pendant started
                 self._robot_id = self._read_quietly(self.controller.get_robot_id, "")
@@ -152,6 +173,7 @@ class PendantUI:
             T_base_tcp = self.arm.fk(snapshot.q) @ self.T_flange_tool
             opening = snapshot.gripper_opening if snapshot.gripper_opening is not None else 0.0
             self.scene.show(snapshot.q, opening, T_base_tcp, snapshot.taken_at)
+            self.tool_shape.show(self.cell_state.tool_shape, self.arm.fk(snapshot.q))
         self.activity.state_changed(self.latest, snapshot)
         self.latest = snapshot
         for session in self._sessions():
@@ -159,6 +181,30 @@ class PendantUI:
         if flush:  # only then: flushing every tick costs the viewers' update rate (benchmarks/viewers.py)
             self.server.flush()
         return snapshot
+
+    def refresh_cell(self) -> CellState:
+        """Read the controller's cell and safety state; draw the obstacles (red where the arm touches one)
+        and tell every browser."""
+        previous = self.cell_state
+        state = read_cell_state(self.controller, previous)
+        changed = (
+            self.cell_model is None
+            or state.obstacles != previous.obstacles
+            or state.tool_shape != previous.tool_shape
+            or self._tool is not self.cell_model_tool
+        )
+        if changed:
+            self.cell_model_tool = self._tool
+            self.cell_model = CellModel(self.arm, state.obstacles, state.tool_shape, self._tool)
+        self.cell_state = state
+        q = self.latest.q
+        touching = self.cell_model.touching(q) if q is not None and self.cell_model is not None else []
+        self.obstacles.show(state.obstacles, touching)
+        if not self.identity and self.latest.online:
+            self.identity = read_identity(self.controller)
+        for session in self._sessions():
+            session.show_cell(state, self.identity, cell_changed=changed)
+        return state
 
     def refresh_dashboard(self, *, sample: bool = True, table: bool = True, plots: bool = True) -> None:
         """Read the motors once for everybody and push the shared renderings to every dashboard."""
@@ -181,6 +227,7 @@ class PendantUI:
         self.desk.join(client.client_id, address)
         session = self.open_session(client, client_id=client.client_id, url_token=url_token)
         session.show(self.latest, with_io=True)
+        session.show_cell(self.cell_state, self.identity, cell_changed=True)
         with self._sessions_lock:
             if client.client_id in self._gone:  # it left while its panels were being built
                 self._gone.discard(client.client_id)
@@ -238,6 +285,8 @@ class PendantUI:
         while not self._stop.is_set():
             try:
                 self.refresh(with_io=tick % IO_EVERY_N_TICKS == 0, flush=woken)
+                if tick % CELL_EVERY_N_TICKS == 2:
+                    self.refresh_cell()
                 if tick % MOTORS_EVERY_N_TICKS == 1:  # offset: not on the same tick as the IO read
                     self.refresh_dashboard(
                         table=tick % TABLE_EVERY_N_TICKS == 1, plots=tick % PLOTS_EVERY_N_TICKS == 1

@@ -11,9 +11,11 @@ import viser
 import viser.transforms as vtf
 from viser.extras import ViserUrdf
 
+from pendant.cell.geometry import CellModel
 from pendant.controller import Controller, MotionParams, MotionType, Pose, Position
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import inverse, matrix_to_position, position_to_matrix
+from pendant.ui.cell_scene import ObstacleDrawing
 from pendant.ui.commands import CommandRunner
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.target_check import TargetCheck, check_flange_target, check_joint_target
@@ -38,8 +40,10 @@ class TargetPanel:
         runner: CommandRunner,
         current_q: Callable[[], np.ndarray | None],
         current_tool: Callable[[], np.ndarray],
+        current_cell: Callable[[], CellModel | None] = lambda: None,
     ) -> None:
         self._arm = arm
+        self._current_cell = current_cell  # the controller's obstacles and tool shape, as last read
         self._runner = runner
         self._current_q = current_q
         self._current_tool = current_tool  # T_flange_tcp: the gizmo holds the tool's TCP, as /position does
@@ -52,6 +56,7 @@ class TargetPanel:
             )
             for ok in (True, False)
         }
+        self._hits = ObstacleDrawing(target.scene, "/ghost_hits", only_touching=True)
         self._gizmo = target.scene.add_transform_controls("/target", scale=GIZMO_SCALE, visible=False)
         self._syncing = False
         self.locked = False  # a viewer's page: Move J / Move L stay disabled whatever the target
@@ -123,7 +128,9 @@ class TargetPanel:
         self.following = False
         near = self.check.q if self.check.q is not None else self._current_q()
         near = near if near is not None else 0.5 * (self._arm.lower + self._arm.upper)
-        self.check = check_flange_target(self._arm, T_base_flange, near)
+        self.check = check_flange_target(
+            self._arm, T_base_flange, near, self._current_cell(), self._current_q()
+        )
         self._show(move_gizmo=False)
         return self.check
 
@@ -136,9 +143,20 @@ class TargetPanel:
         return self._target_joints(q)
 
     def _target_joints(self, q: np.ndarray) -> TargetCheck:
-        self.check = check_joint_target(self._arm, np.asarray(q, dtype=float))
+        cell = None if self.following else self._current_cell()  # the arm where it is: nothing to check
+        self.check = check_joint_target(self._arm, np.asarray(q, dtype=float), cell, self._current_q())
         self._show(move_gizmo=True)
         return self.check
+
+    def recheck(self) -> None:
+        """The cell changed: check the operator's target against it again."""
+        if not self.following and self.check.q is not None:
+            self._target_joints(self.check.q)
+
+    @property
+    def obstacles_hit(self) -> dict[str, bool]:
+        """The obstacles drawn red in this browser because the ghost (or its path) hits them."""
+        return self._hits.shown
 
     # --- running it ---------------------------------------------------------------------------------
     def run(self, motion: MotionType, client: viser.ClientHandle | None = None) -> Future[object] | None:
@@ -191,7 +209,11 @@ class TargetPanel:
 
     def _show_ghost(self, check: TargetCheck) -> None:
         """Blue at an executable target; red otherwise, at the target or, when IK has no solution (out of
-        reach), where the last solvable one was, so the operator sees which drag went too far."""
+        reach), where the last solvable one was, so the operator sees which drag went too far. The
+        obstacles it would hit are drawn red over the shared scene, in this browser only."""
+        cell = self._current_cell()
+        touching = () if self.following else check.touching
+        self._hits.show(cell.obstacles if cell is not None else [], touching)
         if check.q is not None:
             self._ghost_q = check.q
         q = self._ghost_q
