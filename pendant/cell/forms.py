@@ -12,7 +12,14 @@ import numpy as np
 from pydantic import TypeAdapter, ValidationError
 
 from pendant.controller import Point
-from pendant.controller.cell_types import BoxObstacle, CapsuleObstacle, Obstacle, PlaneObstacle
+from pendant.controller.cell_types import (
+    BoxObstacle,
+    CapsuleObstacle,
+    Obstacle,
+    PlaneObstacle,
+    SimplifiedCapsuleObstacle,
+    ToolShape,
+)
 from pendant.kinematics.transforms import matrix_to_position, position_to_matrix
 from pendant.ui.settings_panel import position_from_form
 
@@ -128,3 +135,45 @@ def form_from_obstacle(obstacle: Obstacle) -> ObstacleForm:
         at_mm=_mm(position.point),
         rpy_deg=(math.degrees(r.roll), math.degrees(r.pitch), math.degrees(r.yaw)),
     )
+
+
+def tool_shape_from_text(text: str) -> ToolShape:
+    """The Robot tab's one-line tool shape: capsules separated by ';', each `radius: x y z -> x y z` in mm in
+    the flange frame (`30: 0 0 0 -> 0 0 150`). Empty: no capsules. ValueError says what is wrong."""
+    capsules: list[SimplifiedCapsuleObstacle] = []
+    for i, part in enumerate(p.strip() for p in text.split(";")):
+        if not part:
+            continue
+        try:
+            radius_text, ends = part.split(":", 1)
+            begin_text, finish_text = ends.split("->", 1)
+            radius = float(radius_text)
+            begin = [float(v) for v in begin_text.split()]
+            finish = [float(v) for v in finish_text.split()]
+        except ValueError:
+            raise ValueError(f"capsule {i + 1}: write it as 'radius: x y z -> x y z' (mm)") from None
+        if len(begin) != 3 or len(finish) != 3:
+            raise ValueError(f"capsule {i + 1}: each end needs three coordinates (x y z, mm)")
+        values = [radius, *begin, *finish]
+        if not all(math.isfinite(v) for v in values) or max(abs(v) for v in values) > SIZE_MM_MAX:
+            raise ValueError(f"capsule {i + 1}: numbers must be finite and within ±{SIZE_MM_MAX:.0f} mm")
+        if radius <= 0.0:
+            raise ValueError(f"capsule {i + 1}: the radius must be more than 0 mm")
+        capsules.append(
+            SimplifiedCapsuleObstacle(
+                radius=radius / 1000.0,
+                begin=_point(np.asarray(begin) / 1000.0),
+                finish=_point(np.asarray(finish) / 1000.0),
+            )
+        )
+    try:
+        return ToolShape(shape=capsules)
+    except ValidationError as error:
+        raise ValueError(error.errors()[0]["msg"]) from None
+
+
+def text_from_tool_shape(shape: ToolShape) -> str:
+    def xyz(point: Point) -> str:
+        return " ".join(f"{v:g}" for v in (round(c, 3) for c in _mm(point)))
+
+    return "; ".join(f"{c.radius * 1000.0:g}: {xyz(c.begin)} -> {xyz(c.finish)}" for c in shape.shape)

@@ -30,6 +30,7 @@ from pendant.ui.sim_panel import SimPanel
 from pendant.ui.snapshot import Snapshot
 from pendant.ui.status_panel import StatusPanel
 from pendant.ui.target_panel import TargetPanel
+from pendant.ui.tool_shape_panel import ToolShapePanel
 
 RecordingListener = Callable[[viser.ClientHandle | None, str], None]
 
@@ -93,6 +94,7 @@ class ClientSession:
         with self.tabs.add_tab("Robot", viser.Icon.ROBOT):
             self.robot_buttons = add_robot_commands(target, runner)
             self.settings = SettingsPanel(target, runner)
+            self.tool_shape = ToolShapePanel(target, runner)
             self.robot_safety = RobotSafetyPanel(target, runner)
         self.sim_panel: SimPanel | None = None
         if isinstance(controller, SimController):
@@ -127,6 +129,7 @@ class ClientSession:
         yield from self.robot_buttons.values()
         yield self.safety.recover
         yield from self.robot_safety.controls
+        yield from self.tool_shape.controls
         yield from self.cell.controls
         s = self.settings
         yield from (
@@ -181,6 +184,7 @@ class ClientSession:
         self.safety.show(state)
         self.cell.show(state)
         self.robot_safety.show(state, identity)
+        self.tool_shape.show(state)
         if cell_changed:
             self.target_panel.recheck()
         failures = render_failures(state.failures, state.unsupported.get("failures"))

@@ -226,3 +226,28 @@ def test_a_cell_file_the_controller_refuses_leaves_the_cell_as_it_was(
     assert ui.cell.load_file("garbage", browser) is None
     assert "not a cell file" in browser.notifications[-1]
     assert names(sim) == ["kept"]
+
+
+def test_the_robot_tab_sets_the_tool_shape_and_shows_the_controllers(
+    pendant_ui: PendantUI, ui: ClientSession, sim: SimController
+) -> None:
+    browser = FakeBrowser(OPERATOR)
+    fire(ui.tool_shape.capsules, browser, "30: 0 0 0 -> 0 0 150; 20: 0 0 150 -> 0 60 200")
+    ui.tool_shape.submit(browser).result(timeout=WAIT_S)  # type: ignore[union-attr]
+    shape = sim.get_tool_shape().shape
+    assert [c.radius for c in shape] == pytest.approx([0.03, 0.02])
+    assert (shape[1].finish.y, shape[1].finish.z) == pytest.approx((0.06, 0.2))
+    pendant_ui.refresh_cell()
+    pendant_ui.refresh()
+    assert pendant_ui.tool_shape.capsules_shown == 2
+
+    fire(ui.tool_shape.capsules, browser, "30: 0 0 -> 0 0 150")
+    assert ui.tool_shape.submit(browser) is None
+    assert browser.notifications == [
+        "Tool shape not set: capsule 1: each end needs three coordinates (x y z, mm)"
+    ]
+    assert len(sim.get_tool_shape().shape) == 2
+
+    sim.set_tool_shape(ToolShape(shape=[]))  # a script changes it: the field shows the controller's
+    pendant_ui.refresh_cell()
+    assert ui.tool_shape.capsules.value == ""
