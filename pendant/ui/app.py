@@ -25,6 +25,7 @@ from pendant.eventlog import EventKind, EventLog
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import position_to_matrix
 from pendant.program import ProgramWorkspace
+from pendant.teach.recording import PathRecorder
 from pendant.telemetry import Telemetry
 from pendant.ui.activity import ActivityLog, LoggedJogger
 from pendant.ui.cell_scene import ObstacleDrawing, ToolShapeDrawing
@@ -98,6 +99,7 @@ class PendantUI:
         self.identity = ""  # /robot/info and /version/*, read once the controller answers
         self.obstacles = ObstacleDrawing(self.server.scene, "/cell")
         self.tool_shape = ToolShapeDrawing(self.server.scene)
+        self.recorder = PathRecorder()  # "Record path": fed every reading below
         self._tool: Tool | None = None
         self.cell_model_tool: Tool | None = None
         self.sessions: dict[int, ClientSession] = {}
@@ -126,6 +128,7 @@ class PendantUI:
             current_cell=lambda: self.cell_model,
             cell_state=lambda: self.cell_state,
             cells_dir=self.cells_dir,
+            recorder=self.recorder,
             desk=self.desk,
             telemetry=self.telemetry,
             programs=self.programs,
@@ -174,6 +177,7 @@ class PendantUI:
             opening = snapshot.gripper_opening if snapshot.gripper_opening is not None else 0.0
             self.scene.show(snapshot.q, opening, T_base_tcp, snapshot.taken_at)
             self.tool_shape.show(self.cell_state.tool_shape, self.arm.fk(snapshot.q))
+        self.recorder.add(snapshot.taken_at, snapshot.q, snapshot.position, snapshot.outputs, snapshot.inputs)
         self.activity.state_changed(self.latest, snapshot)
         self.latest = snapshot
         for session in self._sessions():

@@ -14,15 +14,18 @@ from pendant.jog import Jogger
 from pendant.kinematics import ArmModel
 from pendant.program import ProgramWorkspace
 from pendant.sim import SimController
+from pendant.teach.recording import PathRecorder
 from pendant.telemetry import Telemetry
 from pendant.ui.cell_panel import CellPanel
 from pendant.ui.cell_state import CellState
 from pendant.ui.commands import CommandRunner, add_freeze_button, add_robot_commands
 from pendant.ui.dashboard_panel import DashboardPanel, PlotData
 from pendant.ui.gui_target import GuiTarget
+from pendant.ui.hand_guide import HandGuide
 from pendant.ui.io_panel import IoPanel
 from pendant.ui.jog_panel import JogPanel
 from pendant.ui.program_panel import ProgramPanel
+from pendant.ui.record_panel import RecordPanel
 from pendant.ui.roles import ControlDesk, ControlPanel
 from pendant.ui.safety_panel import RobotSafetyPanel, SafetyBar, render_failures
 from pendant.ui.settings_panel import SettingsPanel
@@ -72,6 +75,7 @@ class ClientSession:
         current_cell: Callable[[], CellModel | None] = lambda: None,
         cell_state: Callable[[], CellState] = CellState,
         cells_dir: Path = Path("cells"),
+        recorder: PathRecorder | None = None,
     ) -> None:
         self.target = target
         self.client_id = client_id
@@ -83,6 +87,7 @@ class ClientSession:
         self.tabs = target.gui.add_tab_group()
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
             self.jog = JogPanel(target, jogger, runner)
+            self.record = RecordPanel(target, recorder or PathRecorder(), programs, runner)
         with self.tabs.add_tab("Target", viser.Icon.TARGET):
             self.target_panel = TargetPanel(target, arm, runner, current_q, current_tool, current_cell)
         with self.tabs.add_tab("Program", viser.Icon.LIST_NUMBERS):
@@ -98,6 +103,7 @@ class ClientSession:
             self.robot_safety = RobotSafetyPanel(target, runner)
         self.sim_panel: SimPanel | None = None
         if isinstance(controller, SimController):
+            self.target_panel.hand = HandGuide(controller, runner, lambda: cell_state().system_state)
             with self.tabs.add_tab("Simulator", viser.Icon.FLASK):
                 self.sim_panel = SimPanel(target, controller, runner)
         with self.tabs.add_tab("Dashboard", viser.Icon.GAUGE):
@@ -131,6 +137,7 @@ class ClientSession:
         yield from self.robot_safety.controls
         yield from self.tool_shape.controls
         yield from self.cell.controls
+        yield from self.record.controls
         s = self.settings
         yield from (
             s.tool_name,
@@ -185,6 +192,7 @@ class ClientSession:
         self.cell.show(state)
         self.robot_safety.show(state, identity)
         self.tool_shape.show(state)
+        self.record.show()
         if cell_changed:
             self.target_panel.recheck()
         failures = render_failures(state.failures, state.unsupported.get("failures"))
