@@ -5,7 +5,8 @@ Built with the simulator's own shape builders: the ghost turns red exactly where
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -67,3 +68,21 @@ _NO_TOOL = Tool(
     rotation=Rotation(roll=0.0, pitch=0.0, yaw=0.0),
     radius=0.0,
 )
+
+
+class CellAwareArm:
+    """The arm model whose collision check includes the cell (obstacles, tool shape): given to the jogger, a
+    jog stops short of an obstacle as it does of the floor. Everything else is the arm model's."""
+
+    def __init__(self, arm: ArmModel, cell: Callable[[], CellModel | None]) -> None:
+        self._arm = arm
+        self._cell = cell
+
+    def in_collision(self, q: np.ndarray) -> bool:
+        if self._arm.in_collision(q):
+            return True
+        cell = self._cell()
+        return cell is not None and cell.collides(q)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._arm, name)

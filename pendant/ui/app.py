@@ -12,6 +12,7 @@ import threading
 import time
 from dataclasses import replace
 from pathlib import Path
+from typing import cast
 from urllib.parse import parse_qs, urlsplit
 
 import numpy as np
@@ -19,7 +20,7 @@ import viser
 
 from pendant.access import TOKEN_QUERY
 from pendant.cell.file import cells_dir
-from pendant.cell.geometry import CellModel
+from pendant.cell.geometry import CellAwareArm, CellModel
 from pendant.controller import Controller, ControllerError, Tool
 from pendant.eventlog import EventKind, EventLog
 from pendant.kinematics import ArmModel
@@ -82,8 +83,10 @@ class PendantUI:
         self.runner.on_submit = self.activity.command
         self._stop = threading.Event()
         self._wake = threading.Event()  # a jog started: show its first motion now, not at the next tick
+        self.cell_model: CellModel | None = None  # the controller's cell as geometry, for the page's checks
+        jog_arm = cast(ArmModel, CellAwareArm(arm, lambda: self.cell_model))  # jogs stop short of obstacles
         self.jogger = LoggedJogger(
-            controller, arm, events=self.events, desk=self.desk, on_start=self._wake.set
+            controller, jog_arm, events=self.events, desk=self.desk, on_start=self._wake.set
         )
         self.telemetry = Telemetry(controller)
         self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
@@ -95,7 +98,6 @@ class PendantUI:
         self.T_flange_tool = np.eye(4)  # the tool's TCP on the flange: the scene's TCP frame and the gizmo
         self.cells_dir = Path(cells_folder) if cells_folder is not None else cells_dir()
         self.cell_state = CellState()
-        self.cell_model: CellModel | None = None  # the controller's cell as geometry, for the page's checks
         self.identity = ""  # /robot/info and /version/*, read once the controller answers
         self.obstacles = ObstacleDrawing(self.server.scene, "/cell")
         self.tool_shape = ToolShapeDrawing(self.server.scene)

@@ -12,7 +12,8 @@ import pytest
 
 from pendant.controller import Point, Position, Rotation
 from pendant.controller.cell_types import BoxObstacle, CapsuleObstacle, SimplifiedCapsuleObstacle, ToolShape
-from pendant.sim import SimController
+from pendant.jog import JogFrame, JogRequest
+from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.session import ClientSession
 
@@ -251,3 +252,19 @@ def test_the_robot_tab_sets_the_tool_shape_and_shows_the_controllers(
     sim.set_tool_shape(ToolShape(shape=[]))  # a script changes it: the field shows the controller's
     pendant_ui.refresh_cell()
     assert ui.tool_shape.capsules.value == ""
+
+
+def test_a_jog_towards_an_obstacle_stops_short_of_it(
+    pendant_ui: PendantUI, sim: SimController, clock: FakeClock
+) -> None:
+    q = home_q(sim)
+    at = q.copy()
+    at[0] += np.radians(30.0)
+    sim.add_obstacle(box("fixture", tuple(sim.arm.fk(at)[:3, 3])))  # type: ignore[arg-type]
+    pendant_ui.refresh_cell()
+    request = JogRequest(JogFrame.JOINT, 0, +1, speed_percent=50, step=np.radians(60.0))
+    assert pendant_ui.jogger.step(request)  # a step that would run into it: shortened, not refused
+    clock.advance(10.0)
+    reached = home_q(sim)
+    assert 5.0 < np.degrees(reached[0] - q[0]) < 30.0
+    assert pendant_ui.cell_model is not None and not pendant_ui.cell_model.collides(reached)
