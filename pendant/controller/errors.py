@@ -63,6 +63,12 @@ class ControllerOffline(ControllerError):
     default_message = "Controller offline"
 
 
+class Unsupported(ControllerOffline):
+    """404: the controller does not know this operation (a firmware older than the SDK it is asked for)."""
+
+    default_message = "The controller does not support this operation (older firmware)"
+
+
 ERRORS_BY_STATUS: dict[int, type[ControllerError]] = {
     400: BadRequest,
     412: PreconditionFailed,

@@ -17,7 +17,7 @@ from typing import Any, TypeVar
 import httpx
 from pydantic import TypeAdapter, ValidationError
 
-from pendant.controller.errors import ControllerError, ControllerOffline
+from pendant.controller.errors import ControllerError, ControllerOffline, Unsupported
 from pendant.controller.types import (
     MotionParams,
     MotionStatus,
@@ -244,6 +244,9 @@ class RemoteController(Pulse18Client):
             latency_s = time.perf_counter() - started
             if not response.is_success:
                 error = error_for_status(response.status_code, response.content, request_line)
+                if isinstance(error, Unsupported):  # an older controller, answering: the link is fine
+                    self._mark_online(latency_s)
+                    raise error
                 if isinstance(error, ControllerOffline):
                     raise self._offline(error.message)
                 self._mark_online(latency_s)  # a refusal is still an answer

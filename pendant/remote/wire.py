@@ -14,8 +14,22 @@ from pendant.controller.errors import (
     ControllerOffline,
     PreconditionFailed,
     Unreachable,
+    Unsupported,
 )
 
+# SDK 1.8.4's operations beyond the reference guide: a 404 to one of these is a working controller with older
+# firmware (the page greys that feature out), not a server that is no PULSE controller at all.
+SDK18_PATHS = (
+    "/status/failure",
+    "/robot/info",
+    "/version",
+    "/tool/info",
+    "/tool/shape",
+    "/environment",
+    "/stop",
+    "/zg",
+)
+SDK18_PATHS += ("/gripper/enable", "/gripper/disable", "/jogging", "/run/", "/untwisting", "/motors-log")
 _MAX_QUOTED_BODY = 200  # characters of an unexpected body quoted in an error message
 
 
@@ -47,7 +61,8 @@ def error_for_status(status_code: int, body: bytes, request_line: str) -> Contro
     """The typed error for a non-2xx answer, carrying the controller's own message.
 
     412 is split by message (Collision, Unreachable, else PreconditionFailed); statuses the PULSE API never
-    uses (404, 405, 422, 502, ...) mean we are not talking to a working PULSE controller: ControllerOffline.
+    uses (404, 405, 422, 502, ...) mean we are not talking to a working PULSE controller: ControllerOffline,
+    but a 404 to an SDK 1.8 operation is Unsupported (older firmware).
     """
     message = decode_text(body)
     if status_code == 412:
@@ -59,6 +74,9 @@ def error_for_status(status_code: int, body: bytes, request_line: str) -> Contro
     error_type = ERRORS_BY_STATUS.get(status_code)
     if error_type is not None:
         return error_type(message or None)
+    path = request_line.partition(" ")[2]
+    if status_code == 404 and (path == "/status" or path.startswith(SDK18_PATHS)):
+        return Unsupported(f"The controller does not support {request_line} (HTTP 404: older firmware)")
     return ControllerOffline(
         f"Unexpected answer from the controller to {request_line}: HTTP {status_code} {quote_body(body)}"
     )

@@ -12,6 +12,8 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import replace
+from pathlib import Path
+from typing import cast
 from urllib.parse import parse_qs, urlsplit
 
 import numpy as np
@@ -21,7 +23,9 @@ from pendant.access import TOKEN_QUERY
 from pendant.access.origin import OriginPolicy
 from pendant.access.remote import RemoteControl
 from pendant.access.throttle import FailedAttempts
-from pendant.controller import Controller, ControllerError, MotionStatus
+from pendant.cell.file import cells_dir
+from pendant.cell.geometry import CellAwareArm, CellModel
+from pendant.controller import Controller, ControllerError, MotionStatus, Tool
 from pendant.eventlog import EventKind, EventLog
 from pendant.eventquery import EventQuery
 from pendant.kinematics import ArmModel
@@ -30,8 +34,11 @@ from pendant.monitoring import PendantMetrics
 from pendant.monitoring import data_dir as resolve_data_dir
 from pendant.program import ProgramWorkspace
 from pendant.program.runner import RunState
+from pendant.teach.recording import PathRecorder
 from pendant.telemetry import ArmState, Telemetry, recordings_dir
 from pendant.ui.activity import ActivityLog, LoggedJogger
+from pendant.ui.cell_scene import ObstacleDrawing, ToolShapeDrawing
+from pendant.ui.cell_state import CellState, read_cell_state
 from pendant.ui.client_page import page_first
 from pendant.ui.commands import CommandRunner
 from pendant.ui.dashboard_events import render_events
@@ -40,6 +47,7 @@ from pendant.ui.dashboard_plots import PlotData, plot_data
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.join_qr import join_urls
 from pendant.ui.roles import ControlDesk
+from pendant.ui.safety_panel import read_identity
 from pendant.ui.scene import ArmScene
 from pendant.ui.session import ClientSession
 from pendant.ui.snapshot import Snapshot, read_snapshot
@@ -53,6 +61,7 @@ MOTORS_EVERY_N_TICKS = 3  # motors at 10 Hz into the shared history
 TABLE_EVERY_N_TICKS = 6  # the motor table and the event log redrawn at 5 Hz
 PLOTS_EVERY_N_TICKS = 15  # the plots at 2 Hz (at most MAX_POINTS a series)
 PROGRAM_RUNNING = "A program is running: Pause or Stop it first"
+CELL_EVERY_N_TICKS = 10  # the cell, system state and failures at 3 Hz (a script may change the cell)
 
 
 class PendantUI:
@@ -84,6 +93,7 @@ class PendantUI:
         data_dir: str | None = None,
         metrics: PendantMetrics | None = None,
         clock: Callable[[], float] = time.monotonic,
+        cells_folder: str | None = None,
     ) -> None:
         self.controller = controller
         self.arm = arm
@@ -101,8 +111,15 @@ class PendantUI:
         self.runner.on_submit = self.activity.command
         self._stop = threading.Event()
         self._wake = threading.Event()  # a jog started: show its first motion now, not at the next tick
+        self.cell_model: CellModel | None = None  # the controller's cell as geometry, for the page's checks
+        jog_arm = cast(ArmModel, CellAwareArm(arm, lambda: self.cell_model))  # jogs stop short of obstacles
         self.jogger = LoggedJogger(
-            controller, arm, events=self.events, desk=self.desk, remote=self.remote, on_start=self._wake.set
+            controller,
+            jog_arm,
+            events=self.events,
+            desk=self.desk,
+            remote=self.remote,
+            on_start=self._wake.set,
         )
         recordings = recordings_dir(resolve_data_dir(data_dir, programs_dir))  # --data, env, beside programs
         self.telemetry = Telemetry(controller, clock, recordings_folder=recordings)
@@ -116,6 +133,14 @@ class PendantUI:
         self.scene = ArmScene(self.server, arm.urdf_path)
         self.latest = Snapshot(taken_at=0.0)
         self.T_flange_tool = np.eye(4)  # the tool's TCP on the flange: the scene's TCP frame and the gizmo
+        self.cells_dir = Path(cells_folder) if cells_folder is not None else cells_dir()
+        self.cell_state = CellState()
+        self.identity = ""  # /robot/info and /version/*, read once the controller answers
+        self.obstacles = ObstacleDrawing(self.server.scene, "/cell")
+        self.tool_shape = ToolShapeDrawing(self.server.scene)
+        self.recorder = PathRecorder()  # "Record path": fed every reading below
+        self._tool: Tool | None = None
+        self.cell_model_tool: Tool | None = None
         self.sessions: dict[int, ClientSession] = {}
         self._sessions_lock = threading.Lock()
         self._gone: set[int] = set()  # clients that left before their session was built
@@ -142,6 +167,10 @@ class PendantUI:
             mode_line=self.mode_line,
             current_q=lambda: self.latest.q,
             current_tool=lambda: self.T_flange_tool,
+            current_cell=lambda: self.cell_model,
+            cell_state=lambda: self.cell_state,
+            cells_dir=self.cells_dir,
+            recorder=self.recorder,
             desk=self.desk,
             telemetry=self.telemetry,
             events=self.events,
@@ -157,6 +186,7 @@ class PendantUI:
 
     def start(self) -> PendantUI:
         self.refresh()
+        self.refresh_cell()
         self.jogger.start_watchdog()
         self._thread.start()
         return self
@@ -182,6 +212,7 @@ class PendantUI:
             tool = self._read_quietly(self.controller.get_tool, None)
             if tool is not None:
                 self.T_flange_tool = position_to_matrix(tool.position)
+                self._tool = tool
                 snapshot = replace(snapshot, tool_name=tool.name)
             if not self._robot_id:  # the controller was unreachable when the pendant started
                 self._robot_id = self._read_quietly(self.controller.get_robot_id, "")
@@ -190,6 +221,8 @@ class PendantUI:
             T_base_tcp = self.arm.fk(snapshot.q) @ self.T_flange_tool
             opening = snapshot.gripper_opening if snapshot.gripper_opening is not None else 0.0
             self.scene.show(snapshot.q, opening, T_base_tcp, snapshot.taken_at)
+            self.tool_shape.show(self.cell_state.tool_shape, self.arm.fk(snapshot.q))
+        self.recorder.add(snapshot.taken_at, snapshot.q, snapshot.position, snapshot.outputs, snapshot.inputs)
         self.activity.state_changed(self.latest, snapshot)
         self.latest = snapshot
         for session in self._sessions():
@@ -197,6 +230,30 @@ class PendantUI:
         if flush:  # only then: flushing every tick costs the viewers' update rate (benchmarks/viewers.py)
             self.server.flush()
         return snapshot
+
+    def refresh_cell(self) -> CellState:
+        """Read the controller's cell and safety state; draw the obstacles (red where the arm touches one)
+        and tell every browser."""
+        previous = self.cell_state
+        state = read_cell_state(self.controller, previous)
+        changed = (
+            self.cell_model is None
+            or state.obstacles != previous.obstacles
+            or state.tool_shape != previous.tool_shape
+            or self._tool is not self.cell_model_tool
+        )
+        if changed:
+            self.cell_model_tool = self._tool
+            self.cell_model = CellModel(self.arm, state.obstacles, state.tool_shape, self._tool)
+        self.cell_state = state
+        q = self.latest.q
+        touching = self.cell_model.touching(q) if q is not None and self.cell_model is not None else []
+        self.obstacles.show(state.obstacles, touching)
+        if not self.identity and self.latest.online:
+            self.identity = read_identity(self.controller)
+        for session in self._sessions():
+            session.show_cell(state, self.identity, cell_changed=changed)
+        return state
 
     def refresh_dashboard(self, *, sample: bool = True, table: bool = True, plots: bool = True) -> None:
         """Read the motors once for everybody and push the shared renderings to every dashboard."""
@@ -235,6 +292,7 @@ class PendantUI:
         self.desk.join(client.client_id, address)
         session = self.open_session(client, client_id=client.client_id, url_token=url_token)
         session.show(self.latest, with_io=True)
+        session.show_cell(self.cell_state, self.identity, cell_changed=True)
         with self._sessions_lock:
             if client.client_id in self._gone:  # it left while its panels were being built
                 self._gone.discard(client.client_id)
@@ -296,6 +354,8 @@ class PendantUI:
         while not self._stop.is_set():
             try:
                 self.refresh(with_io=tick % IO_EVERY_N_TICKS == 0, flush=woken)
+                if tick % CELL_EVERY_N_TICKS == 2:
+                    self.refresh_cell()
                 if tick % MOTORS_EVERY_N_TICKS == 1:  # offset: not on the same tick as the IO read
                     self.refresh_dashboard(
                         table=tick % TABLE_EVERY_N_TICKS == 1, plots=tick % PLOTS_EVERY_N_TICKS == 1

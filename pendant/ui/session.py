@@ -3,33 +3,42 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
+from pathlib import Path
 
 import numpy as np
 import viser
 
 from pendant.access.remote import RemoteControl
+from pendant.cell.geometry import CellModel
 from pendant.controller import Controller, MotionStatus
 from pendant.eventlog import EventLog
 from pendant.jog import Jogger
 from pendant.kinematics import ArmModel
 from pendant.program import ProgramWorkspace
 from pendant.sim import SimController
+from pendant.teach.recording import PathRecorder
 from pendant.telemetry import Telemetry
+from pendant.ui.cell_panel import CellPanel
+from pendant.ui.cell_state import CellState
 from pendant.ui.commands import CommandRunner, add_freeze_button, add_robot_commands
 from pendant.ui.dashboard_events import EventsRenderer
 from pendant.ui.dashboard_panel import DashboardPanel
 from pendant.ui.dashboard_plots import PlotSource
 from pendant.ui.gui_target import GuiTarget
+from pendant.ui.hand_guide import HandGuide
 from pendant.ui.io_panel import IoPanel
 from pendant.ui.jog_panel import JogPanel
 from pendant.ui.join_qr import add_join_button
 from pendant.ui.program_panel import ProgramPanel
+from pendant.ui.record_panel import RecordPanel
 from pendant.ui.roles import ControlDesk, ControlPanel
+from pendant.ui.safety_panel import RobotSafetyPanel, SafetyBar, render_failures
 from pendant.ui.settings_panel import SettingsPanel
 from pendant.ui.sim_panel import SimPanel
 from pendant.ui.snapshot import Snapshot
 from pendant.ui.status_panel import StatusPanel
 from pendant.ui.target_panel import TargetPanel
+from pendant.ui.tool_shape_panel import ToolShapePanel
 
 RecordingListener = Callable[[viser.ClientHandle | None, str], None]
 
@@ -71,27 +80,38 @@ class ClientSession:
         remote: RemoteControl | None = None,
         on_recording: RecordingListener | None = None,
         join_urls: list[str] | None = None,
+        current_cell: Callable[[], CellModel | None] = lambda: None,
+        cell_state: Callable[[], CellState] = CellState,
+        cells_dir: Path = Path("cells"),
+        recorder: PathRecorder | None = None,
     ) -> None:
         self.target = target
         self.client_id = client_id
         self._desk = desk
         self.freeze = add_freeze_button(target, runner)
         self.status = StatusPanel(target, mode_line, runner)
+        self.safety = SafetyBar(target, runner)
         self.control = ControlPanel(target, desk, client_id, url_token, remote)
         self.tabs = target.gui.add_tab_group()
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
             self.jog = JogPanel(target, jogger, runner, arm, current_tool)
+            self.record = RecordPanel(target, recorder or PathRecorder(), programs, runner)
         with self.tabs.add_tab("Target", viser.Icon.TARGET):
-            self.target_panel = TargetPanel(target, arm, runner, current_q, current_tool)
+            self.target_panel = TargetPanel(target, arm, runner, current_q, current_tool, current_cell)
         with self.tabs.add_tab("Program", viser.Icon.LIST_NUMBERS):
             self.program = ProgramPanel(target, programs, runner, arm=arm)
+        with self.tabs.add_tab("Cell", viser.Icon.BOX):
+            self.cell = CellPanel(target, runner, cells_dir, cell_state)
         with self.tabs.add_tab("IO", viser.Icon.PLUG):
             self.io = IoPanel(target, runner)
         with self.tabs.add_tab("Robot", viser.Icon.ROBOT):
             self.robot_buttons = add_robot_commands(target, runner)
             self.settings = SettingsPanel(target, runner)
+            self.tool_shape = ToolShapePanel(target, runner)
+            self.robot_safety = RobotSafetyPanel(target, runner)
         self.sim_panel: SimPanel | None = None
         if isinstance(controller, SimController):
+            self.target_panel.hand = HandGuide(controller, runner, lambda: cell_state().system_state)
             with self.tabs.add_tab("Simulator", viser.Icon.FLASK):
                 self.sim_panel = SimPanel(target, controller, runner)
         with self.tabs.add_tab("Dashboard", viser.Icon.GAUGE):
@@ -103,9 +123,11 @@ class ClientSession:
                 on_recording=on_recording if on_recording is not None else (lambda client, message: None),
             )
             self.join = add_join_button(target, join_urls) if join_urls else None
+            self.failures = target.gui.add_html(render_failures((), None))
         self.target_panel.reset_to_current()
         self._operator_only: list[viser.GuiInputHandle] = list(self._commanding_handles())
         self.locked = False
+        self._failures_html = ""
         self.apply_role(desk.operator)
 
     def _commanding_handles(self) -> Iterable[viser.GuiInputHandle]:
@@ -120,6 +142,11 @@ class ClientSession:
         yield from self.io.outputs.values()
         yield from (self.io.gripper_open, self.io.gripper_close)
         yield from self.robot_buttons.values()
+        yield self.safety.recover
+        yield from self.robot_safety.controls
+        yield from self.tool_shape.controls
+        yield from self.cell.controls
+        yield from self.record.controls
         s = self.settings
         yield from (
             s.tool_name,
@@ -151,6 +178,7 @@ class ClientSession:
             _set_disabled(handle, self.locked)
         self.target_panel.locked = self.locked
         self.jog.locked = self.locked
+        self.cell.set_locked(self.locked)
         self.program.locked = self.locked
         ok = self.target_panel.executable
         _set_disabled(self.target_panel.move_j, self.locked or not ok)
@@ -168,6 +196,20 @@ class ClientSession:
         if with_io:  # 5 Hz is enough for these, and spares every browser six sliders' worth of messages
             self.io.show(snapshot)
             self.target_panel.follow(snapshot.q, moving=snapshot.motion_status is MotionStatus.RUNNING)
+
+    def show_cell(self, state: CellState, identity: str, *, cell_changed: bool) -> None:
+        """What the controller reports of its cell and safety (a few times a second)."""
+        self.safety.show(state)
+        self.cell.show(state)
+        self.robot_safety.show(state, identity)
+        self.tool_shape.show(state)
+        self.record.show()
+        if cell_changed:
+            self.target_panel.recheck()
+        failures = render_failures(state.failures, state.unsupported.get("failures"))
+        if failures != self._failures_html:
+            self.failures.content = failures
+            self._failures_html = failures
 
     def show_dashboard(
         self, *, table_html: str | None, plots: PlotSource | None, events: EventsRenderer | None

@@ -1,4 +1,5 @@
-"""Is a dragged target executable? IK to the branch nearest the current pose, then limits and collision."""
+"""Is a dragged target executable? IK to the branch nearest the current pose, then limits and collision:
+with itself and the floor, and with the cell's obstacles at the target and along the joint path to it."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pendant.cell.geometry import CellModel
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSITION
 from pendant.kinematics import ArmModel
 
@@ -14,22 +16,48 @@ from pendant.kinematics import ArmModel
 class TargetCheck:
     q: np.ndarray | None  # the joint angles that reach the target (radians), when reachable
     reason: str | None = None  # why it cannot be executed, in the controller's words
+    touching: tuple[str, ...] = ()  # the obstacles the target, or the path to it, would hit
 
     @property
     def ok(self) -> bool:
         return self.reason is None
 
 
-def check_flange_target(arm: ArmModel, T_base_flange: np.ndarray, q_near: np.ndarray) -> TargetCheck:
+def check_flange_target(
+    arm: ArmModel,
+    T_base_flange: np.ndarray,
+    q_near: np.ndarray,
+    cell: CellModel | None = None,
+    q_from: np.ndarray | None = None,
+) -> TargetCheck:
     q = arm.ik(T_base_flange, q_near)
     if q is None:
         return TargetCheck(None, MSG_UNREACHABLE_POSITION)
-    return check_joint_target(arm, q)
+    return check_joint_target(arm, q, cell, q_from)
 
 
-def check_joint_target(arm: ArmModel, q: np.ndarray) -> TargetCheck:
+def _names(names: list[str]) -> str:
+    return ", ".join(repr(n) for n in names)
+
+
+def check_joint_target(
+    arm: ArmModel, q: np.ndarray, cell: CellModel | None = None, q_from: np.ndarray | None = None
+) -> TargetCheck:
+    """`cell`: the controller's obstacles and tool shape; `q_from`: where the arm is, to check the path."""
     if not arm.within_limits(q):
         return TargetCheck(q, "Unreachable Pose")
     if arm.in_collision(q):
         return TargetCheck(q, MSG_COLLISION)
+    if cell is None:
+        return TargetCheck(q)
+    if cell.collides(q):
+        hit = cell.touching(q)
+        where = f"the target touches {_names(hit)}" if hit else "the tool would touch the floor"
+        return TargetCheck(q, f"{MSG_COLLISION}: {where}", tuple(hit))
+    if q_from is not None:
+        hit = cell.path_touching(q_from, q)
+        if hit:
+            return TargetCheck(
+                q, f"{MSG_COLLISION}: the path to the target passes through {_names(hit)}", tuple(hit)
+            )
     return TargetCheck(q)

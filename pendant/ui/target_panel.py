@@ -11,11 +11,14 @@ import viser
 import viser.transforms as vtf
 from viser.extras import ViserUrdf
 
+from pendant.cell.geometry import CellModel
 from pendant.controller import Controller, MotionParams, MotionType, Pose, Position
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import inverse, matrix_to_position, position_to_matrix
+from pendant.ui.cell_scene import ObstacleDrawing
 from pendant.ui.commands import CommandRunner
 from pendant.ui.gui_target import GuiTarget
+from pendant.ui.hand_guide import HandGuide
 from pendant.ui.target_check import TargetCheck, check_flange_target, check_joint_target
 
 GHOST_OK_RGBA = (0.25, 0.55, 1.0, 0.35)
@@ -38,8 +41,11 @@ class TargetPanel:
         runner: CommandRunner,
         current_q: Callable[[], np.ndarray | None],
         current_tool: Callable[[], np.ndarray],
+        current_cell: Callable[[], CellModel | None] = lambda: None,
     ) -> None:
         self._arm = arm
+        self._current_cell = current_cell  # the controller's obstacles and tool shape, as last read
+        self.hand: HandGuide | None = None  # simulator: in free drive, a target moves the arm by hand
         self._runner = runner
         self._current_q = current_q
         self._current_tool = current_tool  # T_flange_tcp: the gizmo holds the tool's TCP, as /position does
@@ -52,6 +58,7 @@ class TargetPanel:
             )
             for ok in (True, False)
         }
+        self._hits = ObstacleDrawing(target.scene, "/ghost_hits", only_touching=True)
         self._gizmo = target.scene.add_transform_controls("/target", scale=GIZMO_SCALE, visible=False)
         self._syncing = False
         self.locked = False  # a viewer's page: Move J / Move L stay disabled whatever the target
@@ -80,16 +87,18 @@ class TargetPanel:
         self._show_ghost(self.check)
 
         @self._gizmo.on_update
-        def _(_: viser.TransformControlsEvent) -> None:
+        def _(event: viser.TransformControlsEvent) -> None:
             if self._syncing:
                 return
             T_base_tcp = vtf.SE3.from_rotation_and_translation(
                 vtf.SO3(np.asarray(self._gizmo.wxyz)), np.asarray(self._gizmo.position)
             ).as_matrix()
-            self.set_tcp_target(T_base_tcp)
+            self.set_tcp_target(T_base_tcp, event.client)
 
         for slider in self.sliders:
-            slider.on_update(lambda _: None if self._syncing else self.set_joint_target(self._slider_q()))
+            slider.on_update(
+                lambda event: None if self._syncing else self.set_joint_target(self._slider_q(), event.client)
+            )
         self.from_current.on_click(lambda _: self.reset_to_current())
         self.move_j.on_click(lambda event: self.run(MotionType.JOINT, event.client))
         self.move_l.on_click(lambda event: self.run(MotionType.LINEAR, event.client))
@@ -119,26 +128,53 @@ class TargetPanel:
         elif self.check.q is None or not np.array_equal(self.check.q, q) or not self._gizmo.visible:
             self._target_joints(q)
 
-    def set_flange_target(self, T_base_flange: np.ndarray) -> TargetCheck:
+    def set_flange_target(
+        self, T_base_flange: np.ndarray, client: viser.ClientHandle | None = None
+    ) -> TargetCheck:
         self.following = False
         near = self.check.q if self.check.q is not None else self._current_q()
         near = near if near is not None else 0.5 * (self._arm.lower + self._arm.upper)
-        self.check = check_flange_target(self._arm, T_base_flange, near)
+        self.check = check_flange_target(
+            self._arm, T_base_flange, near, self._current_cell(), self._current_q()
+        )
         self._show(move_gizmo=False)
+        self._guide(client)
         return self.check
 
-    def set_tcp_target(self, T_base_tcp: np.ndarray) -> TargetCheck:
+    def set_tcp_target(self, T_base_tcp: np.ndarray, client: viser.ClientHandle | None = None) -> TargetCheck:
         """Where the gizmo was dragged: the tool's TCP (the flange when no tool is set)."""
-        return self.set_flange_target(T_base_tcp @ inverse(self._current_tool()))
+        return self.set_flange_target(T_base_tcp @ inverse(self._current_tool()), client)
 
-    def set_joint_target(self, q: np.ndarray) -> TargetCheck:
+    def set_joint_target(self, q: np.ndarray, client: viser.ClientHandle | None = None) -> TargetCheck:
         self.following = False
-        return self._target_joints(q)
+        check = self._target_joints(q)
+        self._guide(client)
+        return check
+
+    def _guide(self, client: viser.ClientHandle | None) -> None:
+        """In free drive the target is where the hand pulls the arm: an executable one moves it there, and
+        the target follows the arm again (no ghost, nothing to run)."""
+        if self.hand is None or not self.hand.active or not self.check.ok or self.check.q is None:
+            return
+        self.hand.move(self.check.q, client)
+        self.following = True
+        self._show_ghost(self.check)
 
     def _target_joints(self, q: np.ndarray) -> TargetCheck:
-        self.check = check_joint_target(self._arm, np.asarray(q, dtype=float))
+        cell = None if self.following else self._current_cell()  # the arm where it is: nothing to check
+        self.check = check_joint_target(self._arm, np.asarray(q, dtype=float), cell, self._current_q())
         self._show(move_gizmo=True)
         return self.check
+
+    def recheck(self) -> None:
+        """The cell changed: check the operator's target against it again."""
+        if not self.following and self.check.q is not None:
+            self._target_joints(self.check.q)
+
+    @property
+    def obstacles_hit(self) -> dict[str, bool]:
+        """The obstacles drawn red in this browser because the ghost (or its path) hits them."""
+        return self._hits.shown
 
     # --- running it ---------------------------------------------------------------------------------
     def run(self, motion: MotionType, client: viser.ClientHandle | None = None) -> Future[object] | None:
@@ -194,7 +230,11 @@ class TargetPanel:
 
     def _show_ghost(self, check: TargetCheck) -> None:
         """Blue at an executable target; red otherwise, at the target or, when IK has no solution (out of
-        reach), where the last solvable one was, so the operator sees which drag went too far."""
+        reach), where the last solvable one was, so the operator sees which drag went too far. The
+        obstacles it would hit are drawn red over the shared scene, in this browser only."""
+        cell = self._current_cell()
+        touching = () if self.following else check.touching
+        self._hits.show(cell.obstacles if cell is not None else [], touching)
         if check.q is not None:
             self._ghost_q = check.q
         q = self._ghost_q

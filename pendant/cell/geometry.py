@@ -1,0 +1,129 @@
+"""The controller's cell as coal geometry in the pendant, so the page checks what the controller checks.
+
+Built with the simulator's own shape builders: the ghost turns red exactly where the simulator refuses.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import coal
+import numpy as np
+
+from pendant.controller import ControllerError, Point, Rotation, Tool
+from pendant.controller.cell_types import Obstacle, ToolShape
+from pendant.kinematics import ArmModel
+from pendant.kinematics.obstacles import CellGeometry, _collide, capsule_shape
+from pendant.sim.environment import _obstacle_shape, _tool_capsules
+
+PATH_STEP_RAD = np.radians(2.0)  # the joint path is checked every 2° of the joint that travels most
+
+
+def _local_bounds(shape: coal.CollisionGeometry) -> tuple[np.ndarray, float]:
+    """A sphere around the shape in its own frame (infinite for a plane's half-space)."""
+    shape.computeLocalAABB()
+    return np.asarray(shape.aabb_center, dtype=float), float(shape.aabb_radius)
+
+
+class CellModel:
+    """Obstacles by name and the tool's capsules, checked against the arm at any joint angles.
+
+    Same shapes and the same narrow-phase test as the simulator (its `CellGeometry`), with a bounding-sphere
+    test first: most link-obstacle pairs are far apart, and the ghost checks a whole path on every drag.
+    """
+
+    def __init__(
+        self, arm: ArmModel, obstacles: Sequence[Obstacle], shape: ToolShape, tool: Tool | None = None
+    ) -> None:
+        self.arm = arm
+        self.obstacles = list(obstacles)
+        self.shape = shape
+        capsules = _tool_capsules(shape, tool if tool is not None else _NO_TOOL)
+        self._floor = CellGeometry(arm, [], capsules)  # the tool against the floor (no obstacles: fast)
+        self._tool = [capsule_shape(capsule) for capsule in capsules]
+        self._shapes: list[tuple[str, coal.CollisionGeometry, np.ndarray]] = []
+        centres, radii = [], []
+        for obstacle in self.obstacles:
+            try:
+                geometry, T = _obstacle_shape(obstacle)
+            except ControllerError:  # a plane on a line: the controller refuses it, so it never holds one
+                continue
+            centre, radius = _local_bounds(geometry)
+            self._shapes.append((obstacle.name, geometry, T))
+            centres.append(T[:3, :3] @ centre + T[:3, 3])
+            radii.append(radius)
+        self._centres = np.array(centres).reshape(-1, 3)
+        self._radii = np.array(radii)
+        # The arm's link shapes live as long as the arm model: their local spheres are computed once.
+        self._link_bounds: dict[int, tuple[coal.CollisionGeometry, np.ndarray, float]] = {}
+
+    def _hits(self, q: np.ndarray, *, all_of_them: bool) -> list[str]:
+        if not self._shapes:
+            return []
+        T_base_flange = self.arm.fk(q)
+        moving = [*self.arm.moving_shapes(q), *((s, T_base_flange @ T) for s, T in self._tool)]
+        centres, radii = [], []
+        for link, T_link in moving:
+            known = self._link_bounds.get(id(link))
+            if known is None:
+                known = self._link_bounds[id(link)] = (link, *_local_bounds(link))  # keeps `link` alive
+            centres.append(T_link[:3, :3] @ known[1] + T_link[:3, 3])
+            radii.append(known[2])
+        gaps = np.linalg.norm(np.asarray(centres)[:, None, :] - self._centres[None, :, :], axis=2)
+        near = gaps <= np.asarray(radii)[:, None] + self._radii[None, :]  # planes (infinite) always
+        hit: list[str] = []
+        for i, j in zip(*np.nonzero(near), strict=True):
+            name, obstacle, T_obstacle = self._shapes[j]
+            if name in hit:
+                continue
+            link, T_link = moving[i]
+            if _collide(link, T_link, obstacle, T_obstacle):
+                hit.append(name)
+                if not all_of_them:
+                    return hit
+        return hit
+
+    def collides(self, q: np.ndarray) -> bool:
+        """The arm or its tool touches an obstacle, or the tool dips below the floor, at q."""
+        return self._floor.collides(q) or bool(self._hits(q, all_of_them=False))
+
+    def touching(self, q: np.ndarray) -> list[str]:
+        """The names of the obstacles the arm or its tool touches at q."""
+        return self._hits(q, all_of_them=True)
+
+    def path_touching(self, q_from: np.ndarray, q_to: np.ndarray) -> list[str]:
+        """The obstacles hit along the joint-interpolated path from q_from to q_to (Move J's path)."""
+        if not self._shapes:
+            return []
+        steps = max(1, int(np.ceil(float(np.max(np.abs(q_to - q_from))) / PATH_STEP_RAD)))
+        hit: list[str] = []
+        for fraction in np.linspace(0.0, 1.0, steps + 1):
+            hit.extend(name for name in self.touching(q_from + fraction * (q_to - q_from)) if name not in hit)
+        return hit
+
+
+_NO_TOOL = Tool(
+    name="flange",
+    point=Point(x=0.0, y=0.0, z=0.0),
+    rotation=Rotation(roll=0.0, pitch=0.0, yaw=0.0),
+    radius=0.0,
+)
+
+
+class CellAwareArm:
+    """The arm model whose collision check includes the cell (obstacles, tool shape): given to the jogger, a
+    jog stops short of an obstacle as it does of the floor. Everything else is the arm model's."""
+
+    def __init__(self, arm: ArmModel, cell: Callable[[], CellModel | None]) -> None:
+        self._arm = arm
+        self._cell = cell
+
+    def in_collision(self, q: np.ndarray) -> bool:
+        if self._arm.in_collision(q):
+            return True
+        cell = self._cell()
+        return cell is not None and cell.collides(q)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._arm, name)

@@ -1,0 +1,1 @@
+"""Teaching by demonstration: record the arm's path while free-driven or jogged, and simplify it."""

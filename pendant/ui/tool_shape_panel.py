@@ -1,0 +1,46 @@
+"""Robot tab: the tool's shape (`/tool/shape`), the capsules the controller checks for collisions."""
+
+from __future__ import annotations
+
+from concurrent.futures import Future
+
+import viser
+
+from pendant.cell.forms import text_from_tool_shape, tool_shape_from_text
+from pendant.controller.cell_types import ToolShape
+from pendant.ui.cell_state import CellState
+from pendant.ui.commands import CommandRunner, notify_refusal
+from pendant.ui.gui_target import GuiTarget
+
+HINT = "Capsules on the flange, ';' between them: 'radius: x y z -> x y z' in mm (e.g. 30: 0 0 0 -> 0 0 150)"
+
+
+class ToolShapePanel:
+    def __init__(self, target: GuiTarget, runner: CommandRunner) -> None:
+        self._runner = runner
+        self._shown: ToolShape | None = None
+        with target.gui.add_folder("Tool shape (collision capsules)", expand_by_default=False):
+            self.capsules = target.gui.add_text("Capsules mm", initial_value="", hint=HINT)
+            self.set_shape = target.gui.add_button("Set tool shape")
+        self.set_shape.on_click(lambda e: self.submit(e.client))
+
+    @property
+    def controls(self) -> tuple[viser.GuiInputHandle, ...]:
+        return (self.capsules, self.set_shape)
+
+    def submit(self, client: viser.ClientHandle | None = None) -> Future[object] | None:
+        try:
+            shape = tool_shape_from_text(str(self.capsules.value))
+        except ValueError as error:
+            notify_refusal(client, "Tool shape not set", str(error))
+            return None
+        return self._runner.submit("Set tool shape", lambda c: c.set_tool_shape(shape), client)
+
+    def show(self, state: CellState) -> None:
+        """The controller's shape, when it changes (not while the operator types: only on a change)."""
+        unsupported = "tool shape" in state.unsupported
+        if unsupported and not self.set_shape.disabled:
+            self.set_shape.disabled = True
+        if state.tool_shape != self._shown:
+            self._shown = state.tool_shape
+            self.capsules.value = text_from_tool_shape(state.tool_shape)

@@ -1,0 +1,102 @@
+"""Free drive in the page (simulator) and path recording, headless: the operator pulls the relaxed arm with
+the joint sliders; a recording of that becomes waypoints in the program, within the tolerance."""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+from pendant.controller import MotionType
+from pendant.program.models import MoveStep
+from pendant.sim import SimController
+from pendant.ui.app import PendantUI
+from pendant.ui.session import ClientSession
+
+from .doubles import OPERATOR, FakeBrowser
+from .test_cell import box
+
+WAIT_S = 10.0
+STEPS = 45
+
+
+def wait_for(condition: Callable[[], bool], what: str) -> None:
+    deadline = time.monotonic() + WAIT_S
+    while not condition():
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(0.01)
+
+
+def pose(sim: SimController) -> np.ndarray:
+    return np.radians(sim.get_pose().angles)
+
+
+def pull_to(
+    pendant_ui: PendantUI, ui: ClientSession, sim: SimController, q: np.ndarray, who: FakeBrowser
+) -> None:
+    ui.target_panel.set_joint_target(q, who)
+    wait_for(lambda: np.allclose(pose(sim), q, atol=1e-9), "the arm to follow the hand")
+    pendant_ui.refresh()
+
+
+def test_in_free_drive_the_sliders_move_the_arm_but_not_into_an_obstacle(
+    pendant_ui: PendantUI, ui: ClientSession, sim: SimController
+) -> None:
+    operator = FakeBrowser(OPERATOR)
+    home = pose(sim)
+    turned = home.copy()
+    turned[0] += np.radians(20.0)
+    ui.target_panel.set_joint_target(turned, operator)  # not in free drive: only the ghost moves
+    time.sleep(0.2)
+    np.testing.assert_allclose(pose(sim), home)
+
+    ui.robot_safety.set_free_drive(True, operator).result(timeout=WAIT_S)
+    pendant_ui.refresh_cell()
+    pull_to(pendant_ui, ui, sim, turned, operator)
+    assert ui.target_panel.ghost_shown is None  # no ghost: the arm is where the hand put it
+
+    further = turned.copy()
+    further[0] += np.radians(30.0)
+    sim.add_obstacle(box("in the way", tuple(sim.arm.fk(further)[:3, 3])))  # type: ignore[arg-type]
+    pendant_ui.refresh_cell()
+    check = ui.target_panel.set_joint_target(further, operator)
+    assert not check.ok and "Collision detected" in (check.reason or "")
+    time.sleep(0.2)
+    np.testing.assert_allclose(pose(sim), turned)  # the arm stays short of the obstacle
+
+
+def test_a_free_driven_path_is_recorded_simplified_into_the_program_and_downloadable(
+    pendant_ui: PendantUI, ui: ClientSession, sim: SimController
+) -> None:
+    operator = FakeBrowser(OPERATOR)
+    ui.robot_safety.set_free_drive(True, operator).result(timeout=WAIT_S)
+    pendant_ui.refresh_cell()
+    home = pose(sim)
+    assert ui.record.begin(operator)
+    pendant_ui.refresh()
+    for i in range(1, STEPS + 1):  # a curve: J1 sweeps while J2 and J3 bend and straighten
+        s = i / STEPS
+        q = home + np.radians([40.0 * s, 15.0 * np.sin(np.pi * s), -20.0 * np.sin(np.pi * s), 0.0, 0.0, 0.0])
+        pull_to(pendant_ui, ui, sim, q, operator)
+    added = ui.record.end(operator)
+
+    steps = pendant_ui.programs.program.steps
+    assert 2 < len(added) <= 100 and len(steps) == len(added)
+    assert all(isinstance(step, MoveStep) and step.motion is MotionType.LINEAR for step in steps)
+    first, last = steps[0], steps[-1]
+    assert isinstance(first, MoveStep) and isinstance(last, MoveStep)
+    np.testing.assert_allclose(first.waypoint.pose.angles, np.degrees(home), atol=1e-6)
+    np.testing.assert_allclose(last.waypoint.pose.angles, np.degrees(pose(sim)), atol=1e-6)
+    assert "waypoints** within 1 mm / 1°" in ui.record.note.content
+
+    data = ui.record.send(operator)
+    assert data is not None and operator.downloads[-1][1] == data
+    recording = json.loads(data)
+    assert recording["format"] == "pulse-pendant-path-recording" and recording["schema_version"] == 1
+    samples = recording["samples"]
+    assert len(samples) == STEPS + 1
+    assert [s["t"] for s in samples] == sorted(s["t"] for s in samples)
+    assert set(samples[0]) == {"t", "joints_deg", "tcp", "outputs", "inputs"}
+    assert samples[0]["inputs"] == {"1": "LOW", "2": "LOW", "3": "LOW", "4": "LOW"}

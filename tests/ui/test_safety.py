@@ -1,0 +1,144 @@
+"""The arm's safety state in the page, headless: system state, protective stop, stop bound to an input, free
+drive, identity and failures; and a controller without the SDK 1.8 operations greys those features out."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterator
+from typing import Any
+
+import pytest
+
+from pendant.api.app import create_app
+from pendant.controller import MotionStatus, SignalLevel
+from pendant.controller.system_types import SystemState
+from pendant.remote import RemoteController
+from pendant.sim import SimController
+from pendant.ui.app import PendantUI
+from pendant.ui.session import ClientSession
+from tests.api.server import free_port
+from tests.remote.uvicorn_thread import serve_in_thread
+
+from .doubles import OPERATOR, VIEWER, FakeBrowser, fire
+
+WAIT_S = 10.0
+SDK18_ONLY = (
+    "/environment",
+    "/status/failure",
+    "/robot/info",
+    "/version",
+    "/tool/info",
+    "/tool/shape",
+    "/stop",
+    "/zg",
+)
+
+
+def wait_for(condition: Callable[[], bool], what: str) -> None:
+    deadline = time.monotonic() + WAIT_S
+    while not condition():
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(0.02)
+
+
+def test_the_status_shows_the_system_state(
+    pendant_ui: PendantUI, ui: ClientSession, sim: SimController
+) -> None:
+    pendant_ui.refresh_cell()
+    assert "System state <b" in ui.safety.content and ">ACTIVE</b>" in ui.safety.content
+    sim.zg_on()
+    pendant_ui.refresh_cell()
+    assert ">ZERO_GRAVITY</b>" in ui.safety.content
+    assert ui.robot_safety.free_drive.value is True  # the toggle follows the controller
+
+
+def test_any_browser_may_stop_and_the_dashboard_lists_why(
+    pendant_ui: PendantUI, ui: ClientSession, sim: SimController
+) -> None:
+    viewer = FakeBrowser(VIEWER)
+    fire(ui.safety.stop, viewer)  # like Freeze: stopping is never refused
+    wait_for(lambda: sim.get_motion_status() is MotionStatus.ERROR, "the protective stop")
+    pendant_ui.refresh_cell()
+    assert "Protective stop (POST /stop)" in ui.failures.content
+    assert "STOP_2" in ui.failures.content
+    assert viewer.notifications == []
+
+    fire(ui.safety.recover, FakeBrowser(OPERATOR))
+    wait_for(lambda: sim.get_motion_status() is MotionStatus.IDLE, "the recovery")
+
+
+def test_the_robot_tab_binds_the_stop_to_an_input_level(ui: ClientSession, sim: SimController) -> None:
+    operator = FakeBrowser(OPERATOR)
+    fire(ui.robot_safety.stop_port, operator, "DI1")
+    fire(ui.robot_safety.stop_level, operator, "HIGH")
+    ui.robot_safety.bind_stop(operator).result(timeout=WAIT_S)
+    assert sim.get_motion_status() is MotionStatus.IDLE
+    sim.set_input(1, SignalLevel.HIGH)
+    assert sim.get_motion_status() is MotionStatus.ERROR
+    assert "digital input 1 went HIGH" in sim.get_failures()[-1].message
+
+
+def test_the_free_drive_toggle_relaxes_the_arm(ui: ClientSession, sim: SimController) -> None:
+    operator = FakeBrowser(OPERATOR)
+    ui.robot_safety.set_free_drive(True, operator).result(timeout=WAIT_S)
+    assert sim.get_system_state() is SystemState.ZERO_GRAVITY
+    ui.robot_safety.set_free_drive(False, operator).result(timeout=WAIT_S)
+    assert sim.get_system_state() is SystemState.ACTIVE
+
+
+def test_the_robot_tab_shows_the_identity_and_versions(
+    pendant_ui: PendantUI, ui: ClientSession, sim: SimController
+) -> None:
+    pendant_ui.refresh_cell()
+    info = sim.get_robot_info()
+    assert f"model {info.model}" in ui.robot_safety.identity.content
+    assert sim.get_software_version().safetyVersion in ui.robot_safety.identity.content
+
+
+class OlderFirmware:
+    """The simulator's API as an older controller answers it: 404 to every SDK 1.8 operation."""
+
+    def __init__(self, app: Any) -> None:
+        self._app = app
+
+    async def __call__(self, scope: dict[str, Any], receive: Any, send: Any) -> None:
+        path = scope.get("path", "")
+        if scope["type"] == "http" and (path.startswith(SDK18_ONLY) or path == "/status"):
+            await send(
+                {"type": "http.response.start", "status": 404, "headers": [(b"content-type", b"text/plain")]}
+            )
+            await send({"type": "http.response.body", "body": b"Not Found"})
+            return
+        await self._app(scope, receive, send)
+
+
+@pytest.fixture
+def old_firmware_page(sim: SimController) -> Iterator[tuple[PendantUI, ClientSession]]:
+    """A page on a real HTTP controller that answers 404 to every SDK 1.8 operation (older firmware)."""
+    with serve_in_thread(OlderFirmware(create_app(sim))) as url:
+        remote = RemoteController(url)
+        page = PendantUI(remote, sim.arm, host="127.0.0.1", port=free_port(), mode_line="Robot")
+        page.desk.join(OPERATOR)
+        page.refresh()
+        page.refresh_cell()
+        session = page.open_session(page.server)
+        try:
+            yield page, session
+        finally:
+            page.stop()
+
+
+def test_an_older_controller_greys_the_sdk18_features_out(
+    old_firmware_page: tuple[PendantUI, ClientSession],
+) -> None:
+    page, ui = old_firmware_page
+    page.refresh_cell()
+    ui.show_cell(page.cell_state, page.identity, cell_changed=False)
+    assert page.latest.motion_status is MotionStatus.IDLE  # the rest of the page works
+    assert isinstance(page.controller, RemoteController) and page.controller.health().online  # not "offline"
+    assert "**Cell unavailable:** The controller does not support GET /environment" in ui.cell.note.content
+    assert ui.cell.apply.disabled and ui.cell.load.disabled
+    assert "System state unavailable" in ui.safety.content
+    assert ui.safety.stop.disabled
+    assert "Failures unavailable" in ui.failures.content
+    assert "not reported by this controller (older firmware)" in ui.robot_safety.identity.content
