@@ -23,8 +23,11 @@ $(SDK_STAMP):
 run: $(STAMP)
 	@$(BIN)/pendant $(ARGS)
 
+# Two workers for everything but the browser tests (a 2-core machine); those measure what a user feels
+# (jog stop times, degrees per second), so they run after, on their own.
 test: $(STAMP) $(SDK_STAMP)
-	@$(BIN)/pytest -q $(PYTEST_ARGS)
+	@$(BIN)/pytest -q -n 2 --ignore=tests/browser $(PYTEST_ARGS)
+	@$(BIN)/pytest -q tests/browser $(PYTEST_ARGS)
 
 lint: $(STAMP)
 	@$(BIN)/ruff check . && $(BIN)/ruff format --check .
