@@ -9,7 +9,7 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from pendant.controller.types import FiniteFloat, Point, Position
+from pendant.controller.types import TOOL_NAME_MAX, FiniteFloat, Point, Position
 
 NAME_MAX_CHARS = 200
 MAX_TOOL_CAPSULES = 16
@@ -33,7 +33,7 @@ class _Strict(BaseModel):
 class ToolInfo(_Strict):
     """The tool as GET/POST /tool/info: its name and the TCP's pose relative to the flange centre."""
 
-    name: Annotated[str, Field(max_length=NAME_MAX_CHARS)]
+    name: Annotated[str, Field(max_length=TOOL_NAME_MAX)]  # the same tool as /tool: the same bound
     tcp: Position
 
 

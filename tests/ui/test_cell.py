@@ -262,9 +262,13 @@ def test_a_jog_towards_an_obstacle_stops_short_of_it(
     at[0] += np.radians(30.0)
     sim.add_obstacle(box("fixture", tuple(sim.arm.fk(at)[:3, 3])))  # type: ignore[arg-type]
     pendant_ui.refresh_cell()
-    request = JogRequest(JogFrame.JOINT, 0, +1, speed_percent=50, step=np.radians(60.0))
-    assert pendant_ui.jogger.step(request)  # a step that would run into it: shortened, not refused
+    request = JogRequest(JogFrame.JOINT, 0, +1, speed_percent=50, step=np.radians(10.0))  # the largest
+    assert pendant_ui.jogger.step(request)
     clock.advance(10.0)
+    for _ in range(5):  # 60° of steps towards a fixture 30° away: the last ones shortened, then refused
+        if not pendant_ui.jogger.step(request):
+            break
+        clock.advance(10.0)
     reached = home_q(sim)
     assert 5.0 < np.degrees(reached[0] - q[0]) < 30.0
     assert pendant_ui.cell_model is not None and not pendant_ui.cell_model.collides(reached)

@@ -87,8 +87,9 @@ def test_a_free_driven_path_is_recorded_simplified_into_the_program_and_download
     assert all(isinstance(step, MoveStep) and step.motion is MotionType.LINEAR for step in steps)
     first, last = steps[0], steps[-1]
     assert isinstance(first, MoveStep) and isinstance(last, MoveStep)
-    np.testing.assert_allclose(first.waypoint.pose.angles, np.degrees(home), atol=1e-6)
-    np.testing.assert_allclose(last.waypoint.pose.angles, np.degrees(pose(sim)), atol=1e-6)
+    program = pendant_ui.programs.program  # moves name their waypoints in the program's table
+    np.testing.assert_allclose(program.waypoint(first.waypoint).pose.angles, np.degrees(home), atol=1e-6)
+    np.testing.assert_allclose(program.waypoint(last.waypoint).pose.angles, np.degrees(pose(sim)), atol=1e-6)
     assert "waypoints** within 1 mm / 1°" in ui.record.note.content
 
     data = ui.record.send(operator)

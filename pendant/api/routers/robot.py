@@ -7,6 +7,7 @@ from fastapi.concurrency import run_in_threadpool
 
 from pendant.api import docs
 from pendant.api.wire import TextResponse, empty_result, string_result
+from pendant.controller.errors import MSG_PROTECTIVE_STOP
 from pendant.controller.protocol import Controller
 from pendant.controller.types import RecoverResult
 
@@ -29,7 +30,7 @@ def robot_router(controller: Controller) -> APIRouter:
         summary="Asking the robot to relax",
         description="The arm stops without holding its position (ZERO_GRAVITY): it can be moved by hand.",
         response_class=TextResponse,
-        responses={**docs.empty_ok(), **docs.arm_errors()},
+        responses={**docs.empty_ok(), **docs.precondition(MSG_PROTECTIVE_STOP), **docs.arm_errors()},
     )
     async def relax() -> TextResponse:
         controller.relax()

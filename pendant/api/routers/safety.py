@@ -80,6 +80,7 @@ def safety_router(controller: Controller) -> APIRouter:
         response_class=TextResponse,
         responses={
             **docs.text_result("Done", "Zero gravity on: the arm can be moved by hand"),
+            **docs.precondition(MSG_PROTECTIVE_STOP),
             **docs.arm_errors(),
         },
     )
