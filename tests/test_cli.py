@@ -114,9 +114,8 @@ def printed_ui_url(out: str) -> str:
 
 
 def token_in_url(url: str) -> str:
-    """The token the page will send: it rides in the query of the websocket URL the page connects to."""
-    websocket = parse_qs(urlsplit(url).query)["websocket"][0]
-    return parse_qs(urlsplit(websocket).query)[TOKEN_QUERY][0]
+    """The token the page will send (its script hands `?token=` to the websocket the page connects to)."""
+    return parse_qs(urlsplit(url).query)[TOKEN_QUERY][0]
 
 
 def test_an_exposed_pendant_prints_a_fresh_token_its_url_and_the_api_header(

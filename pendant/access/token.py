@@ -127,12 +127,11 @@ def reachable_address(host: str) -> str:
 
 
 def ui_url(host: str, port: int, token: str | None) -> str:
-    """The URL to open the pendant's page; with a token it rides in the page's websocket URL."""
+    """The URL to open the pendant's page; with a token, `?token=T` (the page hands it to its websocket)."""
     address = reachable_address(host)
     if ":" in address and not address.startswith("["):
         address = f"[{address}]"  # an IPv6 literal
     page = f"http://{address}:{port}/"
     if token is None:
         return page
-    websocket = f"ws://{address}:{port}/?{TOKEN_QUERY}={token}"
-    return f"{page}?websocket={quote(websocket, safe='')}"
+    return f"{page}?{TOKEN_QUERY}={quote(token, safe='')}"

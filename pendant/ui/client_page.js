@@ -10,8 +10,19 @@
 // 3. Software WebGL (no GPU): no multisampling, a capped pixel ratio and frame rate, which leave the main
 //    thread time for input.
 // 4. Freeze pinned to the top of the panel.
+// 5. `?token=T` in the page's URL (as Jupyter's): handed to viser's websocket URL (`?websocket=`), whose
+//    handshake is where the pendant reads it, before viser's own script reads the page's URL.
 (() => {
   "use strict";
+  (function tokenIntoWebsocketUrl() {
+    const params = new URLSearchParams(location.search);
+    const token = params.get("token");
+    if (token === null || params.has("websocket")) return;
+    const ws = `${location.protocol === "https:" ? "wss" : "ws"}://${location.host}${location.pathname}`;
+    params.delete("token");
+    params.set("websocket", `${ws}?token=${encodeURIComponent(token)}`);
+    history.replaceState(null, "", `${location.pathname}?${params.toString()}${location.hash}`);
+  })();
   const HOLD_HZ = 20;
   const TOUCH_DELAY_MS = 60;
   const TOUCH_SLOP_PX = 10;
