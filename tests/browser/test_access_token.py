@@ -8,6 +8,7 @@ from collections.abc import Iterator
 
 import numpy as np
 import pytest
+from playwright.sync_api import expect
 
 from pendant.access import TOKEN_HEADER, ui_url
 
@@ -38,7 +39,7 @@ def hold_j1_plus(page) -> None:  # type: ignore[no-untyped-def]
 
 def test_without_the_token_a_page_cannot_take_control_or_move_the_arm(page, pendant: Pendant) -> None:
     before = pendant.pose()
-    assert page.get_by_role("button", name="J1+", exact=True).is_disabled()
+    expect(page.get_by_role("button", name="J1+", exact=True)).to_be_disabled(timeout=UI_TIMEOUT_MS)
     page.get_by_role("button", name="Take control").click()
     page.get_by_text("needs its access token").first.wait_for(timeout=UI_TIMEOUT_MS)
     page.screenshot(path=str(ARTIFACTS / "token-refused.png"))
