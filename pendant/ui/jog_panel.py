@@ -50,11 +50,6 @@ class JogPanel:
         self._runner = runner
         self._arm = arm
         self._current_tool = current_tool
-        self.frame = target.gui.add_dropdown("Frame", [f.value for f in JogFrame], initial_value="Joint")
-        self.step = target.gui.add_dropdown("Step (mm / °)", STEP_CHOICES, initial_value=CONTINUOUS)
-        self.speed = target.gui.add_slider(
-            "Speed %", min=1.0, max=100.0, step=1.0, initial_value=DEFAULT_SPEED_PERCENT
-        )
         self.buttons: dict[tuple[int, int], viser.GuiButtonHandle] = {}
         for axis in range(6):
             for direction in (-1, +1):
@@ -63,7 +58,13 @@ class JogPanel:
                 self._bind(button, axis, direction)
         self.stop = target.gui.add_button("Stop jog", visible=False)
         self.stop.on_click(lambda _: self._jogger.release("released"))
+        # The pad first, its settings under it: all six rows fit a 1024x768 screen with the status above.
         self.pad = target.gui.add_html("")
+        self.frame = target.gui.add_dropdown("Frame", [f.value for f in JogFrame], initial_value="Joint")
+        self.step = target.gui.add_dropdown("Step (mm / °)", STEP_CHOICES, initial_value=CONTINUOUS)
+        self.speed = target.gui.add_slider(
+            "Speed %", min=1.0, max=100.0, step=1.0, initial_value=DEFAULT_SPEED_PERCENT
+        )
         self._snapshot = Snapshot(taken_at=0.0)
         self._locked = False
         self._shown_at = -math.inf

@@ -90,7 +90,7 @@ def _fields(data: dict[str, object]) -> str:
 
 
 class SafetyBar:
-    """Under the status: the system state, Protective stop (any browser, like Freeze) and Recover."""
+    """At the top of the Robot tab: the system state, Protective stop (any browser, like Freeze), Recover."""
 
     def __init__(self, target: GuiTarget, runner: CommandRunner) -> None:
         self._html = target.gui.add_html(render_system_state(CellState()))

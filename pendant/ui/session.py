@@ -90,7 +90,6 @@ class ClientSession:
         self._desk = desk
         self.freeze = add_freeze_button(target, runner)
         self.status = StatusPanel(target, mode_line, runner)
-        self.safety = SafetyBar(target, runner)
         self.control = ControlPanel(target, desk, client_id, url_token, remote)
         self.tabs = target.gui.add_tab_group()
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
@@ -105,6 +104,9 @@ class ClientSession:
         with self.tabs.add_tab("IO", viser.Icon.PLUG):
             self.io = IoPanel(target, runner)
         with self.tabs.add_tab("Robot", viser.Icon.ROBOT):
+            # Here rather than under the status: above the tabs it pushed the jog pad off a 1024x768 screen,
+            # and Freeze (pinned at the top) is the stop always in reach.
+            self.safety = SafetyBar(target, runner)
             self.robot_buttons = add_robot_commands(target, runner)
             self.settings = SettingsPanel(target, runner)
             self.tool_shape = ToolShapePanel(target, runner)

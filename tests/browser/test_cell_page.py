@@ -12,7 +12,7 @@ from PIL import Image
 from .conftest import ARTIFACTS, Pendant
 from .test_pendant_page import SETTLE_S, wait_idle
 
-SHOWN_WITHIN_S = 5.0
+SHOWN_WITHIN_S = 15.0  # the page's own check and redraw, on a loaded 2-core machine
 ORANGE_PIXELS_MIN = 2000  # a 30 cm box in the default view covers tens of thousands of pixels
 SIDE_M = 0.3
 SCENE_WIDTH_PX = 950  # the page is 1400 px wide; the control panel takes its right side
