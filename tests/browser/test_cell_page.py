@@ -89,6 +89,7 @@ def test_an_obstacle_added_in_the_page_refuses_a_move_through_it(page, pendant: 
         target = home.copy()
         target[0] += 90.0
         page.get_by_role("tab", name="Target").click()
+        page.get_by_role("button", name="Move J").wait_for(timeout=SHOWN_WITHIN_S * 1000)  # the tab is shown
         j1 = page.locator("input.mantine-NumberInput-input:visible").first
         j1.fill(f"{target[0]:.1f}")
         j1.press("Enter")
