@@ -153,8 +153,22 @@ def test_closing_the_tab_while_a_jog_button_is_held_stops_the_arm(browser, penda
     open_as_operator(tab, pendant.ui_url)
     timeline = close_while_held(tab, pendant.api, "J1+", 0.6)
     assert timeline.moved_deg > 1.0, "the held button did not jog"
+    # The closing page stopped it itself (its worker's release or its keepalive fetch, whichever came first),
+    # not the deadman once it went quiet.
+    assert last_jog_stop(pendant) in {"Jog stopped (released)", "Jog stopped (page closed)"}
     assert timeline.stop_after_release_s() < STOP_WITHIN_S, "the arm went on after the tab closed"
     still_after(pendant)
+
+
+def last_jog_stop(pendant: Pendant) -> str:
+    """The newest "Jog stopped (why)" of the event log (written by its own thread: give it a moment)."""
+    deadline = time.monotonic() + 5.0
+    while True:
+        query = {"text": "Jog stopped", "limit": 1}
+        events = pendant.api.get("/pendant/events", params=query).json()["events"]
+        if events or time.monotonic() > deadline:
+            return str(events[0]["message"]) if events else ""
+        time.sleep(0.1)
 
 
 @pytest.mark.parametrize("viewport", [DESKTOP, TABLET_LANDSCAPE], ids=["1400x900", "1024x768"])
