@@ -187,7 +187,8 @@
   const pageGoing = () => {
     const jogging = [...holds.values()].some((hold) => hold.started);
     finishAll();
-    if (jogging) fetch(new URL("pendant-stop-jog", location.href), { keepalive: true, cache: "no-store" });
+    if (!jogging) return;
+    fetch(new URL("pendant-stop-jog", location.href), { keepalive: true, cache: "no-store" }).catch(() => {});
   };
 
   function jogButton(target) {
