@@ -35,6 +35,9 @@
   // While a jog is held, frames further apart: each software-rendered frame blocks the main thread (and
   // takes a core), and a release waits for the frame it lands in. The pad's values still change at 10 Hz.
   const SOFTWARE_JOG_FRAME_MS = 100;
+  // The browser's own, before the spacing below wraps it: a touch's decision waits for the next frame,
+  // not for the next frame the spacing lets through.
+  const nextFrame = window.requestAnimationFrame.bind(window);
 
   // --- 3. rendering cost in software WebGL ------------------------------------------------------------
   function softwareWebGL() {
@@ -216,7 +219,7 @@
     // Decide after the delay, in a frame callback: Chrome hands moves and cancels to the page just before
     // the frame, so a swipe the page was too busy to see yet is seen before this decides.
     hold.timer = setTimeout(() => {
-      requestAnimationFrame(() => { if (holds.get(event.pointerId) === hold && !hold.started) start(hold); });
+      nextFrame(() => { if (holds.get(event.pointerId) === hold && !hold.started) start(hold); });
     }, TOUCH_DELAY_MS);
   }, true);
   document.addEventListener("pointermove", (event) => {
