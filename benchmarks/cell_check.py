@@ -14,9 +14,9 @@ import numpy as np
 from pendant.cell.geometry import CellModel
 from pendant.controller import Point, Position, Rotation
 from pendant.controller.cell_types import BoxObstacle, SimplifiedCapsuleObstacle, ToolShape
+from pendant.kinematics.cell_shapes import obstacle_shape
 from pendant.kinematics.obstacles import Capsule, CellGeometry
 from pendant.sim import SimController
-from pendant.sim.environment import _obstacle_shape
 from pendant.ui.target_check import check_joint_target
 
 RUNS = 200
@@ -62,7 +62,7 @@ def main() -> None:
         if n:
             plain = CellGeometry(
                 sim.arm,
-                [_obstacle_shape(b) for b in boxes],
+                [obstacle_shape(b) for b in boxes],
                 [Capsule(0.03, np.zeros(3), np.array([0, 0, 0.15]))],
             )
             samples = [q + f * (target - q) for f in np.linspace(0.0, 1.0, 46)]  # the same 2° steps
