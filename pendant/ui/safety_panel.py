@@ -1,5 +1,6 @@
-"""The arm's safety state: its system state (`/status`), a protective Stop (`POST /stop`) and Recover; the
-Robot tab's stop-on-input binding, free drive and identity; the Dashboard's failure list."""
+"""The arm's safety state: its system state (`/status`, shown in the status line), the Robot tab's
+stop-on-input binding, free drive and identity, and the Dashboard's failure list. The protective Stop and
+Recover sit under the status (status_panel.py)."""
 
 from __future__ import annotations
 
@@ -34,17 +35,13 @@ PROTECTIVE_STOP_HINT = "Protective stop: the arm stops and holds; Recover leaves
 
 
 def render_system_state(state: CellState) -> str:
-    unsupported = state.unsupported.get("status")
-    if unsupported:
-        message = html.escape(unsupported)
-        return f'<div id="system-state" style="color:#868e96">System state unavailable: {message}</div>'
+    """The system state as a fragment of the status line (`/status`), or why the controller has none."""
+    if "status" in state.unsupported:
+        return '<span id="system-state" style="color:#868e96">system state: not on this controller</span>'
     value = state.system_state
     label = value.value if value is not None else "unknown"
     colour = SYSTEM_STATE_COLOURS.get(value, "#868e96") if value is not None else "#868e96"
-    return (
-        f'<div id="system-state" style="font-size:0.85em">System state '
-        f'<b style="color:{colour}">{label}</b></div>'
-    )
+    return f'<span id="system-state">system <b style="color:{colour}">{label}</b></span>'
 
 
 def render_failures(failures: Sequence[Failure], unsupported: str | None) -> str:
@@ -87,35 +84,6 @@ def _fields(data: dict[str, object]) -> str:
         f"{key} {', '.join(map(str, value)) if isinstance(value, list) else value}"
         for key, value in data.items()
     )
-
-
-class SafetyBar:
-    """At the top of the Robot tab: the system state, Protective stop (any browser, like Freeze), Recover."""
-
-    def __init__(self, target: GuiTarget, runner: CommandRunner) -> None:
-        self._html = target.gui.add_html(render_system_state(CellState()))
-        self._last = ""
-        self.stop = target.gui.add_button(
-            "Protective stop", color="orange", icon=viser.Icon.HAND_OFF, hint=PROTECTIVE_STOP_HINT
-        )
-        self.recover = target.gui.add_button("Recover", icon=viser.Icon.REFRESH)
-        self.stop.on_click(
-            lambda e: runner.submit("Protective stop", lambda c: c.stop(), e.client, urgent=True)
-        )
-        self.recover.on_click(lambda e: runner.submit("Recover", lambda c: c.recover(), e.client))
-
-    @property
-    def content(self) -> str:
-        return self._last
-
-    def show(self, state: CellState) -> None:
-        content = render_system_state(state)
-        if content != self._last:
-            self._html.content = content
-            self._last = content
-        unsupported = "status" in state.unsupported
-        if self.stop.disabled != unsupported:
-            self.stop.disabled = unsupported
 
 
 class RobotSafetyPanel:

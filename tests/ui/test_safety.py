@@ -45,10 +45,10 @@ def test_the_status_shows_the_system_state(
     pendant_ui: PendantUI, ui: ClientSession, sim: SimController
 ) -> None:
     pendant_ui.refresh_cell()
-    assert "System state <b" in ui.safety.content and ">ACTIVE</b>" in ui.safety.content
+    assert "system <b" in ui.status.content and ">ACTIVE</b>" in ui.status.content
     sim.zg_on()
     pendant_ui.refresh_cell()
-    assert ">ZERO_GRAVITY</b>" in ui.safety.content
+    assert ">ZERO_GRAVITY</b>" in ui.status.content
     assert ui.robot_safety.free_drive.value is True  # the toggle follows the controller
 
 
@@ -56,15 +56,22 @@ def test_any_browser_may_stop_and_the_dashboard_lists_why(
     pendant_ui: PendantUI, ui: ClientSession, sim: SimController
 ) -> None:
     viewer = FakeBrowser(VIEWER)
-    fire(ui.safety.stop, viewer)  # like Freeze: stopping is never refused
+    assert ui.status.stop.visible and not ui.status.recover.visible
+    fire(ui.status.stop, viewer)  # like Freeze: stopping is never refused
     wait_for(lambda: sim.get_motion_status() is MotionStatus.ERROR, "the protective stop")
+    pendant_ui.refresh()
     pendant_ui.refresh_cell()
     assert "Protective stop (POST /stop)" in ui.failures.content
     assert "STOP_2" in ui.failures.content
     assert viewer.notifications == []
+    # Recover takes the Stop's place under the status: one Recover in the whole page.
+    assert ui.status.recover.visible and not ui.status.stop.visible
+    assert "Recover" not in ui.robot_buttons
 
-    fire(ui.safety.recover, FakeBrowser(OPERATOR))
+    fire(ui.status.recover, FakeBrowser(OPERATOR))
     wait_for(lambda: sim.get_motion_status() is MotionStatus.IDLE, "the recovery")
+    pendant_ui.refresh()
+    assert ui.status.stop.visible and not ui.status.recover.visible
 
 
 def test_the_robot_tab_binds_the_stop_to_an_input_level(ui: ClientSession, sim: SimController) -> None:
@@ -138,7 +145,7 @@ def test_an_older_controller_greys_the_sdk18_features_out(
     assert isinstance(page.controller, RemoteController) and page.controller.health().online  # not "offline"
     assert "**Cell unavailable:** The controller does not support GET /environment" in ui.cell.note.content
     assert ui.cell.apply.disabled and ui.cell.load.disabled
-    assert "System state unavailable" in ui.safety.content
-    assert ui.safety.stop.disabled
+    assert "system state: not on this controller" in ui.status.content
+    assert ui.status.stop.disabled
     assert "Failures unavailable" in ui.failures.content
     assert "not reported by this controller (older firmware)" in ui.robot_safety.identity.content
