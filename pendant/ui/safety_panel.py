@@ -13,6 +13,7 @@ from pendant.controller import Controller, ControllerError, SignalLevel
 from pendant.controller.errors import Unsupported
 from pendant.controller.system_types import Failure, FailureLevel, SystemState
 from pendant.controller.types import INPUT_PORTS
+from pendant.ui.availability import Availability
 from pendant.ui.cell_state import CellState
 from pendant.ui.commands import CommandRunner
 from pendant.ui.gui_target import GuiTarget
@@ -99,41 +100,68 @@ class RobotSafetyPanel:
             self.stop_level = gui.add_dropdown("Level", options=["HIGH", "LOW"], initial_value="HIGH")
             self.bind = gui.add_button("Bind stop")
             self.unbind = gui.add_button("Unbind stop")
+            stop_controls = (self.stop_port, self.stop_level, self.bind, self.unbind)
+            self.input_stop = Availability(gui, "Stop on input", stop_controls)
         self.free_drive = gui.add_checkbox(
             "Free drive", initial_value=False, hint="Zero gravity: move the arm by hand"
         )
+        self.free_drive_availability = Availability(gui, "Free drive", (self.free_drive,))
         with gui.add_folder("Robot identity", expand_by_default=False):
             self.identity = gui.add_markdown("Reading the controller…")
         self.bind.on_click(lambda e: self.bind_stop(e.client))
-        self.unbind.on_click(lambda e: runner.submit("Unbind stop", lambda c: c.unbind_stop(), e.client))
+        self.unbind.on_click(
+            lambda e: self.input_stop.learn(runner.submit("Unbind stop", lambda c: c.unbind_stop(), e.client))
+        )
         self._syncing = False
         self.free_drive.on_update(
             lambda e: None if self._syncing else self.set_free_drive(self.free_drive.value, e.client)
         )
 
-    @property
-    def controls(self) -> tuple[viser.GuiInputHandle, ...]:
-        return (self.stop_port, self.stop_level, self.bind, self.unbind, self.free_drive)
+    def set_locked(self, locked: bool) -> None:
+        """A viewer's page, or a controller without these operations: greyed out."""
+        self.input_stop.set_locked(locked)
+        self.free_drive_availability.set_locked(locked)
 
     def bind_stop(self, client: viser.ClientHandle | None = None):  # type: ignore[no-untyped-def]
         port = int(str(self.stop_port.value).removeprefix("DI"))
         level = SignalLevel(self.stop_level.value)
-        return self._runner.submit(
-            f"Bind stop to DI{port} {level.value}", lambda c: c.bind_stop(port, level), client
+        return self.input_stop.learn(
+            self._runner.submit(
+                f"Bind stop to DI{port} {level.value}", lambda c: c.bind_stop(port, level), client
+            )
         )
 
     def set_free_drive(self, on: bool, client: viser.ClientHandle | None = None):  # type: ignore[no-untyped-def]
-        if on:
-            return self._runner.submit("Free drive on", lambda c: c.zg_on(), client)
-        return self._runner.submit("Free drive off", lambda c: c.zg_off(), client)
+        label, action = ("Free drive on", _zg_on) if on else ("Free drive off", _zg_off)
+        future = self.free_drive_availability.learn(self._runner.submit(label, action, client))
+        future.add_done_callback(lambda f: self._show_free_drive(not on) if f.exception() else None)
+        return future
+
+    def _show_free_drive(self, on: bool) -> None:
+        """The toggle as the controller has it (a refused switch springs back)."""
+        if self.free_drive.value != on:
+            self._syncing = True
+            try:
+                self.free_drive.value = on
+            finally:
+                self._syncing = False
 
     def show(self, state: CellState, identity: str) -> None:
         if identity and self.identity.content != identity:
             self.identity.content = identity
-        free = state.system_state is SystemState.ZERO_GRAVITY
-        if state.system_state is not None and self.free_drive.value != free:
-            self._syncing = True
-            try:
-                self.free_drive.value = free
-            finally:
-                self._syncing = False
+        # Free drive (/zg) and the input stop (/stop/bind) came with SDK 1.8's /status: a controller that
+        # answers 404 to /status lacks them too (and a 404 to the command itself says so as well).
+        status = state.unsupported.get("status")
+        older = f"this controller has no SDK 1.8 safety operations ({status})" if status else None
+        self.input_stop.show(older)
+        self.free_drive_availability.show(older)
+        if state.system_state is not None:
+            self._show_free_drive(state.system_state is SystemState.ZERO_GRAVITY)
+
+
+def _zg_on(c: Controller) -> object:
+    return c.zg_on()
+
+
+def _zg_off(c: Controller) -> object:
+    return c.zg_off()

@@ -141,8 +141,6 @@ class ClientSession:
         yield from self.io.outputs.values()
         yield from (self.io.gripper_open, self.io.gripper_close)
         yield from self.robot_buttons.values()
-        yield from self.robot_safety.controls
-        yield from self.tool_shape.controls
         yield from self.cell.controls
         yield from self.record.controls
         s = self.settings
@@ -177,6 +175,8 @@ class ClientSession:
         self.target_panel.locked = self.locked
         self.jog.locked = self.locked
         self.cell.set_locked(self.locked)
+        self.robot_safety.set_locked(self.locked)
+        self.tool_shape.set_locked(self.locked)
         self.program.locked = self.locked
         ok = self.target_panel.executable
         _set_disabled(self.target_panel.move_j, self.locked or not ok)
