@@ -1,6 +1,7 @@
 """What the cell costs the target ghost: check_joint_target (limits, self-collision, the cell at the target
 and along the joint path) with 0, 10 and 50 obstacles and a tool capsule, for a 90° joint-1 move; beside it,
-the same path checked sample by sample with the simulator's CellGeometry (no bounding-sphere pass).
+the same path checked sample by sample with the simulator's CellGeometry (no bounding-sphere pass); and the
+memory the checks leave held (a drag of the gizmo checks a path on every move).
 
 Run: PYTHONPATH=. python benchmarks/cell_check.py
 """
@@ -8,6 +9,7 @@ Run: PYTHONPATH=. python benchmarks/cell_check.py
 from __future__ import annotations
 
 import time
+import tracemalloc
 
 import numpy as np
 
@@ -72,6 +74,13 @@ def main() -> None:
             seconds = (time.perf_counter() - started) / (RUNS // 20)
             ms = seconds * 1000
             line += f"; sample by sample with CellGeometry {ms:.1f} ms ({ms / median:.1f}x)"
+        if n:
+            tracemalloc.start()
+            for _ in range(RUNS):
+                check_joint_target(sim.arm, target, cell, q)
+            held, _ = tracemalloc.get_traced_memory()
+            tracemalloc.stop()
+            line += f"; memory held after {RUNS} checks {held / 1e6:.1f} MB"
         print(line)
 
 
