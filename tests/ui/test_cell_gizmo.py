@@ -172,3 +172,21 @@ def test_a_viewer_gets_no_gizmo(pendant_ui: PendantUI, sim: SimController) -> No
     viewer = pendant_ui.open_session(pendant_ui.server, client_id=VIEWER)
     fire(viewer.cell.selected, FakeBrowser(VIEWER), "table")
     assert not viewer.cell.gizmo.handle.visible
+
+
+def test_the_selected_obstacles_fields_and_gizmo_follow_a_scripts_change(
+    pendant_ui: PendantUI, ui: ClientSession, sim: SimController
+) -> None:
+    sim.add_obstacle(box("table", (0.5, 0.3, 0.1)))
+    pendant_ui.refresh_cell()
+    fire(ui.cell.selected, FakeBrowser(OPERATOR), "table")
+    sim.add_obstacle(box("table", (0.5, -0.3, 0.2), side=0.2))  # a script moves and resizes it
+    pendant_ui.refresh_cell()
+    np.testing.assert_allclose(ui.cell.at.value, (500.0, -300.0, 200.0), atol=MM_TOL)
+    np.testing.assert_allclose(ui.cell.size.value, (200.0, 200.0, 200.0), atol=MM_TOL)
+    np.testing.assert_allclose(ui.cell.gizmo.handle.position, (0.5, -0.3, 0.2), atol=MM_TOL)
+
+    sim.remove_obstacle("table")  # and deletes it: nothing selected, no gizmo
+    pendant_ui.refresh_cell()
+    assert ui.cell.selected.value == "(new obstacle)"
+    assert not ui.cell.gizmo.handle.visible
