@@ -1,6 +1,7 @@
 """What the cell costs the target ghost: check_joint_target (limits, self-collision, the cell at the target
 and along the joint path) with 0, 10 and 50 obstacles and a tool capsule, for a 90° joint-1 move; beside it,
-the same path checked sample by sample with the simulator's CellGeometry (no bounding-sphere pass).
+the same path checked sample by sample with the simulator's CellGeometry (no bounding-sphere pass); and the
+memory the checks leave held (a drag of the gizmo checks a path on every move).
 
 Run: PYTHONPATH=. python benchmarks/cell_check.py
 """
@@ -8,15 +9,16 @@ Run: PYTHONPATH=. python benchmarks/cell_check.py
 from __future__ import annotations
 
 import time
+import tracemalloc
 
 import numpy as np
 
 from pendant.cell.geometry import CellModel
 from pendant.controller import Point, Position, Rotation
 from pendant.controller.cell_types import BoxObstacle, SimplifiedCapsuleObstacle, ToolShape
+from pendant.kinematics.cell_shapes import obstacle_shape
 from pendant.kinematics.obstacles import Capsule, CellGeometry
 from pendant.sim import SimController
-from pendant.sim.environment import _obstacle_shape
 from pendant.ui.target_check import check_joint_target
 
 RUNS = 200
@@ -62,7 +64,7 @@ def main() -> None:
         if n:
             plain = CellGeometry(
                 sim.arm,
-                [_obstacle_shape(b) for b in boxes],
+                [obstacle_shape(b) for b in boxes],
                 [Capsule(0.03, np.zeros(3), np.array([0, 0, 0.15]))],
             )
             samples = [q + f * (target - q) for f in np.linspace(0.0, 1.0, 46)]  # the same 2° steps
@@ -72,6 +74,13 @@ def main() -> None:
             seconds = (time.perf_counter() - started) / (RUNS // 20)
             ms = seconds * 1000
             line += f"; sample by sample with CellGeometry {ms:.1f} ms ({ms / median:.1f}x)"
+        if n:
+            tracemalloc.start()
+            for _ in range(RUNS):
+                check_joint_target(sim.arm, target, cell, q)
+            held, _ = tracemalloc.get_traced_memory()
+            tracemalloc.stop()
+            line += f"; memory held after {RUNS} checks {held / 1e6:.1f} MB"
         print(line)
 
 

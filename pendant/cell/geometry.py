@@ -14,16 +14,10 @@ import numpy as np
 from pendant.controller import ControllerError, Point, Rotation, Tool
 from pendant.controller.cell_types import Obstacle, ToolShape
 from pendant.kinematics import ArmModel
-from pendant.kinematics.obstacles import CellGeometry, _collide, capsule_shape
-from pendant.sim.environment import _obstacle_shape, _tool_capsules
+from pendant.kinematics.cell_shapes import obstacle_shape, tool_capsules
+from pendant.kinematics.obstacles import CellGeometry, bounding_sphere, capsule_shape, collide
 
 PATH_STEP_RAD = np.radians(2.0)  # the joint path is checked every 2° of the joint that travels most
-
-
-def _local_bounds(shape: coal.CollisionGeometry) -> tuple[np.ndarray, float]:
-    """A sphere around the shape in its own frame (infinite for a plane's half-space)."""
-    shape.computeLocalAABB()
-    return np.asarray(shape.aabb_center, dtype=float), float(shape.aabb_radius)
 
 
 class CellModel:
@@ -39,37 +33,33 @@ class CellModel:
         self.arm = arm
         self.obstacles = list(obstacles)
         self.shape = shape
-        capsules = _tool_capsules(shape, tool if tool is not None else _NO_TOOL)
+        capsules = tool_capsules(shape, tool if tool is not None else _NO_TOOL)
         self._floor = CellGeometry(arm, [], capsules)  # the tool against the floor (no obstacles: fast)
         self._tool = [capsule_shape(capsule) for capsule in capsules]
         self._shapes: list[tuple[str, coal.CollisionGeometry, np.ndarray]] = []
         centres, radii = [], []
         for obstacle in self.obstacles:
             try:
-                geometry, T = _obstacle_shape(obstacle)
+                geometry, T = obstacle_shape(obstacle)
             except ControllerError:  # a plane on a line: the controller refuses it, so it never holds one
                 continue
-            centre, radius = _local_bounds(geometry)
+            centre, radius = bounding_sphere(geometry, T)
             self._shapes.append((obstacle.name, geometry, T))
-            centres.append(T[:3, :3] @ centre + T[:3, 3])
+            centres.append(centre)
             radii.append(radius)
         self._centres = np.array(centres).reshape(-1, 3)
         self._radii = np.array(radii)
-        # The arm's link shapes live as long as the arm model: their local spheres are computed once.
-        self._link_bounds: dict[int, tuple[coal.CollisionGeometry, np.ndarray, float]] = {}
 
     def _hits(self, q: np.ndarray, *, all_of_them: bool) -> list[str]:
         if not self._shapes:
             return []
         T_base_flange = self.arm.fk(q)
         moving = [*self.arm.moving_shapes(q), *((s, T_base_flange @ T) for s, T in self._tool)]
-        centres, radii = [], []
-        for link, T_link in moving:
-            known = self._link_bounds.get(id(link))
-            if known is None:
-                known = self._link_bounds[id(link)] = (link, *_local_bounds(link))  # keeps `link` alive
-            centres.append(T_link[:3, :3] @ known[1] + T_link[:3, 3])
-            radii.append(known[2])
+        # Each coal shape keeps its local bounding sphere once computed (pinocchio hands out a new Python
+        # wrapper of the same shape on every call: a cache keyed by the wrapper grew by every check).
+        spheres = [bounding_sphere(link, T_link) for link, T_link in moving]
+        centres = [centre for centre, _ in spheres]
+        radii = [radius for _, radius in spheres]
         gaps = np.linalg.norm(np.asarray(centres)[:, None, :] - self._centres[None, :, :], axis=2)
         near = gaps <= np.asarray(radii)[:, None] + self._radii[None, :]  # planes (infinite) always
         hit: list[str] = []
@@ -78,7 +68,7 @@ class CellModel:
             if name in hit:
                 continue
             link, T_link = moving[i]
-            if _collide(link, T_link, obstacle, T_obstacle):
+            if collide(link, T_link, obstacle, T_obstacle):
                 hit.append(name)
                 if not all_of_them:
                     return hit

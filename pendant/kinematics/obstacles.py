@@ -63,7 +63,7 @@ def plane_shape(points: np.ndarray) -> tuple[coal.CollisionGeometry, np.ndarray]
     return coal.Halfspace(normal, offset), np.eye(4)
 
 
-def _bounding_sphere(shape: coal.CollisionGeometry, T: np.ndarray) -> tuple[np.ndarray, float]:
+def bounding_sphere(shape: coal.CollisionGeometry, T: np.ndarray) -> tuple[np.ndarray, float]:
     """Centre (base frame) and radius of a sphere holding the shape; a half-space gets an infinite one."""
     if isinstance(shape, coal.Halfspace):
         return T[:3, 3], math.inf
@@ -74,7 +74,7 @@ def _bounding_sphere(shape: coal.CollisionGeometry, T: np.ndarray) -> tuple[np.n
 
 def _apart(shape: coal.CollisionGeometry, T: np.ndarray, obstacle: _Placed) -> bool:
     """Cheap broad phase: the two surely do not touch (bounding spheres apart, or clear of the plane)."""
-    centre, radius = _bounding_sphere(shape, T)
+    centre, radius = bounding_sphere(shape, T)
     if obstacle.plane is not None:
         normal, offset = obstacle.plane
         return float(normal @ centre) - offset > radius  # wholly on the free side
@@ -94,11 +94,11 @@ def _placed(shape: coal.CollisionGeometry, T: np.ndarray) -> _Placed:
     if isinstance(shape, coal.Halfspace):
         normal = np.array(shape.n)
         return _Placed(shape, T, T[:3, 3], math.inf, (normal, float(shape.d)))
-    centre, radius = _bounding_sphere(shape, T)
+    centre, radius = bounding_sphere(shape, T)
     return _Placed(shape, T, centre, radius, None)
 
 
-def _collide(a: coal.CollisionGeometry, T_a: np.ndarray, b: coal.CollisionGeometry, T_b: np.ndarray) -> bool:
+def collide(a: coal.CollisionGeometry, T_a: np.ndarray, b: coal.CollisionGeometry, T_b: np.ndarray) -> bool:
     request = coal.CollisionRequest()
     result = coal.CollisionResult()
     return coal.collide(a, _transform(T_a), b, _transform(T_b), request, result) > 0
@@ -141,7 +141,7 @@ class CellGeometry:
             return False
         moving = [*self.arm.moving_shapes(q), *tool]
         return any(
-            not _apart(shape, T_shape, obstacle) and _collide(shape, T_shape, obstacle.shape, obstacle.T)
+            not _apart(shape, T_shape, obstacle) and collide(shape, T_shape, obstacle.shape, obstacle.T)
             for obstacle in self._placed
             for shape, T_shape in moving
         )

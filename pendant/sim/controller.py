@@ -80,6 +80,7 @@ __all__ = [
 # Power-on pose: upper arm up, forearm forward, tool pointing straight down (degrees, base first). Chosen
 # clear of the wrist singularity (q5 = 0) and of the roll/pitch/yaw gimbal lock (pitch = +-90 degrees).
 HOME_POSE_DEG = (0.0, -90.0, 90.0, -90.0, -90.0, 0.0)
+MSG_HAND_INTO_CELL = "Collision detected: at that pose the arm or its tool would be inside {what}"
 MSG_HAND_NEEDS_RELAX = "The arm can be moved by hand only in ZERO_GRAVITY: relax it first (PUT /relax)"
 OVERHEAT_STATOR_C = 110.0  # PUT /sim/fault/overheat
 
@@ -313,6 +314,10 @@ class SimController(MotionCommands, Pulse18Operations):
                 raise Unreachable(MSG_UNREACHABLE_POSE)
             if self.arm.in_collision(q):
                 raise Collision()
+            touching = self._environment.touching(q)
+            if touching is not None:  # a test hook that silently puts the arm inside the cell is a trap
+                names = ", ".join(repr(name) for name in touching)
+                raise Collision(MSG_HAND_INTO_CELL.format(what=names or "the floor (with its tool)"))
             self._motions.place(q, self._now())
 
     def inject_fault(self, fault: Fault) -> None:

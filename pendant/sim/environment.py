@@ -13,20 +13,16 @@ from pendant.controller.cell_types import (
     MAX_OBSTACLES,
     MSG_NO_OBSTACLE,
     MSG_OBSTACLE_TOUCHES_ARM,
-    MSG_PLANE_ON_A_LINE,
     MSG_SHAPE_TOUCHES,
     MSG_TOO_MANY_OBSTACLES,
-    BoxObstacle,
-    CapsuleObstacle,
     Obstacle,
-    PlaneObstacle,
     ToolShape,
 )
 from pendant.controller.errors import Collision, PreconditionFailed
-from pendant.controller.types import Point, Tool
+from pendant.controller.types import Tool
 from pendant.kinematics import ArmModel
-from pendant.kinematics.obstacles import Capsule, CellGeometry, box_shape, capsule_shape, plane_shape
-from pendant.kinematics.transforms import position_to_matrix
+from pendant.kinematics.cell_shapes import obstacle_shape, tool_capsules
+from pendant.kinematics.obstacles import CellGeometry
 
 # Beyond these an obstacle or a tool capsule is a typing error (and overflows the geometry arithmetic).
 MAX_OBSTACLE_EXTENT_M = 100.0
@@ -53,30 +49,6 @@ def _check_extent(model: BaseModel, limit: float, message: str) -> None:
         raise PreconditionFailed(message)
 
 
-def _vector(point: Point) -> np.ndarray:
-    return np.array([point.x, point.y, point.z])
-
-
-def _obstacle_shape(obstacle: Obstacle):  # type: ignore[no-untyped-def]
-    if isinstance(obstacle, BoxObstacle):
-        return box_shape(_vector(obstacle.sides), position_to_matrix(obstacle.centerPosition))
-    if isinstance(obstacle, CapsuleObstacle):
-        return capsule_shape(Capsule(obstacle.radius, _vector(obstacle.begin), _vector(obstacle.finish)))
-    assert isinstance(obstacle, PlaneObstacle)
-    shape = plane_shape(np.array([_vector(p) for p in obstacle.points]))
-    if shape is None:
-        raise PreconditionFailed(MSG_PLANE_ON_A_LINE)
-    return shape
-
-
-def _tool_capsules(shape: ToolShape, tool: Tool) -> list[Capsule]:
-    capsules = [Capsule(c.radius, _vector(c.begin), _vector(c.finish)) for c in shape.shape]
-    if tool.radius > 0.0:  # the reference's tool sphere at the TCP belongs to the same tool
-        tcp = _vector(tool.point)
-        capsules.append(Capsule(tool.radius, tcp, tcp))
-    return capsules
-
-
 class Environment:
     """Obstacles kept by name (insertion order), the tool shape, and the geometry built from them."""
 
@@ -89,7 +61,7 @@ class Environment:
 
     def _build(self, obstacles: dict[str, Obstacle], shape: ToolShape, tool: Tool) -> CellGeometry:
         return CellGeometry(
-            self.arm, [_obstacle_shape(o) for o in obstacles.values()], _tool_capsules(shape, tool)
+            self.arm, [obstacle_shape(o) for o in obstacles.values()], tool_capsules(shape, tool)
         )
 
     def get(self, name: str) -> Obstacle:
@@ -103,7 +75,7 @@ class Environment:
         if obstacle.name not in self.obstacles and len(self.obstacles) >= MAX_OBSTACLES:
             raise PreconditionFailed(MSG_TOO_MANY_OBSTACLES)
         _check_extent(obstacle, MAX_OBSTACLE_EXTENT_M, MSG_OBSTACLE_TOO_FAR)
-        alone = CellGeometry(self.arm, [_obstacle_shape(obstacle)], self.geometry.tool)
+        alone = CellGeometry(self.arm, [obstacle_shape(obstacle)], self.geometry.tool)
         if any(alone.collides(q) for q in configurations):
             raise Collision(MSG_OBSTACLE_TOUCHES_ARM)
         obstacles = {**self.obstacles, obstacle.name: obstacle}
@@ -123,6 +95,13 @@ class Environment:
         if any(geometry.collides(q) for q in configurations):
             raise Collision(MSG_SHAPE_TOUCHES)
         return geometry
+
+    def touching(self, q: np.ndarray) -> list[str] | None:
+        """What the arm or its tool would touch at q: the obstacles' names ([] for the tool in the floor),
+        or None when it is clear of the cell."""
+        if not self.geometry.collides(q):
+            return None
+        return [name for i, name in enumerate(self.obstacles) if self.geometry.obstacle_collides(i, q)]
 
     def set_tool(self, shape: ToolShape, tool: Tool, geometry: CellGeometry) -> None:
         self.tool_shape, self._tool, self.geometry = shape, tool, geometry

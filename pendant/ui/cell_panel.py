@@ -1,24 +1,29 @@
-"""The Cell tab: add, edit, rename and delete the controller's obstacles, save and load cell files.
+"""The Cell tab: add, edit, rename and delete the controller's obstacles, place the selected one with a
+transform gizmo in the 3D view, save and load cell files.
 
-Every change goes to the controller (`/environment`); the scene and this list show what it then reports, so
-the picture and the controller's collision checks never disagree.
+Every change goes to the controller (`/environment`); the scene, this list and the selected obstacle's fields
+show what it then reports, so the picture and the controller's collision checks never disagree.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from concurrent.futures import Future
+from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import viser
 
 from pendant.cell.file import CellFileError, apply_cell, list_cells, load_cell, read_cell, save_cell
 from pendant.cell.forms import KINDS, ObstacleForm, form_from_obstacle, obstacle_from_form
+from pendant.cell.placement import gizmo_pose, moved_form
 from pendant.controller import Controller
 from pendant.controller.cell_types import Obstacle
 from pendant.ui.cell_state import CellState
 from pendant.ui.commands import CommandRunner, notify_refusal
 from pendant.ui.gui_target import GuiTarget
+from pendant.ui.obstacle_gizmo import ObstacleGizmo
 
 NEW = "(new obstacle)"
 NO_FILES = "(no cell files)"
@@ -42,7 +47,10 @@ class CellPanel:
         self._syncing = False
         self._pending_select: str | None = None  # an added obstacle to select once the controller lists it
         self._unsupported: str | None = None
+        self._committed: Obstacle | None = None  # the selected obstacle as the controller holds it
+        self._resting = DEFAULT_FORMS["BOX"]  # the fields where the gizmo rests (before a drag)
         self.locked = False  # a viewer's page
+        self.gizmo = ObstacleGizmo(target.scene, self._dragged, self._released)
         gui = target.gui
         self.note = gui.add_markdown("Obstacles the controller checks every motion against.")
         self.selected = gui.add_dropdown("Obstacle", options=[NEW], initial_value=NEW)
@@ -88,6 +96,7 @@ class CellPanel:
         for handle in self.commands:
             if handle.disabled != disabled:
                 handle.disabled = disabled
+        self._place_gizmo()
 
     # --- the form -----------------------------------------------------------------------------------
     def form(self) -> ObstacleForm:
@@ -101,15 +110,24 @@ class CellPanel:
             radius_mm=float(self.radius.value),
         )
 
-    def fill(self, form: ObstacleForm) -> None:
+    def fill(self, form: ObstacleForm, *, resend: bool = False) -> None:
+        """Show `form` in the fields; `resend`: even those the pendant believes the browser shows already
+        (an edit the browser never sent leaves it showing another value: see `_resend`)."""
         self._syncing = True
         try:
             self.kind.value = form.kind
             self.name.value = form.name
-            self.at.value = form.at_mm
-            self.rpy.value = form.rpy_deg
-            self.size.value = form.size_mm
-            self.end.value = form.end_mm
+            for handle, value in (
+                (self.at, form.at_mm),
+                (self.rpy, form.rpy_deg),
+                (self.size, form.size_mm),
+                (self.end, form.end_mm),
+            ):
+                if resend and handle.value == value:
+                    handle.value = _nudged(value)
+                handle.value = value
+            if resend and self.radius.value == form.radius_mm:
+                self.radius.value = form.radius_mm + 1.0
             self.radius.value = form.radius_mm
         finally:
             self._syncing = False
@@ -125,10 +143,44 @@ class CellPanel:
 
     def _pick(self, name: str) -> None:
         obstacle = self._find(name)
+        self._committed = obstacle
         if obstacle is not None:
-            self.fill(form_from_obstacle(obstacle))
+            self._load(obstacle)
         elif name == NEW:
             self.fill(DEFAULT_FORMS[str(self.kind.value)])
+            self._place_gizmo()
+
+    def _load(self, obstacle: Obstacle, *, resend: bool = False) -> None:
+        """The selected obstacle as the controller holds it: in the fields and under the gizmo."""
+        form = form_from_obstacle(obstacle)
+        self.fill(form, resend=resend)
+        self._resting = form
+        self._place_gizmo()
+
+    # --- the gizmo ----------------------------------------------------------------------------------
+    def _place_gizmo(self) -> None:
+        """On the selected obstacle, for the operator of a controller that has /environment; else hidden."""
+        shown = self._committed is not None and not self.locked and self._unsupported is None
+        self.gizmo.place(gizmo_pose(self._resting) if shown else None)
+
+    def _dragged(self, T_from: np.ndarray, T_to: np.ndarray) -> None:
+        """The gizmo moved: the fields follow (the controller hears of it on release)."""
+        self.fill(replace(moved_form(self._resting, T_from, T_to), name=str(self.name.value)))
+
+    def _released(self, T_from: np.ndarray, T_to: np.ndarray, client: viser.ClientHandle | None) -> None:
+        """Send the placed obstacle; refused (it would touch the arm: 412), the gizmo and the fields go
+        back to where the controller keeps it, and the notification says why."""
+        self._resting = moved_form(self._resting, T_from, T_to)
+        future = self.submit(client)
+        if future is None:
+            self._snap_back()
+            return
+        future.add_done_callback(lambda f: self._snap_back() if f.exception() is not None else None)
+
+    def _snap_back(self) -> None:
+        committed = self._committed
+        if committed is not None:
+            self._load(committed, resend=True)
 
     def _new_kind(self, kind: str) -> None:
         self._show_fields(kind)
@@ -215,6 +267,16 @@ class CellPanel:
                     self.selected.value = NEW
             finally:
                 self._syncing = False
+        selected = self.selected.value
+        obstacle = next((o for o in state.obstacles if o.name == selected), None)
+        if obstacle is not None and obstacle != self._committed and not self.gizmo.dragging:
+            # Added, updated, placed or changed by a script: the fields show what the controller applied
+            # (even an edit the browser never sent shows up, rather than a value the controller never had).
+            self._committed = obstacle
+            self._load(obstacle, resend=True)
+        elif obstacle is None and self._committed is not None:  # deleted
+            self._committed = None
+            self._place_gizmo()
         unsupported = state.unsupported.get("environment")
         text = (
             f"**Cell unavailable:** {unsupported}"
@@ -230,3 +292,9 @@ class CellPanel:
 
 def _clear(c: Controller) -> object:
     return c.remove_obstacles()
+
+
+def _nudged(value: tuple[float, float, float]) -> tuple[float, float, float]:
+    """Another value, so that setting the real one after it reaches the browser (viser sends a value only
+    when it differs from the one it believes the browser shows)."""
+    return (value[0] + 1.0, value[1], value[2])

@@ -130,22 +130,19 @@ def freeze(runner: CommandRunner, client: viser.ClientHandle | None) -> Future[o
 
 
 def add_robot_commands(target: GuiTarget, runner: CommandRunner) -> dict[str, viser.GuiButtonHandle]:
-    """Home, Relax, Recover and Pack (all but Recover move the arm)."""
+    """Home, Relax and Pack (Recover is under the status, where the error shows)."""
     actions: dict[str, Callable[[Controller], object]] = {
         "Home": lambda c: c.set_pose(
             Pose(angles=list(HOME_POSE_DEG)), MotionParams(speed=HOME_SPEED_PERCENT)
         ),
         "Relax": lambda c: c.relax(),
-        "Recover": lambda c: c.recover(),
         "Pack": lambda c: c.pack(),
     }
     buttons: dict[str, viser.GuiButtonHandle] = {}
     for label, action in actions.items():
         button = target.gui.add_button(label)
         button.on_click(
-            lambda event, label=label, action=action: runner.submit(
-                label, action, event.client, motion=label != "Recover"
-            )
+            lambda event, label=label, action=action: runner.submit(label, action, event.client, motion=True)
         )
         buttons[label] = button
     return buttons

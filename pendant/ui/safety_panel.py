@@ -1,5 +1,6 @@
-"""The arm's safety state: its system state (`/status`), a protective Stop (`POST /stop`) and Recover; the
-Robot tab's stop-on-input binding, free drive and identity; the Dashboard's failure list."""
+"""The arm's safety state: its system state (`/status`, shown in the status line), the Robot tab's
+stop-on-input binding, free drive and identity, and the Dashboard's failure list. The protective Stop and
+Recover sit under the status (status_panel.py)."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ from pendant.controller import Controller, ControllerError, SignalLevel
 from pendant.controller.errors import Unsupported
 from pendant.controller.system_types import Failure, FailureLevel, SystemState
 from pendant.controller.types import INPUT_PORTS
+from pendant.ui.availability import Availability
 from pendant.ui.cell_state import CellState
 from pendant.ui.commands import CommandRunner
 from pendant.ui.gui_target import GuiTarget
@@ -34,17 +36,13 @@ PROTECTIVE_STOP_HINT = "Protective stop: the arm stops and holds; Recover leaves
 
 
 def render_system_state(state: CellState) -> str:
-    unsupported = state.unsupported.get("status")
-    if unsupported:
-        message = html.escape(unsupported)
-        return f'<div id="system-state" style="color:#868e96">System state unavailable: {message}</div>'
+    """The system state as a fragment of the status line (`/status`), or why the controller has none."""
+    if "status" in state.unsupported:
+        return '<span id="system-state" style="color:#868e96">system state: not on this controller</span>'
     value = state.system_state
     label = value.value if value is not None else "unknown"
     colour = SYSTEM_STATE_COLOURS.get(value, "#868e96") if value is not None else "#868e96"
-    return (
-        f'<div id="system-state" style="font-size:0.85em">System state '
-        f'<b style="color:{colour}">{label}</b></div>'
-    )
+    return f'<span id="system-state">system <b style="color:{colour}">{label}</b></span>'
 
 
 def render_failures(failures: Sequence[Failure], unsupported: str | None) -> str:
@@ -89,35 +87,6 @@ def _fields(data: dict[str, object]) -> str:
     )
 
 
-class SafetyBar:
-    """At the top of the Robot tab: the system state, Protective stop (any browser, like Freeze), Recover."""
-
-    def __init__(self, target: GuiTarget, runner: CommandRunner) -> None:
-        self._html = target.gui.add_html(render_system_state(CellState()))
-        self._last = ""
-        self.stop = target.gui.add_button(
-            "Protective stop", color="orange", icon=viser.Icon.HAND_OFF, hint=PROTECTIVE_STOP_HINT
-        )
-        self.recover = target.gui.add_button("Recover", icon=viser.Icon.REFRESH)
-        self.stop.on_click(
-            lambda e: runner.submit("Protective stop", lambda c: c.stop(), e.client, urgent=True)
-        )
-        self.recover.on_click(lambda e: runner.submit("Recover", lambda c: c.recover(), e.client))
-
-    @property
-    def content(self) -> str:
-        return self._last
-
-    def show(self, state: CellState) -> None:
-        content = render_system_state(state)
-        if content != self._last:
-            self._html.content = content
-            self._last = content
-        unsupported = "status" in state.unsupported
-        if self.stop.disabled != unsupported:
-            self.stop.disabled = unsupported
-
-
 class RobotSafetyPanel:
     """Robot tab: bind the protective stop to an input level, free drive, and what the arm is."""
 
@@ -131,41 +100,68 @@ class RobotSafetyPanel:
             self.stop_level = gui.add_dropdown("Level", options=["HIGH", "LOW"], initial_value="HIGH")
             self.bind = gui.add_button("Bind stop")
             self.unbind = gui.add_button("Unbind stop")
+            stop_controls = (self.stop_port, self.stop_level, self.bind, self.unbind)
+            self.input_stop = Availability(gui, "Stop on input", stop_controls)
         self.free_drive = gui.add_checkbox(
             "Free drive", initial_value=False, hint="Zero gravity: move the arm by hand"
         )
+        self.free_drive_availability = Availability(gui, "Free drive", (self.free_drive,))
         with gui.add_folder("Robot identity", expand_by_default=False):
             self.identity = gui.add_markdown("Reading the controller…")
         self.bind.on_click(lambda e: self.bind_stop(e.client))
-        self.unbind.on_click(lambda e: runner.submit("Unbind stop", lambda c: c.unbind_stop(), e.client))
+        self.unbind.on_click(
+            lambda e: self.input_stop.learn(runner.submit("Unbind stop", lambda c: c.unbind_stop(), e.client))
+        )
         self._syncing = False
         self.free_drive.on_update(
             lambda e: None if self._syncing else self.set_free_drive(self.free_drive.value, e.client)
         )
 
-    @property
-    def controls(self) -> tuple[viser.GuiInputHandle, ...]:
-        return (self.stop_port, self.stop_level, self.bind, self.unbind, self.free_drive)
+    def set_locked(self, locked: bool) -> None:
+        """A viewer's page, or a controller without these operations: greyed out."""
+        self.input_stop.set_locked(locked)
+        self.free_drive_availability.set_locked(locked)
 
     def bind_stop(self, client: viser.ClientHandle | None = None):  # type: ignore[no-untyped-def]
         port = int(str(self.stop_port.value).removeprefix("DI"))
         level = SignalLevel(self.stop_level.value)
-        return self._runner.submit(
-            f"Bind stop to DI{port} {level.value}", lambda c: c.bind_stop(port, level), client
+        return self.input_stop.learn(
+            self._runner.submit(
+                f"Bind stop to DI{port} {level.value}", lambda c: c.bind_stop(port, level), client
+            )
         )
 
     def set_free_drive(self, on: bool, client: viser.ClientHandle | None = None):  # type: ignore[no-untyped-def]
-        if on:
-            return self._runner.submit("Free drive on", lambda c: c.zg_on(), client)
-        return self._runner.submit("Free drive off", lambda c: c.zg_off(), client)
+        label, action = ("Free drive on", _zg_on) if on else ("Free drive off", _zg_off)
+        future = self.free_drive_availability.learn(self._runner.submit(label, action, client))
+        future.add_done_callback(lambda f: self._show_free_drive(not on) if f.exception() else None)
+        return future
+
+    def _show_free_drive(self, on: bool) -> None:
+        """The toggle as the controller has it (a refused switch springs back)."""
+        if self.free_drive.value != on:
+            self._syncing = True
+            try:
+                self.free_drive.value = on
+            finally:
+                self._syncing = False
 
     def show(self, state: CellState, identity: str) -> None:
         if identity and self.identity.content != identity:
             self.identity.content = identity
-        free = state.system_state is SystemState.ZERO_GRAVITY
-        if state.system_state is not None and self.free_drive.value != free:
-            self._syncing = True
-            try:
-                self.free_drive.value = free
-            finally:
-                self._syncing = False
+        # Free drive (/zg) and the input stop (/stop/bind) came with SDK 1.8's /status: a controller that
+        # answers 404 to /status lacks them too (and a 404 to the command itself says so as well).
+        status = state.unsupported.get("status")
+        older = f"this controller has no SDK 1.8 safety operations ({status})" if status else None
+        self.input_stop.show(older)
+        self.free_drive_availability.show(older)
+        if state.system_state is not None:
+            self._show_free_drive(state.system_state is SystemState.ZERO_GRAVITY)
+
+
+def _zg_on(c: Controller) -> object:
+    return c.zg_on()
+
+
+def _zg_off(c: Controller) -> object:
+    return c.zg_off()

@@ -32,7 +32,7 @@ from pendant.ui.join_qr import add_join_button
 from pendant.ui.program_panel import ProgramPanel
 from pendant.ui.record_panel import RecordPanel
 from pendant.ui.roles import ControlDesk, ControlPanel
-from pendant.ui.safety_panel import RobotSafetyPanel, SafetyBar, render_failures
+from pendant.ui.safety_panel import RobotSafetyPanel, render_failures
 from pendant.ui.settings_panel import SettingsPanel
 from pendant.ui.sim_panel import SimPanel
 from pendant.ui.snapshot import Snapshot
@@ -104,9 +104,6 @@ class ClientSession:
         with self.tabs.add_tab("IO", viser.Icon.PLUG):
             self.io = IoPanel(target, runner)
         with self.tabs.add_tab("Robot", viser.Icon.ROBOT):
-            # Here rather than under the status: above the tabs it pushed the jog pad off a 1024x768 screen,
-            # and Freeze (pinned at the top) is the stop always in reach.
-            self.safety = SafetyBar(target, runner)
             self.robot_buttons = add_robot_commands(target, runner)
             self.settings = SettingsPanel(target, runner)
             self.tool_shape = ToolShapePanel(target, runner)
@@ -144,9 +141,6 @@ class ClientSession:
         yield from self.io.outputs.values()
         yield from (self.io.gripper_open, self.io.gripper_close)
         yield from self.robot_buttons.values()
-        yield self.safety.recover
-        yield from self.robot_safety.controls
-        yield from self.tool_shape.controls
         yield from self.cell.controls
         yield from self.record.controls
         s = self.settings
@@ -181,6 +175,8 @@ class ClientSession:
         self.target_panel.locked = self.locked
         self.jog.locked = self.locked
         self.cell.set_locked(self.locked)
+        self.robot_safety.set_locked(self.locked)
+        self.tool_shape.set_locked(self.locked)
         self.program.locked = self.locked
         ok = self.target_panel.executable
         _set_disabled(self.target_panel.move_j, self.locked or not ok)
@@ -201,7 +197,7 @@ class ClientSession:
 
     def show_cell(self, state: CellState, identity: str, *, cell_changed: bool) -> None:
         """What the controller reports of its cell and safety (a few times a second)."""
-        self.safety.show(state)
+        self.status.show_system(state)
         self.cell.show(state)
         self.robot_safety.show(state, identity)
         self.tool_shape.show(state)

@@ -1,4 +1,5 @@
-"""The status readout: mode, connection, motion state (coloured), joints, TCP, tool, gripper and IO."""
+"""The status readout: mode, connection, system state, motion state (coloured), joints, TCP, tool, gripper
+and IO; under it one button: a protective Stop, or Recover when the arm is stopped in error."""
 
 from __future__ import annotations
 
@@ -8,9 +9,11 @@ import math
 import viser
 
 from pendant.controller import MotionStatus, SignalLevel
+from pendant.ui.cell_state import CellState
 from pendant.ui.commands import CommandRunner
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.html import inset
+from pendant.ui.safety_panel import PROTECTIVE_STOP_HINT, render_system_state
 from pendant.ui.snapshot import Snapshot
 
 STATE_COLOURS: dict[MotionStatus | None, str] = {
@@ -34,8 +37,9 @@ def _led(level: SignalLevel | None, label: str) -> str:
     )
 
 
-def render_status(snapshot: Snapshot, mode_line: str) -> str:
-    """The status block as HTML; ERROR and EMERGENCY fill a red banner that cannot be missed."""
+def render_status(snapshot: Snapshot, mode_line: str, system: str = "") -> str:
+    """The status block as HTML; ERROR and EMERGENCY fill a red banner that cannot be missed. `system`: the
+    system state's fragment (safety_panel.render_system_state), on the first line."""
     state = snapshot.motion_status
     if state is not None:
         label, colour = state.value, STATE_COLOURS[state]
@@ -49,8 +53,9 @@ def render_status(snapshot: Snapshot, mode_line: str) -> str:
         link += (
             f" · {snapshot.latency_s * 1000:.0f} ms"  # sub-millisecond (in-process) is not worth a flicker
         )
+    system = f" · {system}" if system else ""
     parts = [
-        f'<div style="font-size:0.85em;color:#495057">{html.escape(mode_line)} · {link}</div>',
+        f'<div style="font-size:0.85em;color:#495057">{html.escape(mode_line)} · {link}{system}</div>',
         f'<div id="motion-state" style="background:{colour};color:white;font-weight:bold;'
         f'text-align:center;border-radius:6px;margin:6px 0;{big}">{label}</div>',
     ]
@@ -83,18 +88,29 @@ def render_status(snapshot: Snapshot, mode_line: str) -> str:
     return inset("".join(parts))
 
 
-# States Recover clears: offered right under the banner that announces them.
+# States Recover clears: in them the button under the banner is Recover, otherwise the protective Stop.
 RECOVERABLE = {MotionStatus.ERROR, MotionStatus.MOTION_FAILED}
 
 
 class StatusPanel:
+    """The status, then one row: Protective stop (any browser may stop, like Freeze) or, once the arm is
+    stopped in error, Recover (the operator's), in the same place: the one Recover of the page."""
+
     def __init__(self, target: GuiTarget, mode_line: str, runner: CommandRunner) -> None:
         self._mode_line = mode_line
         self._html = target.gui.add_html(render_status(Snapshot(taken_at=0.0), mode_line))
+        self.stop = target.gui.add_button(
+            "Protective stop", color="orange", icon=viser.Icon.HAND_OFF, hint=PROTECTIVE_STOP_HINT
+        )
         self.recover = target.gui.add_button(
             "Recover", color="red", icon=viser.Icon.REFRESH, visible=False, hint="Clear the error and go on"
         )
+        self.stop.on_click(
+            lambda event: runner.submit("Protective stop", lambda c: c.stop(), event.client, urgent=True)
+        )
         self.recover.on_click(lambda event: runner.submit("Recover", lambda c: c.recover(), event.client))
+        self._snapshot = Snapshot(taken_at=0.0)
+        self._system = render_system_state(CellState())
         self._last = ""
 
     @property
@@ -102,10 +118,24 @@ class StatusPanel:
         return self._last
 
     def show(self, snapshot: Snapshot) -> None:
+        self._snapshot = snapshot
         recoverable = snapshot.motion_status in RECOVERABLE
         if self.recover.visible != recoverable:
             self.recover.visible = recoverable
-        content = render_status(snapshot, self._mode_line)
+        if self.stop.visible == recoverable:
+            self.stop.visible = not recoverable
+        self._render()
+
+    def show_system(self, state: CellState) -> None:
+        """The controller's system state (`/status`); without it (older firmware) the Stop is greyed out."""
+        self._system = render_system_state(state)
+        unsupported = "status" in state.unsupported
+        if self.stop.disabled != unsupported:
+            self.stop.disabled = unsupported
+        self._render()
+
+    def _render(self) -> None:
+        content = render_status(self._snapshot, self._mode_line, self._system)
         if content != self._last:
             self._html.content = content
             self._last = content

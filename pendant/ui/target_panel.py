@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import threading
 from collections.abc import Callable
 from concurrent.futures import Future
 
@@ -61,6 +62,9 @@ class TargetPanel:
         self._hits = ObstacleDrawing(target.scene, "/ghost_hits", only_touching=True)
         self._gizmo = target.scene.add_transform_controls("/target", scale=GIZMO_SCALE, visible=False)
         self._syncing = False
+        # The operator's edits (viser's thread pool) and the refresh's rechecks (a new cell) take turns: a
+        # check made against the old cell must not land after the recheck against the new one.
+        self._checking = threading.RLock()
         self.locked = False  # a viewer's page: Move J / Move L stay disabled whatever the target
         self.check = TargetCheck(None, "No target yet")
         self.following = True  # the target is where the arm is (see the class doc)
@@ -111,10 +115,11 @@ class TargetPanel:
 
     def reset_to_current(self) -> None:
         """Drop the operator's target: the target follows the arm again."""
-        self.following = True
-        q = self._current_q()
-        if q is not None:
-            self._target_joints(q)
+        with self._checking:
+            self.following = True
+            q = self._current_q()
+            if q is not None:
+                self._target_joints(q)
 
     def follow(self, q: np.ndarray | None, *, moving: bool) -> None:
         """The arm is at `q` now: the target moves with it unless the operator has set one. While the arm
@@ -126,30 +131,34 @@ class TargetPanel:
             if self._gizmo.visible:
                 self._gizmo.visible = False
         elif self.check.q is None or not np.array_equal(self.check.q, q) or not self._gizmo.visible:
-            self._target_joints(q)
+            with self._checking:
+                if self.following:  # still: the operator may have set a target meanwhile
+                    self._target_joints(q)
 
     def set_flange_target(
         self, T_base_flange: np.ndarray, client: viser.ClientHandle | None = None
     ) -> TargetCheck:
-        self.following = False
-        near = self.check.q if self.check.q is not None else self._current_q()
-        near = near if near is not None else 0.5 * (self._arm.lower + self._arm.upper)
-        self.check = check_flange_target(
-            self._arm, T_base_flange, near, self._current_cell(), self._current_q()
-        )
-        self._show(move_gizmo=False)
-        self._guide(client)
-        return self.check
+        with self._checking:
+            self.following = False
+            near = self.check.q if self.check.q is not None else self._current_q()
+            near = near if near is not None else 0.5 * (self._arm.lower + self._arm.upper)
+            self.check = check_flange_target(
+                self._arm, T_base_flange, near, self._current_cell(), self._current_q()
+            )
+            self._show(move_gizmo=False)
+            self._guide(client)
+            return self.check
 
     def set_tcp_target(self, T_base_tcp: np.ndarray, client: viser.ClientHandle | None = None) -> TargetCheck:
         """Where the gizmo was dragged: the tool's TCP (the flange when no tool is set)."""
         return self.set_flange_target(T_base_tcp @ inverse(self._current_tool()), client)
 
     def set_joint_target(self, q: np.ndarray, client: viser.ClientHandle | None = None) -> TargetCheck:
-        self.following = False
-        check = self._target_joints(q)
-        self._guide(client)
-        return check
+        with self._checking:
+            self.following = False
+            check = self._target_joints(q)
+            self._guide(client)
+            return check
 
     def _guide(self, client: viser.ClientHandle | None) -> None:
         """In free drive the target is where the hand pulls the arm: an executable one moves it there, and
@@ -168,8 +177,9 @@ class TargetPanel:
 
     def recheck(self) -> None:
         """The cell changed: check the operator's target against it again."""
-        if not self.following and self.check.q is not None:
-            self._target_joints(self.check.q)
+        with self._checking:
+            if not self.following and self.check.q is not None:
+                self._target_joints(self.check.q)
 
     @property
     def obstacles_hit(self) -> dict[str, bool]:

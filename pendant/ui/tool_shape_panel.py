@@ -8,6 +8,7 @@ import viser
 
 from pendant.cell.forms import text_from_tool_shape, tool_shape_from_text
 from pendant.controller.cell_types import ToolShape
+from pendant.ui.availability import Availability
 from pendant.ui.cell_state import CellState
 from pendant.ui.commands import CommandRunner, notify_refusal
 from pendant.ui.gui_target import GuiTarget
@@ -22,11 +23,12 @@ class ToolShapePanel:
         with target.gui.add_folder("Tool shape (collision capsules)", expand_by_default=False):
             self.capsules = target.gui.add_text("Capsules mm", initial_value="", hint=HINT)
             self.set_shape = target.gui.add_button("Set tool shape")
+            self.availability = Availability(target.gui, "Tool shape", (self.capsules, self.set_shape))
         self.set_shape.on_click(lambda e: self.submit(e.client))
 
-    @property
-    def controls(self) -> tuple[viser.GuiInputHandle, ...]:
-        return (self.capsules, self.set_shape)
+    def set_locked(self, locked: bool) -> None:
+        """A viewer's page, or a controller without /tool/shape: greyed out."""
+        self.availability.set_locked(locked)
 
     def submit(self, client: viser.ClientHandle | None = None) -> Future[object] | None:
         try:
@@ -34,13 +36,13 @@ class ToolShapePanel:
         except ValueError as error:
             notify_refusal(client, "Tool shape not set", str(error))
             return None
-        return self._runner.submit("Set tool shape", lambda c: c.set_tool_shape(shape), client)
+        return self.availability.learn(
+            self._runner.submit("Set tool shape", lambda c: c.set_tool_shape(shape), client)
+        )
 
     def show(self, state: CellState) -> None:
         """The controller's shape, when it changes (not while the operator types: only on a change)."""
-        unsupported = "tool shape" in state.unsupported
-        if unsupported and not self.set_shape.disabled:
-            self.set_shape.disabled = True
+        self.availability.show(state.unsupported.get("tool shape"))
         if state.tool_shape != self._shown:
             self._shown = state.tool_shape
             self.capsules.value = text_from_tool_shape(state.tool_shape)

@@ -46,6 +46,33 @@ def test_a_hand_moves_the_arm_only_when_relaxed(client: TestClient) -> None:
     assert angles_close(client.get("/pose").json()["angles"], moved)
 
 
+def test_a_hand_cannot_put_the_arm_inside_an_obstacle(client: TestClient) -> None:
+    """The test hook refuses what the arm could never reach, rather than leave a CI run with an arm stuck
+    inside the cell, every later move refused for reasons nobody set up."""
+    home = client.get("/pose").json()["angles"]
+    # A 12 cm box around where the flange passes when joint 1 turns 45° from home.
+    wall = {
+        "obstacleType": "BOX",
+        "name": "wall",
+        "sides": {"x": 0.12, "y": 0.12, "z": 0.12},
+        "centerPosition": {
+            "point": {"x": -0.2444, "y": -0.4148, "z": 0.4849},
+            "rotation": {"roll": 0, "pitch": 0, "yaw": 0},
+        },
+    }
+    assert client.put("/environment", json=wall).status_code == 200
+    client.put("/relax")
+    inside = [home[0] + 45.0, *home[1:]]
+    refused = client.put("/sim/pose", json={"angles": inside})
+    assert refused.status_code == 412
+    assert refused.json() == "Collision detected: at that pose the arm or its tool would be inside 'wall'"
+    assert angles_close(client.get("/pose").json()["angles"], home)  # the arm stayed
+
+    clear = [home[0] - 45.0, *home[1:]]  # the other way: nothing there
+    assert_empty_ok(client.put("/sim/pose", json={"angles": clear}))
+    assert angles_close(client.get("/pose").json()["angles"], clear)
+
+
 def test_a_hand_pose_must_be_a_pose(client: TestClient) -> None:
     client.put("/relax")
     assert client.put("/sim/pose", json={"angles": [0, 1]}).status_code == 400

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import io
 import time
+from typing import Any
 
 import numpy as np
 from PIL import Image
@@ -17,6 +18,10 @@ ORANGE_PIXELS_MIN = 2000  # a 30 cm box in the default view covers tens of thous
 SIDE_M = 0.3
 SCENE_WIDTH_PX = 950  # the page is 1400 px wide; the control panel takes its right side
 BOX_CENTRE_M = (0.35, -0.45, SIDE_M / 2)  # in front of the arm, in the default camera's view
+PAGE_THROTTLE_FLUSH_MS = 100  # longer than viser's page-side 50 ms send throttle (see `sent`)
+# Where the flange passes when joint 1 turns 45° from home (whole mm: the Cell tab's fields step by 1 mm).
+WALL_MM = (-244.0, -415.0, 485.0)
+WALL_SIDE_MM = 120.0
 
 
 def orange_pixels(page) -> int:  # type: ignore[no-untyped-def]
@@ -38,14 +43,31 @@ def box(name: str, centre: tuple[float, float, float], side: float) -> dict[str,
     }
 
 
+def obstacles(pendant: Pendant) -> list[dict[str, Any]]:
+    return pendant.api.get("/environment").json()
+
+
+def sent(page) -> None:  # type: ignore[no-untyped-def]
+    """Wait until the page has sent the last edit to the pendant.
+
+    viser's page sends every control's edits through one 50 ms throttle that keeps only the latest message:
+    a second control edited inside that window (stretched to a whole frame while software WebGL draws)
+    replaces the first one's pending edit, which never reaches the pendant although the field shows it.
+    A page timer longer than the throttle's fires after it (timers fire in order), so the edit has gone.
+    """
+    page.evaluate(f"() => new Promise(done => setTimeout(done, {PAGE_THROTTLE_FLUSH_MS}))")
+
+
 def fill_after(page, label: str, values: tuple[object, ...]) -> None:  # type: ignore[no-untyped-def]
-    """Type `values` into the inputs beside the visible field labelled `label` (a vector has three)."""
+    """Type `values` into the inputs beside the visible field labelled `label` (a vector has three), each
+    sent to the pendant before the next is typed, as a person types them."""
     for i, value in enumerate(values, start=1):
         field = page.locator(
             f"xpath=//label[normalize-space()='{label}']/following::input[{i}] >> visible=true"
         )
         field.first.fill(str(value))
         field.first.press("Enter")
+        sent(page)
 
 
 def test_an_obstacle_added_through_the_api_appears_in_the_scene(page, pendant: Pendant) -> None:
@@ -68,6 +90,47 @@ def test_an_obstacle_added_through_the_api_appears_in_the_scene(page, pendant: P
     while orange_pixels(page) > before + ORANGE_PIXELS_MIN // 2:
         assert time.monotonic() < deadline, "the deleted box stayed in the scene"
         time.sleep(0.2)
+
+
+def test_an_obstacle_added_in_the_page_refuses_a_move_through_it(page, pendant: Pendant) -> None:
+    wait_idle(pendant)
+    home = np.array(pendant.pose())
+    # The box goes where the flange passes when joint 1 turns 45° from home: it blocks turning it 90°.
+    page.get_by_role("tab", name="Cell").click()
+    fill_after(page, "Name", ("wall",))
+    fill_after(page, "Position mm", WALL_MM)
+    fill_after(page, "Size mm", (WALL_SIDE_MM,) * 3)
+    page.get_by_role("button", name="Add / update obstacle").click()
+    try:
+        deadline = time.monotonic() + SHOWN_WITHIN_S
+        while [o["name"] for o in obstacles(pendant)] != ["wall"]:
+            assert time.monotonic() < deadline, "the page's obstacle did not reach the controller"
+            time.sleep(0.1)
+        cell = obstacles(pendant)
+        point = cell[0]["centerPosition"]["point"]
+        assert [round(point[k] * 1000) for k in "xyz"] == list(WALL_MM), "the wall is not where typed"
+
+        target = home.copy()
+        target[0] += 90.0
+        page.get_by_role("tab", name="Target").click()
+        page.get_by_role("button", name="Move J").wait_for(timeout=SHOWN_WITHIN_S * 1000)  # the tab is shown
+        j1 = page.locator("input.mantine-NumberInput-input:visible").first
+        j1.fill(f"{target[0]:.1f}")
+        j1.press("Enter")
+        page.get_by_text("the path to the target passes through 'wall'").wait_for(
+            timeout=SHOWN_WITHIN_S * 1000
+        )
+        assert page.get_by_role("button", name="Move J").is_disabled()
+        page.screenshot(path=str(ARTIFACTS / "cell-path-through-obstacle.png"))
+
+        refused = pendant.api.put("/pose", params={"speed": 50}, json={"angles": target.tolist()})
+        assert refused.status_code == 412
+        assert "Collision detected" in refused.text
+        time.sleep(SETTLE_S)
+        np.testing.assert_allclose(pendant.pose(), home, atol=0.01)  # the arm never moved
+    finally:
+        pendant.api.delete("/environment").raise_for_status()
+        page.get_by_role("button", name="Target = current").click()
 
 
 def test_a_protective_stop_bound_to_di1_fires_when_di1_goes_high(page, pendant: Pendant) -> None:

@@ -423,7 +423,7 @@ def test_recover_after_an_injected_error_returns_to_idle(
     fire(ui.sim_panel.faults[Fault.ERROR], operator)
     commands.wait()
     assert pendant_ui.refresh().motion_status is MotionStatus.ERROR
-    fire(ui.robot_buttons["Recover"], operator)
+    fire(ui.status.recover, operator)
     commands.wait()
     assert pendant_ui.refresh().motion_status is MotionStatus.IDLE
 

@@ -3,6 +3,7 @@ drive, identity and failures; and a controller without the SDK 1.8 operations gr
 
 from __future__ import annotations
 
+import contextlib
 import time
 from collections.abc import Callable, Iterator
 from typing import Any
@@ -45,10 +46,10 @@ def test_the_status_shows_the_system_state(
     pendant_ui: PendantUI, ui: ClientSession, sim: SimController
 ) -> None:
     pendant_ui.refresh_cell()
-    assert "System state <b" in ui.safety.content and ">ACTIVE</b>" in ui.safety.content
+    assert "system <b" in ui.status.content and ">ACTIVE</b>" in ui.status.content
     sim.zg_on()
     pendant_ui.refresh_cell()
-    assert ">ZERO_GRAVITY</b>" in ui.safety.content
+    assert ">ZERO_GRAVITY</b>" in ui.status.content
     assert ui.robot_safety.free_drive.value is True  # the toggle follows the controller
 
 
@@ -56,15 +57,22 @@ def test_any_browser_may_stop_and_the_dashboard_lists_why(
     pendant_ui: PendantUI, ui: ClientSession, sim: SimController
 ) -> None:
     viewer = FakeBrowser(VIEWER)
-    fire(ui.safety.stop, viewer)  # like Freeze: stopping is never refused
+    assert ui.status.stop.visible and not ui.status.recover.visible
+    fire(ui.status.stop, viewer)  # like Freeze: stopping is never refused
     wait_for(lambda: sim.get_motion_status() is MotionStatus.ERROR, "the protective stop")
+    pendant_ui.refresh()
     pendant_ui.refresh_cell()
     assert "Protective stop (POST /stop)" in ui.failures.content
     assert "STOP_2" in ui.failures.content
     assert viewer.notifications == []
+    # Recover takes the Stop's place under the status: one Recover in the whole page.
+    assert ui.status.recover.visible and not ui.status.stop.visible
+    assert "Recover" not in ui.robot_buttons
 
-    fire(ui.safety.recover, FakeBrowser(OPERATOR))
+    fire(ui.status.recover, FakeBrowser(OPERATOR))
     wait_for(lambda: sim.get_motion_status() is MotionStatus.IDLE, "the recovery")
+    pendant_ui.refresh()
+    assert ui.status.stop.visible and not ui.status.recover.visible
 
 
 def test_the_robot_tab_binds_the_stop_to_an_input_level(ui: ClientSession, sim: SimController) -> None:
@@ -96,14 +104,16 @@ def test_the_robot_tab_shows_the_identity_and_versions(
 
 
 class OlderFirmware:
-    """The simulator's API as an older controller answers it: 404 to every SDK 1.8 operation."""
+    """The simulator's API as an older controller answers it: 404 to every SDK 1.8 operation (or to the
+    paths under `missing`)."""
 
-    def __init__(self, app: Any) -> None:
+    def __init__(self, app: Any, missing: tuple[str, ...] = (*SDK18_ONLY, "/status")) -> None:
         self._app = app
+        self._missing = missing
 
     async def __call__(self, scope: dict[str, Any], receive: Any, send: Any) -> None:
         path = scope.get("path", "")
-        if scope["type"] == "http" and (path.startswith(SDK18_ONLY) or path == "/status"):
+        if scope["type"] == "http" and (path.startswith(self._missing) and path != "/status/motion"):
             await send(
                 {"type": "http.response.start", "status": 404, "headers": [(b"content-type", b"text/plain")]}
             )
@@ -112,10 +122,10 @@ class OlderFirmware:
         await self._app(scope, receive, send)
 
 
-@pytest.fixture
-def old_firmware_page(sim: SimController) -> Iterator[tuple[PendantUI, ClientSession]]:
-    """A page on a real HTTP controller that answers 404 to every SDK 1.8 operation (older firmware)."""
-    with serve_in_thread(OlderFirmware(create_app(sim))) as url:
+@contextlib.contextmanager
+def page_on(controller_app: Any, sim: SimController) -> Iterator[tuple[PendantUI, ClientSession]]:
+    """A page whose browser is the operator, on a real HTTP controller serving `controller_app`."""
+    with serve_in_thread(controller_app) as url:
         remote = RemoteController(url)
         page = PendantUI(remote, sim.arm, host="127.0.0.1", port=free_port(), mode_line="Robot")
         page.desk.join(OPERATOR)
@@ -128,6 +138,13 @@ def old_firmware_page(sim: SimController) -> Iterator[tuple[PendantUI, ClientSes
             page.stop()
 
 
+@pytest.fixture
+def old_firmware_page(sim: SimController) -> Iterator[tuple[PendantUI, ClientSession]]:
+    """A page on a real HTTP controller that answers 404 to every SDK 1.8 operation (older firmware)."""
+    with page_on(OlderFirmware(create_app(sim)), sim) as served:
+        yield served
+
+
 def test_an_older_controller_greys_the_sdk18_features_out(
     old_firmware_page: tuple[PendantUI, ClientSession],
 ) -> None:
@@ -138,7 +155,38 @@ def test_an_older_controller_greys_the_sdk18_features_out(
     assert isinstance(page.controller, RemoteController) and page.controller.health().online  # not "offline"
     assert "**Cell unavailable:** The controller does not support GET /environment" in ui.cell.note.content
     assert ui.cell.apply.disabled and ui.cell.load.disabled
-    assert "System state unavailable" in ui.safety.content
-    assert ui.safety.stop.disabled
+    assert "system state: not on this controller" in ui.status.content
+    assert ui.status.stop.disabled
     assert "Failures unavailable" in ui.failures.content
     assert "not reported by this controller (older firmware)" in ui.robot_safety.identity.content
+    assert ui.tool_shape.set_shape.disabled and ui.tool_shape.capsules.disabled
+    assert "**Tool shape unavailable:** The controller does not support GET /tool/shape" in (
+        ui.tool_shape.availability.note.content
+    )
+    robot = ui.robot_safety
+    assert robot.free_drive.disabled and robot.bind.disabled and robot.unbind.disabled
+    assert "**Free drive unavailable:** this controller has no SDK 1.8 safety operations" in (
+        robot.free_drive_availability.note.content
+    )
+    ui.apply_role(OPERATOR)  # control handed over again: what the controller lacks stays greyed out
+    assert ui.tool_shape.set_shape.disabled and robot.free_drive.disabled and ui.cell.apply.disabled
+
+
+def test_a_command_the_controller_lacks_is_greyed_out_after_its_404(sim: SimController) -> None:
+    """A controller with /status but without /zg and /stop/bind (a partial firmware): the first press says
+    so, the toggle springs back, and the controls are greyed out from then on."""
+    app = OlderFirmware(create_app(sim), missing=("/zg", "/stop/bind"))
+    with page_on(app, sim) as (page, ui):
+        page.refresh_cell()
+        robot, operator = ui.robot_safety, FakeBrowser(OPERATOR)
+        assert not robot.free_drive.disabled and not robot.bind.disabled  # nothing says they are missing
+        fire(robot.free_drive, operator, True)
+        wait_for(lambda: robot.free_drive.disabled, "free drive greyed out")
+        assert operator.notifications == [
+            "Free drive on refused: The controller does not support PUT /zg/on (HTTP 404: older firmware)"
+        ]
+        assert robot.free_drive.value is False  # sprang back: the arm is not in free drive
+        assert sim.get_motion_status() is MotionStatus.IDLE
+        fire(robot.bind, operator)
+        wait_for(lambda: robot.bind.disabled and robot.unbind.disabled, "the input stop greyed out")
+        assert "**Stop on input unavailable:**" in robot.input_stop.note.content

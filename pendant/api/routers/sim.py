@@ -14,7 +14,7 @@ from pendant.api.params import POSE, InputPort, json_body, read_body
 from pendant.api.wire import TextResponse, empty_result
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSE
 from pendant.controller.types import SignalLevel
-from pendant.sim.controller import MSG_HAND_NEEDS_RELAX
+from pendant.sim.controller import MSG_HAND_INTO_CELL, MSG_HAND_NEEDS_RELAX
 
 if TYPE_CHECKING:
     from pendant.sim import SimController
@@ -78,13 +78,20 @@ def sim_router(sim: SimController) -> APIRouter:
         summary="Simulator: move the relaxed arm by hand",
         description=(
             "Puts the arm at a pose (six angles in degrees) at once, as a hand would; only while the arm is "
-            "relaxed (ZERO_GRAVITY, after PUT /relax), else 412."
+            "relaxed (ZERO_GRAVITY, after PUT /relax), else 412; a pose beyond the joint limits, touching "
+            "the arm itself or the floor, or putting the arm or its tool inside an obstacle is refused "
+            "(412) and the arm stays where it was."
         ),
         response_class=TextResponse,
         responses={
             **docs.empty_ok(),
             **docs.bad_format(),
-            **docs.precondition(MSG_HAND_NEEDS_RELAX, MSG_UNREACHABLE_POSE, MSG_COLLISION),
+            **docs.precondition(
+                MSG_HAND_NEEDS_RELAX,
+                MSG_UNREACHABLE_POSE,
+                MSG_COLLISION,
+                MSG_HAND_INTO_CELL.format(what="'wall'"),
+            ),
             **docs.arm_errors(),
         },
         openapi_extra=json_body(docs.ref("Pose"), docs.EXAMPLE_POSE, "Where the hand puts the arm"),
