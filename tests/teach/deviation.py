@@ -16,6 +16,23 @@ def distances_to_polyline(points: np.ndarray, polyline: np.ndarray) -> np.ndarra
     return np.min(np.linalg.norm(points[:, None, :] - nearest, axis=2), axis=1)
 
 
+def coverage_mm(recorded_m: np.ndarray, played_m: np.ndarray) -> float:
+    """How far (mm) the played path passed from the recorded sample it missed most, where the played path is
+    known only at samples: each distance to a chord between two played samples counts less half that chord's
+    length, since the arm may have been anywhere that close to it between the two readings (a reading held up
+    by a loaded machine can span a corner)."""
+    a, b = played_m[:-1], played_m[1:]
+    seg = b - a
+    length2 = np.maximum(np.einsum("ij,ij->i", seg, seg), 1e-18)
+    rel = recorded_m[:, None, :] - a[None, :, :]
+    t = np.clip(np.einsum("nmj,mj->nm", rel, seg) / length2, 0.0, 1.0)
+    distance = np.linalg.norm(
+        recorded_m[:, None, :] - (a[None, :, :] + t[:, :, None] * seg[None, :, :]), axis=2
+    )
+    slack = np.sqrt(length2) / 2.0
+    return float(np.max(np.maximum(np.min(distance - slack[None, :], axis=1), 0.0))) * 1000.0
+
+
 def max_deviation_mm(recorded_m: np.ndarray, played_m: np.ndarray) -> tuple[float, float]:
     """(recorded samples -> played path, played samples -> recorded path), the largest distance in mm each."""
     there = distances_to_polyline(recorded_m, played_m)
