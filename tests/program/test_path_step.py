@@ -1,6 +1,7 @@
 """Path steps: a hand-drawn curve recorded in free drive becomes one step, which plays back as one blended
 `/run/linear/positions` run within the recording's tolerance, on the simulator and over HTTP, stop-and-go on
-a controller without /run/* (404), resuming at the waypoint it was heading for after a pause."""
+a controller without /run/* (404), resuming at the waypoint it was heading for after a pause; and
+BlendedRun as the runner's BlendedPath for taught moves."""
 
 from __future__ import annotations
 
@@ -12,23 +13,26 @@ import pytest
 from fastapi.testclient import TestClient
 
 from pendant.api import create_app
-from pendant.controller import Controller, Pose
+from pendant.controller import Controller, Pose, SignalLevel
 from pendant.program import (
     PathStep,
     Program,
     ProgramRunner,
     RunState,
+    WaitStep,
+    Waypoint,
     compile_program,
     describe_step,
 )
-from pendant.program.blended import FALLBACK_NOTE
+from pendant.program.blended import FALLBACK_NOTE, BlendedRun
 from pendant.program.files import dump_program, parse_program
-from pendant.program.models import MAX_PROGRAM_PATH_POINTS
+from pendant.program.models import MAX_PROGRAM_PATH_POINTS, OutputAction
 from pendant.program.plan import MoveGroup
 from pendant.remote import RemoteController
 from pendant.sim import FakeClock, SimController
 from pendant.teach.path_step import path_step
 from pendant.teach.recording import PathRecorder, Recording
+from tests.program.conftest import move, program_of
 from tests.program.test_runner import Recording as CallLog
 from tests.teach.deviation import from_rest_at, max_deviation_mm
 
@@ -38,6 +42,7 @@ HAND_STEPS = 90
 HAND_RATE_HZ = 30.0
 SAMPLE_S = 0.002  # the played TCP is sampled this often (simulated time)
 END_TOL_M = 1e-6
+ANGLE_TOL_DEG = 1e-6
 STOP_TOL_M = 1e-6
 STOPPING = 0.1  # of the median distance between samples: the arm is all but still
 
@@ -239,3 +244,34 @@ def test_a_path_step_is_saved_and_read_back_and_programs_hold_a_bounded_number_o
     many = (step,) * (MAX_PROGRAM_PATH_POINTS // len(step.points) + 1)
     with pytest.raises(ValueError, match="at most 10000 points"):
         Program(steps=many)
+
+
+def test_step_goes_to_the_start_then_plays_the_whole_path(
+    sim: SimController, clock: FakeClock, step: PathStep
+) -> None:
+    runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
+    program = Program(steps=(step, WaitStep(ms=10)))
+    first = runner.step(program)
+    assert first.state is RunState.PAUSED and first.step_index == 0
+    assert sim.get_pose().angles == pytest.approx(step.points[0].pose.angles, abs=ANGLE_TOL_DEG)
+    second = runner.step()
+    assert second.state is RunState.PAUSED and second.step_index == 1
+    end = step.points[-1].position.point
+    here = sim.get_position().point
+    assert np.allclose([here.x, here.y, here.z], [end.x, end.y, end.z], atol=END_TOL_M)
+
+
+def test_as_the_runners_blended_path_it_runs_taught_moves_with_their_actions_in_one_request(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
+    log = CallLog(sim)
+    runner = ProgramRunner(log, sleep=clock.advance, now=clock.now, blended=BlendedRun(log))  # type: ignore[arg-type]
+    set_do1 = (OutputAction(port=1, value=SignalLevel.HIGH),)
+    program = program_of(move(waypoints["A"], actions=set_do1), move(waypoints["B"]), move(waypoints["C"]))
+    result = runner.run(program)
+    assert result.state is RunState.FINISHED
+    assert log.names() == ["run_joint_poses"]  # the action no longer ends the blend: one request
+    poses, _ = log.calls[0][1]  # type: ignore[misc]
+    assert [p.angles for p in poses] == [waypoints[n].pose.angles for n in "ABC"]
+    assert poses[0].actions[0].port == 1 and sim.get_output(1) is SignalLevel.HIGH
+    assert sim.get_pose().angles == pytest.approx(waypoints["C"].pose.angles, abs=ANGLE_TOL_DEG)
