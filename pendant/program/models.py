@@ -45,10 +45,10 @@ MAX_GRID = 100  # rows, columns or layers of a pallet
 MAX_OFFSET_MM = 2000.0  # a relative move further than the arm reaches is a typo
 MAX_BLEND_MM = 500.0
 MAX_NESTING = 16  # Loops in Ifs in Pallets ...: deeper is not a program a person taught
-# Recorded paths: at most one controller run each; 10,000 points in all (~2.6 MB saved) keep the largest
-# program under the 5 MB a file may have, beside 2,000 steps of other kinds.
+# Recorded paths: at most one controller run each; 5,000 points in all (~2.9 MB saved) keep the largest
+# program under the 5 MB a file may have, beside moves filling the rest of the 2,000 steps.
 MAX_PATH_POINTS = MAX_RUN_WAYPOINTS
-MAX_PROGRAM_PATH_POINTS = 10_000
+MAX_PROGRAM_PATH_POINTS = 5_000
 DEFAULT_PATH_NAME = "path"
 DEFAULT_PATH_SPEED_MM_S = 100.0
 PATH_SPEED_MAX_MM_S = 2000.0  # the /run/linear velocity limit (2 m/s)

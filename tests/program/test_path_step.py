@@ -13,11 +13,13 @@ import pytest
 from fastapi.testclient import TestClient
 
 from pendant.api import create_app
-from pendant.controller import Controller, Pose, SignalLevel
+from pendant.controller import Controller, Pose, Position, SignalLevel
+from pendant.controller.types import Point, Rotation
 from pendant.program import (
     PathStep,
     Program,
     ProgramRunner,
+    ProgramWorkspace,
     RunState,
     WaitStep,
     Waypoint,
@@ -25,14 +27,23 @@ from pendant.program import (
     describe_step,
 )
 from pendant.program.blended import FALLBACK_NOTE, BlendedRun
-from pendant.program.files import dump_program, parse_program
-from pendant.program.models import MAX_PROGRAM_PATH_POINTS, OutputAction
+from pendant.program.files import MAX_FILE_BYTES, dump_program, parse_program
+from pendant.program.models import (
+    MAX_PATH_POINTS,
+    MAX_PROGRAM_PATH_POINTS,
+    MAX_STEPS,
+    PROGRAM_NAME_MAX,
+    WAYPOINT_NAME_MAX,
+    OutputAction,
+    PathPoint,
+)
 from pendant.program.plan import MoveGroup
 from pendant.remote import RemoteController
 from pendant.sim import FakeClock, SimController
 from pendant.teach.path_step import path_step
 from pendant.teach.recording import PathRecorder, Recording
 from tests.program.conftest import move, program_of
+from tests.program.test_bounds import many_moves
 from tests.program.test_runner import Recording as CallLog
 from tests.teach.deviation import from_rest_at, max_deviation_mm
 
@@ -235,15 +246,37 @@ def test_a_paused_path_resumes_at_the_waypoint_it_was_heading_for(
 
 
 def test_a_path_step_is_saved_and_read_back_and_programs_hold_a_bounded_number_of_points(
-    step: PathStep,
+    step: PathStep, waypoints: dict[str, Waypoint], make_workspace: Callable[[], ProgramWorkspace]
 ) -> None:
     program = Program(name="drawn", steps=(step,))
     saved = dump_program(program)
     read = parse_program(saved, "drawn.json")
     assert dump_program(read) == saved and read.steps[0].points[0].pose == step.points[0].pose  # type: ignore[union-attr]
-    many = (step,) * (MAX_PROGRAM_PATH_POINTS // len(step.points) + 1)
-    with pytest.raises(ValueError, match="at most 10000 points"):
-        Program(steps=many)
+
+    # The largest program: full paths (every number at full precision) up to the limit, long moves after.
+    rng = np.random.default_rng(7)
+    noisy = tuple(
+        PathPoint(
+            pose=Pose(angles=list(rng.uniform(-300.0, 300.0, 6))),
+            position=Position(
+                point=Point(**dict(zip("xyz", rng.uniform(-1.0, 1.0, 3), strict=True))),
+                rotation=Rotation(
+                    **dict(zip(("roll", "pitch", "yaw"), rng.uniform(-3.0, 3.0, 3), strict=True))
+                ),
+            ),
+        )
+        for _ in range(MAX_PATH_POINTS)
+    )
+    paths = MAX_PROGRAM_PATH_POINTS // MAX_PATH_POINTS
+    full = PathStep(name="p" * WAYPOINT_NAME_MAX, points=noisy)
+    moves = many_moves(waypoints["C"], MAX_STEPS - paths, name="n" * PROGRAM_NAME_MAX)
+    largest = moves.model_copy(update={"steps": (*([full] * paths), *moves.steps)})
+    assert len(dump_program(largest)) <= MAX_FILE_BYTES
+    workspace = make_workspace()
+    workspace.upload("largest.json", dump_program(largest))
+    make_workspace().load(workspace.save_as("largest"))  # a restarted pendant reads it back
+    with pytest.raises(ValueError, match=f"at most {MAX_PROGRAM_PATH_POINTS} points"):
+        Program(steps=(full,) * (paths + 1))
 
 
 def test_step_goes_to_the_start_then_plays_the_whole_path(
