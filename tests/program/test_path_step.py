@@ -15,6 +15,7 @@ from fastapi.testclient import TestClient
 from pendant.api import create_app
 from pendant.controller import Controller, Pose, Position, SignalLevel
 from pendant.controller.types import Point, Rotation
+from pendant.kinematics.transforms import position_to_matrix
 from pendant.program import (
     PathStep,
     Program,
@@ -45,7 +46,7 @@ from pendant.teach.recording import PathRecorder, Recording
 from tests.program.conftest import move, program_of
 from tests.program.test_bounds import many_moves
 from tests.program.test_runner import Recording as CallLog
-from tests.teach.deviation import from_rest_at, max_deviation_mm
+from tests.teach.deviation import from_rest_at, max_deviation_mm, max_turn_deg, start_index
 
 TOL_MM = 1.0
 TOL_DEG = 1.0
@@ -87,7 +88,7 @@ class Sampler:
 
     def __init__(self, sim: SimController, clock: FakeClock) -> None:
         self._sim, self._clock = sim, clock
-        self.points: list[np.ndarray] = []
+        self.poses: list[np.ndarray] = []  # T_zero_tcp
         self.at: Callable[[], None] | None = None  # done once, at the next sleep
 
     def __call__(self, dt: float) -> None:
@@ -96,12 +97,11 @@ class Sampler:
             action()
         for _ in range(max(1, round(dt / SAMPLE_S))):
             self._clock.advance(dt / max(1, round(dt / SAMPLE_S)))
-            p = self._sim.get_position().point
-            self.points.append(np.array([p.x, p.y, p.z]))
+            self.poses.append(position_to_matrix(self._sim.get_position()))
 
     @property
     def played(self) -> np.ndarray:
-        return np.array(self.points)
+        return np.array(self.poses)[:, :3, 3]
 
 
 class WithoutRunOperations:
@@ -165,9 +165,13 @@ def test_a_path_step_plays_as_one_blended_run_within_the_tolerance(
     assert len(positions) == len(step.points) - 1 and params.interpolationType.value == "BLEND"
     assert {p.blend for p in positions} == {TOL_MM / 2 / 1000.0}
     recorded = recorded_points(recording)
-    played = from_rest_at(sampler.played, recorded[0])
+    start = start_index(sampler.played, recorded[0])
+    played = sampler.played[start:]
     there, back = max_deviation_mm(recorded, played)
     assert there <= TOL_MM and back <= TOL_MM, (there, back)
+    recorded_poses = np.array([position_to_matrix(s.tcp) for s in recording.samples])
+    turned = max_turn_deg(recorded_poses, np.array(sampler.poses[start:]))
+    assert turned <= TOL_DEG, turned
     np.testing.assert_allclose(played[-1], recorded[-1], atol=END_TOL_M)
 
 
