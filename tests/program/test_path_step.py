@@ -1,7 +1,7 @@
 """Path steps: a hand-drawn curve recorded in free drive becomes one step, which plays back as one blended
 `/run/linear/positions` run within the recording's tolerance, on the simulator and over HTTP, stop-and-go on
 a controller without /run/* (404), resuming at the waypoint it was heading for after a pause; and
-BlendedRun as the runner's BlendedPath for taught moves."""
+BlendedRun as the runner's BlendedPath for taught moves; a freeze mid-path, retried."""
 
 from __future__ import annotations
 
@@ -312,3 +312,33 @@ def test_as_the_runners_blended_path_it_runs_taught_moves_with_their_actions_in_
     assert [p.angles for p in poses] == [waypoints[n].pose.angles for n in "ABC"]
     assert poses[0].actions[0].port == 1 and sim.get_output(1) is SignalLevel.HIGH
     assert sim.get_pose().angles == pytest.approx(waypoints["C"].pose.angles, abs=ANGLE_TOL_DEG)
+
+
+def test_a_freeze_mid_path_fails_the_step_and_retry_finishes_it_from_where_it_was_heading(
+    sim: SimController, clock: FakeClock, recording: Recording, step: PathStep
+) -> None:
+    sampler = Sampler(sim, clock)
+    log = CallLog(sim)
+    runner = ProgramRunner(log, sleep=sampler, now=clock.now)  # type: ignore[arg-type]
+    sent_at: list[float] = []
+
+    def freeze_a_second_into_the_path() -> None:  # as Freeze on the page or PUT /freeze would
+        if "run_linear_positions" in log.names():
+            sent_at.append(clock.now())
+            if sent_at[-1] - sent_at[0] >= 1.0:
+                sim.freeze()
+                return
+        sampler.at = freeze_a_second_into_the_path
+
+    sampler.at = freeze_a_second_into_the_path
+    failed = runner.run(Program(steps=(step,)))
+    assert failed.state is RunState.FAILED and failed.failed_step == 0
+    assert "Step 1 (Path s1" in failed.message and "the arm stopped before reaching s1[" in failed.message
+
+    finished = runner.resume()
+
+    assert finished.state is RunState.FINISHED
+    assert log.names().count("run_poses") == 1  # not back to the start: on from where it was heading
+    recorded = recorded_points(recording)
+    there, back = max_deviation_mm(recorded, from_rest_at(sampler.played, recorded[0]))
+    assert there <= TOL_MM and back <= TOL_MM, (there, back)
