@@ -167,11 +167,11 @@ def test_a_free_driven_arc_becomes_one_step_and_plays_back_through_its_waypoints
 
 def test_a_hand_drawn_curve_plays_back_within_the_tolerance(page, pendant: Pendant, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
     start = pendant.pose()
-    pulls = 16
+    pulls = 12
     curve: list[tuple[int, float]] = []
     for k in range(1, pulls + 1):  # an S: J1 sweeps while J2 leans the arm one way, then the other
         wave = np.sin(2.0 * np.pi * k / pulls)
-        curve += [(J1, start[J1] + 3.0 * k), (J2, start[J2] + 10.0 * wave)]
+        curve += [(J1, start[J1] + 4.0 * k), (J2, start[J2] + 10.0 * wave)]
     record_by_hand(page, pendant, curve)
     page.get_by_role("tab", name="Jog").click()
     page.get_by_role("button", name="Download recording").click()
