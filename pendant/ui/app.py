@@ -102,6 +102,9 @@ class PendantUI:
         with guarded_viser_server(origins, wrap=page_first):  # the pendant's page, behind the guard
             self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
         self.server.gui.configure_theme(control_width="large", show_logo=False)
+        # Docked, not floating over the view: the arm stays in sight on a portrait tablet, and software WebGL
+        # draws no pixels the panel would cover.
+        self.server.gui.main_panel.dock_right()
         self.join_urls = join_urls(host, self.server.get_port())  # the QR code people in the room scan
         self.desk = ControlDesk(self.events, token=token, attempts=attempts)
         self.remote = remote if remote is not None else RemoteControl(enabled=True)

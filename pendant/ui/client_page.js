@@ -27,9 +27,14 @@
   const TOUCH_DELAY_MS = 60;
   const TOUCH_SLOP_PX = 10;
   const ALIVE_MS = 100;
-  const MAIN_STALL_MS = 1500;
+  // A main thread silent this long stops the hold: a release it has not seen yet then stops the arm within
+  // MAIN_STALL_MS + the server's 200 ms deadman, however long the page stays stuck.
+  const MAIN_STALL_MS = 400;
   const SOFTWARE_MAX_DPR = 0.75;
   const SOFTWARE_FRAME_MS = 50;
+  // While a jog is held, frames further apart: each software-rendered frame blocks the main thread (and
+  // takes a core), and a release waits for the frame it lands in. The pad's values still change at 10 Hz.
+  const SOFTWARE_JOG_FRAME_MS = 100;
 
   // --- 3. rendering cost in software WebGL ------------------------------------------------------------
   function softwareWebGL() {
@@ -63,9 +68,13 @@
     // Frames back to back leave the main thread no time for input: a release would wait for the next
     // frame too. At most one frame per SOFTWARE_FRAME_MS leaves it gaps.
     const raf = window.requestAnimationFrame.bind(window);
+    const query = new URLSearchParams(location.search);  // ?frame_ms= / ?jog_frame_ms=: for benchmarks
+    const idleMs = parseFloat(query.get("frame_ms") || "") || SOFTWARE_FRAME_MS;
+    const jogMs = parseFloat(query.get("jog_frame_ms") || "") || SOFTWARE_JOG_FRAME_MS;
     let lastFrame = 0;
     window.requestAnimationFrame = (callback) => raf((now) => {
-      const wait = lastFrame + SOFTWARE_FRAME_MS - now;
+      const spacing = document.documentElement.dataset.jogging === undefined ? idleMs : jogMs;
+      const wait = lastFrame + spacing - now;
       const run = (t) => { lastFrame = t; callback(t); };
       if (wait <= 0) run(now);
       else setTimeout(() => raf(run), wait);
@@ -91,7 +100,8 @@
         const hold = { type: "GuiButtonHoldMessage", uuid: d.uuid, frequency: d.hz };
         send(hold);
         holdTimer = setInterval(() => {
-          if (performance.now() - lastAlive > ${MAIN_STALL_MS}) { stop(); return; }  // the page hung
+          // The page hung: stop until it asks again (it does once it runs and the button is still held).
+          if (performance.now() - lastAlive > ${MAIN_STALL_MS}) { stop(); return; }
           send(hold);
         }, 1000 / d.hz);
       } else if (d.type === "pendant_alive") {
@@ -130,12 +140,29 @@
   const post = (message) => { if (socketWorker !== null) socketWorker.postMessage(message); };
   const holds = new Map(); // pointer id (or "key") -> { uuid, stop, started, timer, x, y }
   let aliveTimer = null;
+  let lastTick = 0;
+
+  // Tells the worker this thread runs. After a stall long enough for the worker to have stopped, the
+  // holds still held (no release was handled in the meantime: input runs before timers) ask again.
+  function tick() {
+    const now = performance.now();
+    const stalled = now - lastTick > MAIN_STALL_MS * 0.75;
+    lastTick = now;
+    post({ type: "pendant_alive" });
+    if (!stalled) return;
+    for (const hold of holds.values()) {
+      if (hold.started) post({ type: "pendant_hold", uuid: hold.uuid, hz: HOLD_HZ });
+    }
+  }
 
   function start(hold) {
     hold.started = true;
     hold.timer = null;
     post({ type: "pendant_hold", uuid: hold.uuid, hz: HOLD_HZ });
-    if (aliveTimer === null) aliveTimer = setInterval(() => post({ type: "pendant_alive" }), ALIVE_MS);
+    if (aliveTimer === null) {
+      lastTick = performance.now();
+      aliveTimer = setInterval(tick, ALIVE_MS);
+    }
     document.documentElement.dataset.jogging = hold.uuid;
   }
 

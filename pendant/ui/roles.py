@@ -269,6 +269,7 @@ class ControlPanel:
             self.remote.value = enabled
 
     def show(self, operator: int | None) -> None:
+        """One line and one button (the one this browser can use): the room above the tabs is the pad's."""
         mine = operator is not None and operator == self.client_id
         if mine:
             text = '<b style="color:#2b8a3e">You have control</b> (operator)'
@@ -276,13 +277,15 @@ class ControlPanel:
             text = "<b>Viewing</b> · nobody has control"
         else:
             text = f"<b>Viewing</b> · {html.escape(self._desk.name(operator))} has control"
-        you = (
-            f" · you are {html.escape(self._desk.name(self.client_id))}" if self.client_id is not None else ""
-        )
-        content = inset(f'<div style="font-size:0.85em">{text}{you}</div>')
+        you = html.escape(self._desk.name(self.client_id)) if self.client_id is not None else ""
+        title = f' title="You are {you}"' if you else ""
+        one_line = "font-size:0.85em;white-space:nowrap;overflow:hidden;text-overflow:ellipsis"
+        line = f'<div style="{one_line}"{title}>'
+        content = inset(f"{line}{text}</div>")
         if self.role.content != content:
             self.role.content = content
-        if self.take_button.disabled != mine:
-            self.take_button.disabled = mine
-        if self.release_button.disabled == mine:
-            self.release_button.disabled = not mine
+        for button, usable in ((self.take_button, not mine), (self.release_button, mine)):
+            if button.disabled == usable:
+                button.disabled = not usable
+            if button.visible != usable:
+                button.visible = usable

@@ -144,7 +144,7 @@ def ensure_operator(page: Any) -> None:
     deadline = time.monotonic() + 60.0
     while not enabled.is_visible():
         assert time.monotonic() < deadline, "this page never got control"
-        if take.is_enabled():  # a viewer (another page had control when this one joined): take it
+        if take.is_visible():  # a viewer (another page had control when this one joined): take it
             take.click()
         time.sleep(0.5)
     # A page still building its scene can take seconds to answer its first input: start when it draws.
@@ -163,6 +163,20 @@ def mouse_hold(page: Any, api: httpx.Client, label: str, hold_s: float) -> Timel
     time.sleep(max(0.0, hold_s - (sampler.mark() - pressed)))
     released = sampler.mark()
     page.mouse.up()
+    return _relative(sampler.stop(released), pressed)
+
+
+def key_hold(page: Any, api: httpx.Client, label: str, hold_s: float, key: str = "Space") -> Timeline:
+    """Space (or Enter) held down on the focused `label` for `hold_s`, as a keyboard user jogs."""
+    wait_idle(api)
+    page.get_by_role("button", name=label, exact=True).focus()
+    sampler = PoseSampler(api)
+    sampler.start()
+    pressed = sampler.mark()
+    page.keyboard.down(key)
+    time.sleep(max(0.0, hold_s - (sampler.mark() - pressed)))
+    released = sampler.mark()
+    page.keyboard.up(key)
     return _relative(sampler.stop(released), pressed)
 
 

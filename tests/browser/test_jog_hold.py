@@ -20,6 +20,7 @@ from .jog_measure import (
     button_box,
     close_while_held,
     ensure_operator,
+    key_hold,
     mouse_hold,
     open_as_operator,
     touch_hold,
@@ -84,6 +85,18 @@ def test_a_finger_held_on_j1_jogs_it_and_lifting_the_finger_stops_it(touch_page,
     assert statistics.median(held) >= MIN_SHARE * statistics.median(api), (held, api)
 
 
+def test_space_or_enter_held_on_a_focused_jog_button_jogs_and_release_stops(page, pendant: Pendant) -> None:
+    ensure_operator(page)
+    api = [api_hold(pendant.api, HOLD_S, +1 if i % 2 == 0 else -1).moved_deg for i in range(2)]
+    held = []
+    for i, key in enumerate(("Space", "Enter")):
+        timeline = key_hold(page, pendant.api, "J1+" if i % 2 == 0 else "J1-", HOLD_S, key)
+        held.append(timeline.moved_deg)
+        assert timeline.stop_after_release_s() < STOP_WITHIN_S, f"the arm went on after {key} was let go"
+        still_after(pendant)
+    assert min(held) >= MIN_SHARE * statistics.median(api), (held, api)
+
+
 def test_a_swipe_that_starts_on_a_jog_button_never_moves_the_arm(touch_page, pendant: Pendant) -> None:
     cdp = touch_page.context.new_cdp_session(touch_page)
     for _ in range(3):
@@ -119,6 +132,44 @@ def check_pad_on_screen(page, pendant: Pendant, viewport: tuple[int, int]) -> No
         box = button_box(page, label)
         assert box["y"] >= 0 and box["y"] + box["height"] <= viewport[1], label
         assert on_top(page, label), f"{label} is covered"
+
+
+@pytest.mark.parametrize("viewport", [TABLET_PORTRAIT, DESKTOP], ids=["tablet-portrait", "desktop"])
+def test_the_panel_leaves_the_arm_in_view(browser, pendant: Pendant, viewport) -> None:  # type: ignore[no-untyped-def]
+    """The panel sits beside the 3D view, not over it: the view the camera centres the arm in is all visible,
+    and it shows the arm (its pixels differ from the empty floor and sky)."""
+    page = browser.new_page(viewport={"width": viewport[0], "height": viewport[1]}, has_touch=True)
+    try:
+        page.goto(pendant.ui_url)
+        page.locator("#jog-pad").wait_for(timeout=60_000)
+        page.wait_for_timeout(1_500)  # the arm's meshes arrive after the panel
+        view = page.locator("canvas").first.bounding_box()
+        panel_left = button_box(page, "Freeze")["x"]
+        assert view is not None and view["x"] + view["width"] <= panel_left + 1, (view, panel_left)
+        assert view["width"] >= 0.45 * viewport[0], f"the 3D view is only {view['width']:.0f} px wide"
+        centre = page.screenshot(
+            clip={
+                "x": view["x"] + view["width"] / 4,
+                "y": view["y"] + view["height"] / 4,
+                "width": view["width"] / 2,
+                "height": view["height"] / 2,
+            }
+        )
+        page.screenshot(path=str(ARTIFACTS / f"arm-in-view-{viewport[0]}x{viewport[1]}.png"))
+        assert dark_pixels(centre) > 500, "the arm is not in the middle of the view"
+    finally:
+        page.close()
+
+
+def dark_pixels(png: bytes) -> int:
+    """Pixels darker than the floor's grid lines: the arm's joint caps and shading."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    grey = np.asarray(Image.open(io.BytesIO(png)).convert("L"))
+    return int(np.count_nonzero(grey < 110))
 
 
 @pytest.mark.parametrize(

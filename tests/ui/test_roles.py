@@ -105,6 +105,7 @@ def test_a_viewers_page_has_its_controls_disabled_except_freeze(local_ui: Pendan
     assert viewer.dashboard.record_start.disabled
     assert not viewer.freeze.disabled
     assert not viewer.control.take_button.disabled and viewer.control.release_button.disabled
+    assert viewer.control.take_button.visible and not viewer.control.release_button.visible
 
     assert local_ui.desk.release(1)
     with local_ui._sessions_lock:
@@ -116,6 +117,7 @@ def test_a_viewers_page_has_its_controls_disabled_except_freeze(local_ui: Pendan
     assert not viewer.target_panel.move_j.disabled
     assert not viewer.dashboard.record_start.disabled
     assert viewer.control.take_button.disabled and not viewer.control.release_button.disabled
+    assert not viewer.control.take_button.visible and viewer.control.release_button.visible
 
 
 def test_control_cannot_be_taken_from_the_operator(local_ui: PendantUI) -> None:
