@@ -152,6 +152,7 @@ class PathStep(_Frozen):
     velocity_mm_s: Annotated[float, Field(gt=0.0, le=PATH_SPEED_MAX_MM_S, allow_inf_nan=False)] = (
         DEFAULT_PATH_SPEED_MM_S
     )
+    recording: Annotated[str, Field(max_length=PROGRAM_NAME_MAX)] | None = None  # its raw recording's file
 
     @property
     def blend_mm(self) -> float:

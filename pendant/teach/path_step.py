@@ -24,4 +24,5 @@ def path_step(
         points=tuple(PathPoint(pose=pose, position=position) for pose, position in kept),
         tol_mm=used_mm / SIMPLIFY_SHARE,
         tol_deg=used_deg / SIMPLIFY_SHARE,
+        recording=recording.file,
     )

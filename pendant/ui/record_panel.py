@@ -76,6 +76,7 @@ class RecordPanel:
             f"{took} → **{count} waypoints** "
             f"within {step.tol_mm:g} mm / {step.tol_deg:g}°{relaxed}, added to the program as step "
             f"{line + 1} (path {step.name})."
+            + (f" The recording is kept as `{recording.file}`." if recording.file else "")
         )
         return line
 

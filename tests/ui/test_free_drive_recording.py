@@ -98,6 +98,10 @@ def test_a_free_driven_path_is_recorded_simplified_into_the_program_and_download
 
     data = ui.record.send(operator)
     assert data is not None and operator.downloads[-1][1] == data
+    folder = pendant_ui.recorder.folder  # kept in the data folder, named by the step
+    assert folder is not None and path.recording is not None and path.recording.startswith("path-")
+    assert (folder / path.recording).read_bytes() == data
+    assert f"kept as `{path.recording}`" in ui.record.note.content
     recording = json.loads(data)
     assert recording["format"] == "pulse-pendant-path-recording" and recording["schema_version"] == 1
     samples = recording["samples"]
