@@ -3,8 +3,10 @@ other half can round each corner when the path plays back as one blended run (pe
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from pendant.program.models import DEFAULT_PATH_NAME, PathPoint, PathStep
-from pendant.teach.recording import Recording
+from pendant.teach.recording import Recording, read_recording
 from pendant.teach.simplify import DEFAULT_TOL_DEG, DEFAULT_TOL_MM
 
 SIMPLIFY_SHARE = 0.5  # of the tolerance; the rest is the corners' blend (PathStep.blend_mm)
@@ -26,3 +28,12 @@ def path_step(
         tol_deg=used_deg / SIMPLIFY_SHARE,
         recording=recording.file,
     )
+
+
+def resimplified(step: PathStep, folder: Path | None, tol_mm: float, tol_deg: float) -> PathStep:
+    """`step` made again from its kept recording at another tolerance (its name and speeds kept).
+    ValueError when the recording is not kept."""
+    if step.recording is None or folder is None:
+        raise ValueError(f"path {step.name} has no kept recording to simplify again")
+    remade = path_step(read_recording(folder, step.recording), tol_mm, tol_deg, step.name)
+    return remade.model_copy(update={"speed": step.speed, "velocity_mm_s": step.velocity_mm_s})

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import logging
+import re
 import threading
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
@@ -15,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import viser.transforms as vtf
+from pydantic import BaseModel, Field, ValidationError
 
 from pendant.controller import Pose, Position, SignalLevel
 from pendant.kinematics.transforms import position_to_matrix
@@ -26,6 +28,8 @@ SCHEMA_VERSION = 1
 MAX_SAMPLES = 18_000  # ten minutes at 30 Hz (about 4 MB of JSON); the recording stops there
 PREFIX = "path-"
 MAX_KEPT = 50
+
+_FILE_NAME = re.compile(r"path-[0-9.\-]+\.json")
 
 log = logging.getLogger(__name__)
 
@@ -88,6 +92,37 @@ class Recording:
         )
         chosen = [self.samples[i] for i in kept]
         return [(Pose(angles=list(s.joints_deg)), s.tcp) for s in chosen], tol_mm, tol_deg
+
+
+class _SampleDocument(BaseModel):
+    t: float
+    joints_deg: list[float] = Field(min_length=6, max_length=6)
+    tcp: Position
+    outputs: dict[int, SignalLevel]
+    inputs: dict[int, SignalLevel]
+
+
+class _RecordingDocument(BaseModel):
+    format: str = Field(pattern=f"^{FORMAT}$")
+    schema_version: int = Field(ge=SCHEMA_VERSION, le=SCHEMA_VERSION)
+    started_at: str
+    samples: list[_SampleDocument] = Field(max_length=MAX_SAMPLES)
+
+
+def read_recording(folder: Path, name: str) -> Recording:
+    """A kept recording, read back (ValueError saying why when it is not there or not one)."""
+    if not _FILE_NAME.fullmatch(name):
+        raise ValueError(f"{name!r} is not the name of a kept path recording")
+    try:
+        document = _RecordingDocument.model_validate_json((folder / name).read_bytes())
+    except FileNotFoundError as error:
+        raise ValueError(f"the recording {name} is no longer kept (the newest {MAX_KEPT} are)") from error
+    except (OSError, ValidationError) as error:
+        raise ValueError(f"the recording {name} cannot be read: {error}") from error
+    samples = [
+        Sample(s.t, tuple(s.joints_deg), s.tcp, dict(s.outputs), dict(s.inputs)) for s in document.samples
+    ]
+    return Recording(document.started_at, samples, name)
 
 
 class PathRecorder:

@@ -142,6 +142,7 @@ class PendantUI:
         self.obstacles = ObstacleDrawing(self.server.scene, "/cell")
         self.tool_shape = ToolShapeDrawing(self.server.scene)
         self.recorder = PathRecorder(recordings)  # "Record path": fed every reading below, kept there
+        self.programs.path_recordings = recordings  # a Path step simplified again reads its recording there
         self._tool: Tool | None = None
         self.cell_model_tool: Tool | None = None
         self.sessions: dict[int, ClientSession] = {}

@@ -36,6 +36,7 @@ from pendant.program.models import (
     PATH_SPEED_MAX_MM_S,
     WaypointAction,
 )
+from pendant.teach.path_step import resimplified
 
 if TYPE_CHECKING:
     from pendant.ui.program_panel import ProgramPanel
@@ -109,6 +110,13 @@ class StepForm:
                 step=10.0,
                 hint="TCP speed along the recorded path (Speed %: the move to its start)",
             )
+            self.path_tol = gui.add_vector2(
+                "Path tol mm, °",
+                initial_value=(1.0, 1.0),
+                min=(0.01, 0.01),
+                step=0.1,
+                hint="Changing it simplifies the path again from its kept recording",
+            )
         self._groups: dict[type, tuple[viser.GuiInputHandle, ...]] = {
             MoveStep: (
                 self.goes_to,
@@ -139,7 +147,7 @@ class StepForm:
                 self.approach,
                 self.speed,
             ),
-            PathStep: (self.speed, self.path_speed),
+            PathStep: (self.speed, self.path_speed, self.path_tol),
         }
         # Handles are not hashable: unique by identity, in form order.
         self.fields = list({id(h): h for group in self._groups.values() for h in group}.values())
@@ -221,6 +229,7 @@ class StepForm:
             case PathStep():
                 self.speed.value = step.speed
                 self.path_speed.value = step.velocity_mm_s
+                self.path_tol.value = (step.tol_mm, step.tol_deg)
 
     # --- applying -----------------------------------------------------------------------------------
     def _apply(self, index: int) -> None:
@@ -279,7 +288,10 @@ class StepForm:
                     approach_mm=float(self.approach.value),
                     speed=float(self.speed.value),
                 )
-            case PathStep():  # validated: the points stay, the speeds change
+            case PathStep():  # validated; another tolerance simplifies the kept recording again
+                tol_mm, tol_deg = (float(v) for v in self.path_tol.value)
+                if (tol_mm, tol_deg) != (step.tol_mm, step.tol_deg):
+                    step = resimplified(step, self._host.shared.path_recordings, tol_mm, tol_deg)
                 fields = {"speed": float(self.speed.value), "velocity_mm_s": float(self.path_speed.value)}
                 updated = PathStep.model_validate({**dict(step), **fields})
             case _:

@@ -52,11 +52,34 @@ def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup
     fire(panel.form.path_speed, browser, 1e9)  # beyond 2 m/s: refused, nothing changed
     assert workspace.program.steps[1] == edited and browser.notifications[-1]["title"] == "Edit step refused"
 
+    # Another tolerance simplifies the path again from its kept recording (here: none kept, refused).
+    fire(panel.form.path_tol, browser, (2.0, 2.0))
+    assert workspace.program.steps[1] == edited and "no kept recording" in browser.notifications[-1]["body"]
+
     fire(panel.order, browser, "Up")
     assert isinstance(workspace.program.steps[0], PathStep)
     fire(panel.select, browser, panel.select.options[0])
     fire(panel.order, browser, "Delete step")
     assert [type(s) for s in workspace.program.steps] == [OutputStep]
+
+
+def test_another_tolerance_simplifies_the_kept_recording_again(setup, sim, clock, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]  # noqa: F811
+    panel, workspace = setup
+    browser = FakeClient()
+    workspace.path_recordings = tmp_path / "recordings"
+    recording = hand_drawn_s(sim, clock, folder=workspace.path_recordings)
+    step = path_step(recording, name="s1").model_copy(update={"velocity_mm_s": 40.0})
+    workspace.insert_step(step)
+    fire(panel.select, browser, panel.select.options[0])
+
+    fire(panel.form.path_tol, browser, (4.0, 4.0))
+
+    coarser = workspace.program.steps[0]
+    assert isinstance(coarser, PathStep) and (coarser.tol_mm, coarser.tol_deg) == (4.0, 4.0)
+    assert len(coarser.points) < len(step.points) and coarser.points[-1] == step.points[-1]
+    assert (coarser.name, coarser.velocity_mm_s, coarser.recording) == ("s1", 40.0, recording.file)
+    fire(panel.history, browser, "Undo")
+    assert workspace.program.steps[0] == step
 
 
 def test_on_a_controller_without_run_operations_the_tab_says_the_path_played_stop_and_go(

@@ -6,6 +6,7 @@ BlendedRun as the runner's BlendedPath for taught moves; a freeze mid-path, retr
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -59,10 +60,12 @@ STOP_TOL_M = 1e-6
 STOPPING = 0.1  # of the median distance between samples: the arm is all but still
 
 
-def hand_drawn_s(sim: SimController, clock: FakeClock, steps: int = HAND_STEPS) -> Recording:
+def hand_drawn_s(
+    sim: SimController, clock: FakeClock, steps: int = HAND_STEPS, folder: Path | None = None
+) -> Recording:
     """Free drive: the arm pulled by hand through an S (J1 sweeps while J2, J3 and J5 bend and come back),
-    recorded at 30 Hz as the page's refresh feeds the recorder."""
-    recorder = PathRecorder()
+    recorded at 30 Hz as the page's refresh feeds the recorder (which keeps it in `folder`, if given)."""
+    recorder = PathRecorder(folder)
     home = np.array(sim.get_pose().angles)
     sim.zg_on()
     recorder.start()

@@ -1,5 +1,6 @@
 """Finished path recordings are kept in the data folder: one JSON file each (the downloadable format), the
-newest 50; a folder that cannot be written costs the copy on disk, never the recording."""
+newest 50, read back for a Path step simplified again; a folder that cannot be written costs the copy on
+disk, never the recording."""
 
 from __future__ import annotations
 
@@ -7,9 +8,10 @@ import json
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from pendant.sim import SimController
-from pendant.teach.recording import MAX_KEPT, PathRecorder, Recording
+from pendant.teach.recording import MAX_KEPT, PathRecorder, Recording, read_recording
 
 
 def record(recorder: PathRecorder, sim: SimController, samples: int = 3) -> Recording:
@@ -43,3 +45,21 @@ def test_a_folder_that_cannot_be_written_keeps_the_recording_in_memory(
     recorder = PathRecorder(blocked)
     recording = record(recorder, sim)
     assert recording.file is None and recorder.last is recording and len(recording.samples) == 3
+
+
+def test_a_kept_recording_reads_back_as_it_was_and_other_names_are_refused(
+    tmp_path: Path, sim: SimController
+) -> None:
+    recorder = PathRecorder(tmp_path)
+    recording = record(recorder, sim)
+    assert recording.file is not None
+    again = read_recording(tmp_path, recording.file)
+    assert again.to_json() == recording.to_json() and again.file == recording.file
+    for name in ("../secret.json", "program.json", "path-1/../../x.json"):
+        with pytest.raises(ValueError, match="not the name of a kept path recording"):
+            read_recording(tmp_path, name)
+    with pytest.raises(ValueError, match="no longer kept"):
+        read_recording(tmp_path, "path-20000101-000000.000.json")
+    (tmp_path / "path-20000101-000000.001.json").write_text('{"format": "something else"}')
+    with pytest.raises(ValueError, match="cannot be read"):
+        read_recording(tmp_path, "path-20000101-000000.001.json")
