@@ -26,8 +26,8 @@ from pendant.program.geometry import MM
 from pendant.program.models import GripperAction, OutputAction
 from pendant.program.plan import MoveGroup, Target
 
-# Along a recorded path the TCP speeds up and slows down at this rate (m/s^2): brisk, yet a 1 mm corner
-# at 100 mm/s is taken without the joints hitting their limits.
+# Along a recorded path the TCP speeds up and slows down at this rate (m/s^2), as jogging does; the
+# controller still slows wherever a joint would exceed its own limits (tight corners).
 PATH_ACCELERATION_M_S2 = 0.5
 # A move's speed in percent, where a /run/linear call wants metres per second at the TCP: 100 % is 1 m/s.
 LINEAR_M_S_AT_FULL_SPEED = 1.0
