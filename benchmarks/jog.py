@@ -15,6 +15,13 @@
    jog button; and the page's frame time while the arm moves (requestAnimationFrame intervals, and how
    long the main thread is blocked at a time), viser's own rendering against the pendant's.
 
+   Three release times: from when the driver sent it, from the browser's stamp of the input (event.timeStamp)
+   and from when the page's handler ran. For a finger they differ most: CDP's emulated touch
+   (Input.dispatchTouchEvent) is forwarded to the page only once the page has presented a frame (a Chrome
+   trace shows the browser waiting on the renderer's WidgetCompositor before it forwards the touchEnd), and
+   its stamp is the driver's; with software WebGL that wait is 150-900 ms, which a real touchscreen does not
+   add. The mouse's stamp is the browser's own.
+
 Run: .venv/bin/python benchmarks/jog.py [--trials 20] [--holds 5]
 """
 
@@ -218,6 +225,22 @@ def frame_report(rounds: int) -> None:
             _report(f"main thread blocked at a time (long tasks), {name}", blocked[name])
 
 
+# Each release as the page saw it: when the browser stamped the input (event.timeStamp) and when the page's
+# handler ran, both on the wall clock.
+_LIFTS = """
+window.__lifts = [];
+document.addEventListener("pointerup", (e) => window.__lifts.push(
+  [performance.timeOrigin + e.timeStamp, performance.timeOrigin + performance.now()]), true);
+"""
+
+
+def release_stages(page, timeline) -> tuple[float, float]:  # type: ignore[no-untyped-def]
+    """(input stamped by the browser -> arm still, page handled the release -> arm still), in seconds."""
+    stamped, handled = page.evaluate("window.__lifts.at(-1)")
+    last = timeline.last_motion_s()
+    return last - timeline.at(stamped / 1000.0), last - timeline.at(handled / 1000.0)
+
+
 def hold_report(holds: int) -> None:
     """Hold J1 by mouse and by finger against the API-sent equivalent; a swipe; the frame time."""
     from playwright.sync_api import sync_playwright
@@ -237,10 +260,12 @@ def hold_report(holds: int) -> None:
             browser = playwright.chromium.launch(executable_path="/usr/bin/chromium", args=CHROMIUM_ARGS)
             page = browser.new_page(viewport={"width": 1400, "height": 900}, has_touch=True)
             page.add_init_script(_FRAMES)
+            page.add_init_script(_LIFTS)
             page.goto(f"http://127.0.0.1:{ui_port}/")
             page.locator("#jog-pad").wait_for(timeout=90_000)
             time.sleep(2.0)
             cdp = page.context.new_cdp_session(page)
+            stages: dict[str, list[tuple[float, float]]] = {"mouse": [], "touch": []}
             results: dict[str, list] = {"api": [], "mouse": [], "touch": []}
             frames: list[float] = []
             for i in range(holds):
@@ -248,9 +273,11 @@ def hold_report(holds: int) -> None:
                 results["api"].append(api_hold(api, 1.0, +1 if i % 2 == 0 else -1))
                 page.evaluate("window.__frames.length = 0")
                 results["mouse"].append(mouse_hold(page, api, label, 1.0))
+                stages["mouse"].append(release_stages(page, results["mouse"][-1]))
                 stamps = page.evaluate("window.__frames.slice()")
                 frames += [b - a for a, b in itertools.pairwise(stamps)]
                 results["touch"].append(touch_hold(page, cdp, api, label, 1.0))
+                stages["touch"].append(release_stages(page, results["touch"][-1]))
             swipes = [touch_swipe(page, cdp, api, "J1+").moved_deg for _ in range(max(2, holds // 2))]
             page.close()
             closed = []
@@ -271,7 +298,9 @@ def hold_report(holds: int) -> None:
         ratios = [t.moved_deg / api_deg * 100 for t in runs]
         firsts = [t.first_motion_s() for t in runs if t.first_motion_s() is not None]
         _report(f"{how}: press -> first motion", firsts)
-        _report(f"{how}: release -> arm still", [t.stop_after_release_s() for t in runs])
+        _report(f"{how}: release sent by the driver -> arm still", [t.stop_after_release_s() for t in runs])
+        _report(f"{how}: release stamped by the browser -> arm still", [a for a, _ in stages[how]])
+        _report(f"{how}: release handled by the page -> arm still", [b for _, b in stages[how]])
         print(
             f"{how}: hold 1.0 s moved {min(ratios):.0f}-{max(ratios):.0f} % of the API-sent motion "
             f"(median {statistics.median(ratios):.0f} %), "

@@ -99,7 +99,8 @@ class PendantUI:
         self.arm = arm
         self.mode_line = mode_line
         self.events = events if events is not None else EventLog()
-        with guarded_viser_server(origins, wrap=page_first):  # the pendant's page, behind the guard
+        # The pendant's page, behind the guard; a closing page's stop goes to the jogger made below.
+        with guarded_viser_server(origins, wrap=lambda inner: page_first(inner, self._page_closed_mid_jog)):
             self.server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
         self.server.gui.configure_theme(control_width="large", show_logo=False)
         # Docked, not floating over the view: the arm stays in sight on a portrait tablet, and software WebGL
@@ -194,6 +195,11 @@ class PendantUI:
         self.jogger.start_watchdog()
         self._thread.start()
         return self
+
+    def _page_closed_mid_jog(self) -> None:
+        jogger = getattr(self, "jogger", None)  # a request before the jogger exists has nothing to stop
+        if jogger is not None and jogger.active is not None:
+            jogger.release("page closed")
 
     def stop(self) -> None:
         self._stop.set()

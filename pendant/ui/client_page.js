@@ -182,6 +182,14 @@
     }
   }
   const finishAll = () => { for (const id of [...holds.keys()]) finish(id, false); };
+  // The page is going: its worker's release may die with it, so the stop also goes by a fetch that outlives
+  // the page (a GET, the one method viser's server takes besides the websocket).
+  const pageGoing = () => {
+    const jogging = [...holds.values()].some((hold) => hold.started);
+    finishAll();
+    if (!jogging) return;
+    fetch(new URL("pendant-stop-jog", location.href), { keepalive: true, cache: "no-store" }).catch(() => {});
+  };
 
   function jogButton(target) {
     const button = target instanceof Element ? target.closest("[data-jog-uuid]") : null;
@@ -223,8 +231,8 @@
   document.addEventListener("contextmenu", (event) => { if (jogButton(event.target)) event.preventDefault(); }, true);
   window.addEventListener("blur", finishAll);
   document.addEventListener("visibilitychange", () => { if (document.hidden) finishAll(); });
-  window.addEventListener("pagehide", finishAll);
-  window.addEventListener("beforeunload", finishAll); // the tab is closing: stop now, not when it is gone
+  window.addEventListener("pagehide", pageGoing);
+  window.addEventListener("beforeunload", pageGoing); // the tab is closing: stop now, not when it is gone
 
   // --- Freeze stays in reach: pinned to the top of the panel at every scroll position of every tab ------
   let pinned = null;

@@ -8,6 +8,7 @@ server is built, behind the Host and Origin guard).
 
 from __future__ import annotations
 
+import asyncio
 import gzip
 import http
 import inspect
@@ -21,6 +22,9 @@ from websockets.datastructures import Headers
 from websockets.http11 import Request, Response
 
 PAGE_PATHS = ("/", "/index.html")
+# A page closing with a jog held asks for the stop here too (a keepalive fetch, which outlives the page): it
+# does not wait for its worker's last message, which may die with the page, nor for the deadman.
+STOP_JOG_PATH = "/pendant-stop-jog"
 SCRIPT_PATH = Path(__file__).with_name("client_page.js")
 VISER_PAGE = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
 
@@ -60,11 +64,20 @@ def page_response(request: Request) -> Response | None:
     return Response(http.HTTPStatus.OK, "OK", headers, body)
 
 
-def page_first(inner: ProcessRequest | None) -> ProcessRequest:
-    """The pendant's page for requests of the page itself, `inner` (viser's, possibly wrapped) for the
-    rest: its files and the websocket handshake."""
+def stop_jog_response() -> Response:
+    headers = Headers({"Content-Length": "0", "Cache-Control": "no-store"})
+    return Response(http.HTTPStatus.NO_CONTENT, "No Content", headers, b"")
+
+
+def page_first(inner: ProcessRequest | None, stop_jog: Callable[[], None] | None = None) -> ProcessRequest:
+    """The pendant's page for requests of the page itself, `stop_jog` for a closing page's stop, `inner`
+    (viser's, possibly wrapped) for the rest: its files and the websocket handshake. A stop is not a command:
+    like Freeze it needs no token (and it only ever stops)."""
 
     async def process_request(connection: ServerConnection, request: Request) -> Response | None:
+        if stop_jog is not None and request.path.partition("?")[0] == STOP_JOG_PATH:
+            await asyncio.to_thread(stop_jog)
+            return stop_jog_response()
         response = page_response(request)
         if response is not None or inner is None:
             return response

@@ -25,6 +25,11 @@ class Timeline:
 
     samples: list[tuple[float, float]]
     released_at: float
+    origin_wall: float = 0.0  # the wall clock (time.time()) at t = 0: to place the page's own timestamps
+
+    def at(self, wall: float) -> float:
+        """A wall-clock instant (a page's `performance.timeOrigin + performance.now()`) on this timeline."""
+        return wall - self.origin_wall
 
     @property
     def moved_deg(self) -> float:
@@ -71,6 +76,7 @@ class PoseSampler:
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, daemon=True)
         self.t0 = 0.0
+        self.t0_wall = 0.0
 
     def _run(self) -> None:
         while not self._stop.is_set():
@@ -79,6 +85,7 @@ class PoseSampler:
 
     def start(self) -> None:
         self.t0 = time.monotonic()
+        self.t0_wall = time.time()
         self._thread.start()
         while not self._samples:
             time.sleep(0.001)
@@ -90,7 +97,7 @@ class PoseSampler:
         time.sleep(settle_s)
         self._stop.set()
         self._thread.join()
-        return Timeline(list(self._samples), released_at)
+        return Timeline(list(self._samples), released_at, self.t0_wall)
 
 
 def wait_idle(api: httpx.Client, timeout_s: float = 30.0) -> None:
@@ -234,4 +241,4 @@ def touch_swipe(page: Any, cdp: Any, api: httpx.Client, label: str, distance_px:
 
 def _relative(timeline: Timeline, pressed: float) -> Timeline:
     samples = [(t - pressed, v) for t, v in timeline.samples]
-    return Timeline(samples, timeline.released_at - pressed)
+    return Timeline(samples, timeline.released_at - pressed, timeline.origin_wall + pressed)

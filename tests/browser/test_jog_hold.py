@@ -8,6 +8,7 @@ after the release, a swipe that starts on a jog button never moves the arm, Free
 
 from __future__ import annotations
 
+import itertools
 import statistics
 import time
 from collections.abc import Iterator
@@ -16,8 +17,10 @@ import pytest
 
 from .conftest import ARTIFACTS, Pendant, running_pendant
 from .jog_measure import (
+    PoseSampler,
     api_hold,
     button_box,
+    button_centre,
     close_while_held,
     ensure_operator,
     key_hold,
@@ -97,6 +100,47 @@ def test_space_or_enter_held_on_a_focused_jog_button_jogs_and_release_stops(page
     assert min(held) >= MIN_SHARE * statistics.median(api), (held, api)
 
 
+HANG_S = 2.0
+# A page whose main thread hangs (a stuck script, a huge frame) cannot see the release: its worker stops the
+# hold after 400 ms without a sign of life and the deadman 200 ms later. Before, the worker held for 1.5 s.
+STILL_AFTER_HANG_S = 1.0
+
+
+def test_a_page_that_hangs_while_a_jog_is_held_stops_the_arm_and_resumes_when_it_runs(
+    page, pendant: Pendant
+) -> None:  # type: ignore[no-untyped-def]
+    ensure_operator(page)
+    wait_idle(pendant.api)
+    x, y = button_centre(page, "J1+")
+    page.mouse.move(x, y)
+    sampler = PoseSampler(pendant.api)
+    sampler.start()
+    page.mouse.down()
+    time.sleep(0.5)
+    page.evaluate(
+        """(ms) => setTimeout(() => {
+            window.__hungAt = performance.timeOrigin + performance.now();
+            while (performance.timeOrigin + performance.now() - window.__hungAt < ms) {}
+        }, 0)""",
+        HANG_S * 1000,
+    )
+    page.evaluate("window.__hungAt")  # answered once the page runs again
+    time.sleep(1.0)  # the button still held
+    released = sampler.mark()
+    page.mouse.up()
+    timeline = sampler.stop(released)
+    # The page's clock is the wall clock; the sampler's is monotonic, from its start.
+    hung = page.evaluate("window.__hungAt") / 1000 - (time.time() - time.monotonic()) - sampler.t0
+    changes = [t for (t, a), (_, b) in itertools.pairwise(timeline.samples) if a != b]
+    assert any(t < hung for t in changes), "the held button did not jog before the page hung"
+    # Under load the page may have stalled (and the arm stopped) just before: then nothing moves in the hang.
+    in_hang = [t for t in changes if hung < t < hung + HANG_S]
+    assert max(in_hang, default=hung) - hung < STILL_AFTER_HANG_S, "the arm went on while the page hung"
+    assert any(t > hung + HANG_S for t in changes), "the held button did not jog again once the page ran"
+    assert timeline.stop_after_release_s() < STOP_WITHIN_S
+    still_after(pendant)
+
+
 def test_a_swipe_that_starts_on_a_jog_button_never_moves_the_arm(touch_page, pendant: Pendant) -> None:
     cdp = touch_page.context.new_cdp_session(touch_page)
     for _ in range(3):
@@ -109,8 +153,22 @@ def test_closing_the_tab_while_a_jog_button_is_held_stops_the_arm(browser, penda
     open_as_operator(tab, pendant.ui_url)
     timeline = close_while_held(tab, pendant.api, "J1+", 0.6)
     assert timeline.moved_deg > 1.0, "the held button did not jog"
+    # The closing page stopped it itself (its worker's release or its keepalive fetch, whichever came first),
+    # not the deadman once it went quiet.
+    assert last_jog_stop(pendant) in {"Jog stopped (released)", "Jog stopped (page closed)"}
     assert timeline.stop_after_release_s() < STOP_WITHIN_S, "the arm went on after the tab closed"
     still_after(pendant)
+
+
+def last_jog_stop(pendant: Pendant) -> str:
+    """The newest "Jog stopped (why)" of the event log (written by its own thread: give it a moment)."""
+    deadline = time.monotonic() + 5.0
+    while True:
+        query = {"text": "Jog stopped", "limit": 1}
+        events = pendant.api.get("/pendant/events", params=query).json()["events"]
+        if events or time.monotonic() > deadline:
+            return str(events[0]["message"]) if events else ""
+        time.sleep(0.1)
 
 
 @pytest.mark.parametrize("viewport", [DESKTOP, TABLET_LANDSCAPE], ids=["1400x900", "1024x768"])

@@ -74,3 +74,21 @@ def test_the_pendants_own_page_and_clients_without_an_origin_connect(page: Penda
     for origin in (f"http://127.0.0.1:{port}", f"http://localhost:{port}", None):
         with connect(ws_url(page), origin=origin, subprotocols=[SUBPROTOCOL], open_timeout=5) as socket:  # type: ignore[arg-type]
             assert socket.recv(timeout=5)  # viser's first messages: it is a connected browser
+
+
+def test_a_closing_page_stops_a_held_jog_by_a_plain_get_and_a_foreign_host_cannot(
+    page: PendantUI, sim: SimController
+) -> None:
+    from pendant.controller import MotionStatus
+    from pendant.jog import JogFrame, JogRequest
+
+    port = page.server.get_port()
+    page.jogger.hold(JogRequest(JogFrame.JOINT, 0, +1, speed_percent=10))
+    assert sim.get_motion_status() is MotionStatus.RUNNING
+    refused = httpx.get(f"http://127.0.0.1:{port}/pendant-stop-jog", headers={"Host": f"evil.example:{port}"})
+    assert refused.status_code == 403 and sim.get_motion_status() is MotionStatus.RUNNING
+    answer = httpx.get(f"http://127.0.0.1:{port}/pendant-stop-jog")
+    assert answer.status_code == 204
+    assert page.jogger.active is None and sim.get_motion_status() is not MotionStatus.RUNNING
+    # Nothing held: nothing to stop, and the answer is the same.
+    assert httpx.get(f"http://127.0.0.1:{port}/pendant-stop-jog").status_code == 204
