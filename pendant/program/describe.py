@@ -17,6 +17,7 @@ from pendant.program.models import (
     OutputAction,
     OutputStep,
     PalletStep,
+    PathStep,
     Step,
     WaitInputStep,
     WaitStep,
@@ -79,4 +80,9 @@ def describe_step(step: Step) -> str:
             name = "" if step.name == DEFAULT_PALLET_NAME else f" {step.name}"
             corners = ", ".join(step.corners)
             return f"Pallet{name} {grid} from {corners} (approach {step.approach_mm:g} mm)"
+        case PathStep():
+            return (
+                f"Path {step.name}: {len(step.points)} waypoints, {step.tol_mm:g} mm / {step.tol_deg:g}° "
+                f"@ {step.velocity_mm_s:g} mm/s"
+            )
     raise TypeError(f"not a step: {step!r}")

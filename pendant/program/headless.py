@@ -73,8 +73,12 @@ class ProgressPrinter:
     def __init__(self, program: Program) -> None:
         self._listed = [line.step for line in lines(program.steps)]
         self._last: tuple[int | None, int] | None = None
+        self._notice = ""
 
     def __call__(self, progress: RunProgress) -> None:
+        if progress.notice != self._notice:
+            self._notice = progress.notice
+            print(progress.notice, file=sys.stderr, flush=True)
         if progress.state is not RunState.RUNNING or progress.step_index is None:
             return
         here = (progress.step_index, progress.loop)

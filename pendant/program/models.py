@@ -1,7 +1,8 @@
 """A taught program (schema version 2): a table of named waypoints and a tree of steps (pydantic, versioned).
 
 Moves refer to waypoints by name, so many moves can go to one waypoint and re-teaching it moves them all.
-Structure steps (Loop, If, Pallet) hold steps of their own; Call runs another program file. Version-1 files
+Structure steps (Loop, If, Pallet) hold steps of their own; Call runs another program file; a Path step holds
+a recorded path's points itself (they are not named waypoints). Version-1 files
 (each waypoint inside its move) are migrated on load by `pendant.program.migrate`.
 """
 
@@ -17,6 +18,7 @@ from pendant.controller.types import (
     DEFAULT_GRIPPER_TIMEOUT_MS,
     GRIPPER_TIMEOUT_MAX_MS,
     INPUT_PORTS,
+    MAX_RUN_WAYPOINTS,
     OUTPUT_PORTS,
     SPEED_MAX,
     SPEED_MIN,
@@ -43,6 +45,13 @@ MAX_GRID = 100  # rows, columns or layers of a pallet
 MAX_OFFSET_MM = 2000.0  # a relative move further than the arm reaches is a typo
 MAX_BLEND_MM = 500.0
 MAX_NESTING = 16  # Loops in Ifs in Pallets ...: deeper is not a program a person taught
+# Recorded paths: at most one controller run each; 5,000 points in all (~2.9 MB saved) keep the largest
+# program under the 5 MB a file may have, beside moves filling the rest of the 2,000 steps.
+MAX_PATH_POINTS = MAX_RUN_WAYPOINTS
+MAX_PROGRAM_PATH_POINTS = 5_000
+DEFAULT_PATH_NAME = "path"
+DEFAULT_PATH_SPEED_MM_S = 100.0
+PATH_SPEED_MAX_MM_S = 2000.0  # the /run/linear velocity limit (2 m/s)
 
 
 class _Frozen(BaseModel):
@@ -116,6 +125,39 @@ class MoveStep(_Frozen):
     offset: Offset | None = None  # a relative move: the waypoint shifted by this
     blend_mm: Annotated[float, Field(ge=0.0, le=MAX_BLEND_MM, allow_inf_nan=False)] = 0.0
     actions: tuple[WaypointAction, ...] = ()  # done on arrival
+
+
+class PathPoint(_Frozen):
+    """One point of a recorded path: flange angles (degrees) and TCP position (zero point frame), as read."""
+
+    pose: Pose
+    position: Position
+
+
+class PathStep(_Frozen):
+    """A recorded path, played back as one blended LINEAR run through its points (README "Path steps").
+
+    `tol_mm` / `tol_deg`: the tolerance the operator set. Half of it went to simplifying the recording (every
+    sample within it of the straight segments between the points), the other half is each corner's blend,
+    so the played path stays within the tolerance of the recording. The arm first goes to the first point
+    by its recorded angles (JOINT, at `speed` percent), then along the path at `velocity_mm_s` at the TCP.
+    """
+
+    kind: Literal["path"] = "path"
+    name: WaypointName = DEFAULT_PATH_NAME
+    points: Annotated[tuple[PathPoint, ...], Field(min_length=2, max_length=MAX_PATH_POINTS)]
+    tol_mm: Annotated[float, Field(gt=0.0, le=MAX_OFFSET_MM, allow_inf_nan=False)] = 1.0
+    tol_deg: Annotated[float, Field(gt=0.0, le=360.0, allow_inf_nan=False)] = 1.0
+    speed: Speed = DEFAULT_SPEED_PERCENT
+    velocity_mm_s: Annotated[float, Field(gt=0.0, le=PATH_SPEED_MAX_MM_S, allow_inf_nan=False)] = (
+        DEFAULT_PATH_SPEED_MM_S
+    )
+    recording: Annotated[str, Field(max_length=PROGRAM_NAME_MAX)] | None = None  # its raw recording's file
+
+    @property
+    def blend_mm(self) -> float:
+        """How far the run may round each corner: the half of the tolerance simplifying did not use."""
+        return self.tol_mm / 2.0
 
 
 class GripperStep(_Frozen):
@@ -209,7 +251,8 @@ Step = Annotated[
     | LoopStep
     | IfStep
     | CallStep
-    | PalletStep,
+    | PalletStep
+    | PathStep,
     Field(discriminator="kind"),
 ]
 STRUCTURES = (LoopStep, IfStep, PalletStep)
@@ -266,10 +309,13 @@ class Program(_Frozen):
             raise ValueError(f"waypoint names must be unique: {', '.join(map(repr, duplicates))}")
         if _depth(self.steps) > MAX_NESTING:
             raise ValueError(f"steps nest more than {MAX_NESTING} deep")
-        if sum(1 for _ in walk(self.steps)) > MAX_STEPS:  # nested ones count too
+        every = walk(self.steps)
+        if len(every) > MAX_STEPS:  # nested ones count too
             raise ValueError(f"a program has at most {MAX_STEPS} steps")
+        if sum(len(s.points) for s in every if isinstance(s, PathStep)) > MAX_PROGRAM_PATH_POINTS:
+            raise ValueError(f"recorded paths have at most {MAX_PROGRAM_PATH_POINTS} points in all")
         known = set(names)
-        for step in walk(self.steps):
+        for step in every:
             for name in referenced_waypoints(step):
                 if name not in known:
                     raise ValueError(f"a step goes to waypoint {name!r}, which is not in the waypoint table")

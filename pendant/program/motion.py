@@ -7,6 +7,11 @@ is heading for. Time comes from injected `now` and `sleep`, so tests run on the 
 Waypoint actions (DO, gripper) run stop-and-set: the plan ends a blended group at a waypoint with actions,
 and they are sent once the arm is there. A controller that takes them inside one blended `/run/*` request
 (PULSE 1.8) plugs in as a `BlendedPath`: the plan then keeps such groups whole and `run_path` sends them.
+
+A recorded path (a Path step's run) always goes as one `/run/linear/positions` request
+(pendant.program.blended); on a controller without it (404) it plays stop-and-go, one linear move per
+waypoint, and `notice` tells the page. Interrupted, it resumes at the waypoint it was heading for: from where
+the arm stopped (on the path), straight to that waypoint, then blended through the rest.
 """
 
 from __future__ import annotations
@@ -19,7 +24,9 @@ from typing import Protocol
 import numpy as np
 
 from pendant.controller import Controller, ControllerError, MotionStatus
+from pendant.controller.errors import Unsupported
 from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS, SignalLevel
+from pendant.program.blended import FALLBACK_NOTE, BlendedRun
 from pendant.program.models import (
     GripperAction,
     GripperAtWaypoint,
@@ -85,12 +92,15 @@ class NodeExecutor:
         interrupted: Callable[[], bool],
         freeze: Callable[[], None],
         blended: BlendedPath | None = None,
+        notice: Callable[[str], None] = lambda text: None,
     ) -> None:
         self._controller = controller
         self._t = timing
         self._interrupted = interrupted
         self._freeze = freeze
         self._blended = blended
+        self._paths = BlendedRun(controller)  # recorded paths, whatever `blended` is
+        self._notice = notice
 
     def check(self, target: int = 0) -> None:
         if self._interrupted():
@@ -159,7 +169,10 @@ class NodeExecutor:
     # --- moves ---------------------------------------------------------------------------------------
     def move(self, group: MoveGroup, start: int, only_one: bool, heading: Callable[[int], None]) -> int:
         """Run targets[start:] (only targets[start] when `only_one`), then the last one's actions; returns
-        the index of the last target reached. `heading(k)` is told which target the arm is heading for."""
+        the index of the last target reached. `heading(k)` is told which target the arm is heading for.
+        A recorded path runs whole (a Step plays all of it)."""
+        if group.path:
+            return self._path(group, start, heading)
         end = start + 1 if only_one else len(group.targets)
         targets = group.targets[start:end]
         try:
@@ -171,15 +184,43 @@ class NodeExecutor:
                 self._action(action, end - 1)
         return end - 1
 
+    def _path(self, group: MoveGroup, start: int, heading: Callable[[int], None]) -> int:
+        """targets[start:] of a recorded path: one blended run, or stop-and-go without /run/*."""
+        last = len(group.targets) - 1
+        at = start
+        try:
+            if self._paths.supported is not False:
+                try:
+                    self._move(group, group.targets[start:], start, heading, self._paths.run_path)
+                    return last
+                except Unsupported:
+                    self._notice(FALLBACK_NOTE)
+            for at in range(start, last + 1):
+                self._move(group, (group.targets[at],), at, heading, self._one_linear_move)
+        except ControllerError as error:
+            raise StepFailed(error.message, at) from error
+        return last
+
+    def _one_linear_move(self, group: MoveGroup) -> None:
+        positions = [t.position for t in group.targets]
+        self._controller.run_positions(positions, group.params)  # type: ignore[arg-type]
+
     def _move(
-        self, group: MoveGroup, targets: tuple[Target, ...], first: int, heading: Callable[[int], None]
+        self,
+        group: MoveGroup,
+        targets: tuple[Target, ...],
+        first: int,
+        heading: Callable[[int], None],
+        send: Callable[[MoveGroup], object] | None = None,
     ) -> None:
         controller = self._controller
         joint = group.by_angles
         start = self._reading(joint)
         points = [_point_of(t) for t in targets]
-        sub = MoveGroup(targets, group.motion, group.speed)
-        if self._blended is not None:
+        sub = MoveGroup(targets, group.motion, group.speed, group.velocity_m_s)
+        if send is not None:
+            self.command(first, lambda: send(sub))
+        elif self._blended is not None:
             self.command(first, lambda: self._blended.run_path(sub))  # type: ignore[union-attr]
         elif joint:
             poses = [t.pose for t in targets]

@@ -11,7 +11,15 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from pendant.controller.types import MAX_RUN_WAYPOINTS, MotionParams, MotionType, Pose, Position, SignalLevel
+from pendant.controller.types import (
+    MAX_RUN_WAYPOINTS,
+    SPEED_MAX,
+    MotionParams,
+    MotionType,
+    Pose,
+    Position,
+    SignalLevel,
+)
 from pendant.program.describe import describe_step
 from pendant.program.geometry import MM, lifted, offset_position, pallet_cells
 from pendant.program.models import (
@@ -24,6 +32,7 @@ from pendant.program.models import (
     MoveStep,
     OutputStep,
     PalletStep,
+    PathStep,
     Program,
     Step,
     WaitInputStep,
@@ -57,11 +66,20 @@ class Target:
 
 @dataclass(frozen=True)
 class MoveGroup:
-    """Moves run as one /poses/run (targets with angles) or /positions/run: the arm blends through them."""
+    """Moves run as one /poses/run (targets with angles) or /positions/run: the arm blends through them.
+
+    `velocity_m_s` set: a recorded path (a Path step), LINEAR at that TCP speed, each corner rounded within
+    its target's blend, sent as one /run/linear/positions (pendant.program.blended); never joined with
+    other moves."""
 
     targets: tuple[Target, ...]
     motion: MotionType
     speed: float
+    velocity_m_s: float | None = None
+
+    @property
+    def path(self) -> bool:
+        return self.velocity_m_s is not None
 
     @property
     def line(self) -> int:
@@ -73,6 +91,8 @@ class MoveGroup:
 
     @property
     def params(self) -> MotionParams:
+        if self.velocity_m_s is not None:  # the joints as fast as they go, the TCP at the path's speed
+            return MotionParams(speed=SPEED_MAX, motion_type=self.motion, tcp_max_velocity=self.velocity_m_s)
         return MotionParams(speed=self.speed, motion_type=self.motion)
 
     def describe(self, start: int = 0) -> str:
@@ -188,6 +208,8 @@ class _Compiler:
         return (
             self.blend
             and isinstance(last, MoveGroup)
+            and not last.path
+            and not node.path
             and last.motion is node.motion
             and last.speed == node.speed
             and last.by_angles == node.by_angles
@@ -220,6 +242,8 @@ class _Compiler:
                 )
             case CallStep():
                 return self.call(step, line)
+            case PathStep():
+                return path_nodes(step, line)
         raise TypeError(f"not a step: {step!r}")
 
     def target(self, program: Program, step: MoveStep, line: int) -> Target:
@@ -249,6 +273,24 @@ class _Compiler:
             return self.program(called, called.steps, line)
         finally:
             self.calls.pop()
+
+
+def path_nodes(step: PathStep, line: int) -> tuple[MoveGroup, ...]:
+    """A Path step: to its first point by the recorded angles (JOINT, stopping there), then one blended
+    LINEAR run through the others (split at the controller's run limit)."""
+    names = [f"{step.name}[{k + 1}]" for k in range(len(step.points))]
+    first = step.points[0]
+    approach = MoveGroup((Target(line, names[0], first.pose, first.position),), MotionType.JOINT, step.speed)
+    targets = [
+        Target(line, name, None, point.position, step.blend_mm)
+        for name, point in zip(names[1:], step.points[1:], strict=True)
+    ]
+    velocity = step.velocity_mm_s * MM
+    runs = tuple(
+        MoveGroup(tuple(targets[i : i + MAX_GROUP_TARGETS]), MotionType.LINEAR, step.speed, velocity)
+        for i in range(0, len(targets), MAX_GROUP_TARGETS)
+    )
+    return (approach, *runs)
 
 
 def compile_program(

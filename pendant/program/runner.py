@@ -47,6 +47,7 @@ class RunProgress:
     progress: float = 0.0
     message: str = "Ready"
     failed_step: int | None = None  # 0-based line of the step that failed
+    notice: str = ""  # how the controller plays what it cannot do as asked (e.g. paths stop-and-go)
 
     @property
     def active(self) -> bool:
@@ -95,7 +96,12 @@ class ProgramRunner:
         self._listeners: list[Listener] = []
         self._worker: threading.Thread | None = None
         self._executor = NodeExecutor(
-            controller, Timing(sleep, now, poll_s), self._interrupt_requested, self._freeze_quietly, blended
+            controller,
+            Timing(sleep, now, poll_s),
+            self._interrupt_requested,
+            self._freeze_quietly,
+            blended,
+            notice=lambda text: self._publish(notice=text),
         )
 
     # --- observing ---------------------------------------------------------------------------------

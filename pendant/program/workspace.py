@@ -55,6 +55,7 @@ class ProgramWorkspace(ProgramEditing):
         self._listeners: list[ChangeListener] = []
         self._undo: list[_Snapshot] = []
         self._redo: list[_Snapshot] = []
+        self.path_recordings: Path | None = None  # where path recordings are kept (Path steps name theirs)
         if runner.load is None:  # Call steps open the programs of this folder
             runner.load = store.load
         restored = store.restore()

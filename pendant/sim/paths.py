@@ -128,9 +128,13 @@ def _waypoint_s(keep: list[int], corners: list[float], count: int) -> list[float
     return [corners[max(0, bisect.bisect_right(keep, i) - 1)] for i in range(count)]
 
 
-def _widened(tol: float, blends: Sequence[float] | None, keep: list[int], j: int) -> float:
-    """The corner tolerance at kept waypoint j: the default, or the waypoint's own larger blend."""
-    return max(tol, float(blends[keep[j]])) if blends is not None else tol
+def _corner_tol(tol: float, blends: Sequence[float] | None, keep: list[int], j: int) -> float:
+    """The corner tolerance at kept waypoint j: the waypoint's own blend, or the default where it has none
+    (0), as the README documents `blend`. A blend below the default is kept too: a recorded path asks for
+    half its tolerance (pendant.program.blended)."""
+    if blends is None or blends[keep[j]] <= 0.0:
+        return tol
+    return float(blends[keep[j]])
 
 
 class JointPath:
@@ -147,8 +151,8 @@ class JointPath:
         tol_rad: float = JOINT_BLEND_TOL_RAD,
         blends_rad: Sequence[float] | None = None,
     ) -> None:
-        """`blends_rad[i]`: how far (radians, per joint) the path may pass from waypoint i, when larger than
-        `tol_rad` (a waypoint's `blend`)."""
+        """`blends_rad[i]`: how far (radians, per joint) the path may pass from waypoint i (a waypoint's
+        `blend`; 0: `tol_rad`)."""
         waypoints = np.atleast_2d(np.asarray(waypoints, dtype=float))
         keep = _dedupe(list(waypoints), lambda a, b: float(np.max(np.abs(a - b))))
         self.waypoints = waypoints[keep]
@@ -167,7 +171,7 @@ class JointPath:
         d_limit = [0.0] + [
             float(
                 4.0
-                * _widened(tol_rad, blends_rad, keep, j)
+                * _corner_tol(tol_rad, blends_rad, keep, j)
                 / max(np.max(np.abs(tangents[j] - tangents[j - 1])), 1e-12)
             )
             for j in range(1, len(lengths))
@@ -204,8 +208,8 @@ class CartesianPath:
     """
 
     def __init__(self, poses: list[np.ndarray], blends_m: Sequence[float] | None = None) -> None:
-        """`blends_m[i]`: how far (metres) the path may pass from pose i, when larger than the default
-        tolerance (a waypoint's `blend`); the orientation may deviate in proportion."""
+        """`blends_m[i]`: how far (metres) the path may pass from pose i (a waypoint's `blend`; 0: the
+        default tolerance); the orientation may deviate in proportion, and at least by the default."""
 
         def distance(a: np.ndarray, b: np.ndarray) -> float:
             return max(
@@ -242,7 +246,7 @@ class CartesianPath:
         d_limit = [0.0]
         for j in range(1, len(lengths)):
             dt = tangents[j] - tangents[j - 1]
-            tol_m = _widened(CARTESIAN_BLEND_TOL_M, blends_m, keep, j)
+            tol_m = _corner_tol(CARTESIAN_BLEND_TOL_M, blends_m, keep, j)
             tol_rad = max(CARTESIAN_BLEND_TOL_RAD, tol_m / ROTATION_LENGTH_M_PER_RAD)
             d_pos = 4.0 * tol_m / max(float(np.linalg.norm(dt[:3])), 1e-12)
             d_rot = 4.0 * tol_rad / max(float(np.linalg.norm(dt[3:])), 1e-12)
@@ -262,18 +266,22 @@ class CartesianPath:
         return T
 
     def grid(self, max_step: float) -> np.ndarray:
+        """Every piece boundary, and no cell longer than max_step; a blend shorter than two cells gets its
+        middle too: the joint path is linear between samples, and a chord across a whole blend would cut the
+        corner by twice its tolerance."""
         if self.pieces is None:
             return np.array([0.0])
-        return refine_grid(self.pieces.boundaries(), max_step)
+        return refine_grid(self.pieces.boundaries(), max_step, self.pieces.blend)
 
 
-def refine_grid(boundaries: list[float], max_step: float) -> np.ndarray:
-    """The boundaries plus evenly spaced points so that no cell is longer than max_step."""
+def refine_grid(boundaries: list[float], max_step: float, halved: list[bool] | None = None) -> np.ndarray:
+    """The boundaries plus evenly spaced points so that no cell is longer than max_step (and the cells
+    marked in `halved` are split at least in two)."""
     points: list[np.ndarray] = []
-    for a, b in itertools.pairwise(boundaries):
+    for k, (a, b) in enumerate(itertools.pairwise(boundaries)):
         if b <= a:
             continue
-        n = max(1, int(np.ceil((b - a) / max_step)))
+        n = max(2 if halved is not None and halved[k] else 1, int(np.ceil((b - a) / max_step)))
         points.append(np.linspace(a, b, n + 1)[:-1])
     points.append(np.array([boundaries[-1]]))
     return np.concatenate(points)

@@ -142,7 +142,8 @@ class PendantUI:
         self.identity = ""  # /robot/info and /version/*, read once the controller answers
         self.obstacles = ObstacleDrawing(self.server.scene, "/cell")
         self.tool_shape = ToolShapeDrawing(self.server.scene)
-        self.recorder = PathRecorder()  # "Record path": fed every reading below
+        self.recorder = PathRecorder(recordings)  # "Record path": fed every reading below, kept there
+        self.programs.path_recordings = recordings  # a Path step simplified again reads its recording there
         self._tool: Tool | None = None
         self.cell_model_tool: Tool | None = None
         self.sessions: dict[int, ClientSession] = {}

@@ -80,7 +80,8 @@ class RunSection:
             progress.state.value
         )
         text = progress.message
-        self.status.content = f"**{text}**" if progress.state is RunState.FAILED else text
+        text = f"**{text}**" if progress.state is RunState.FAILED else text
+        self.status.content = f"{text}\n\n{progress.notice}" if progress.notice else text
         self.run.label = "Resume" if progress.state is RunState.PAUSED else "Run"
         running = progress.state is RunState.RUNNING
         self.run.disabled = self.step.disabled = self.run_from.disabled = running or self.locked

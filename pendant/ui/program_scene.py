@@ -1,5 +1,6 @@
 """The program in 3D: a marker and a name at every move target, the path as the plan runs it (loops drawn
-once, both branches of an If, a pallet's first pass), and every pallet's grid of cells.
+once, both branches of an If, a pallet's first pass), every pallet's grid of cells, and each recorded path
+as a polyline through its waypoints (dots; a marker at its end).
 
 The path comes from the same plan the runner executes (pendant.program.plan), so relative moves and pallet
 cells are drawn where the arm will go. Called programs are not opened for drawing.
@@ -28,6 +29,8 @@ CELL_RGB = (120, 120, 120)
 PATH_JOINT_RGB = (40, 110, 230)
 PATH_LINEAR_RGB = (200, 60, 160)
 PATH_THICKNESS_PX = 2.5
+RECORDED_RGB = (230, 120, 20)
+RECORDED_POINT_M = 0.006
 # A JOINT leg is a curve for the TCP: draw it through this many joint-space samples.
 JOINT_LEG_SAMPLES = 16
 ROOT = "/program"
@@ -42,6 +45,8 @@ class _Drawing:
         default_factory=lambda: {MotionType.JOINT: [], MotionType.LINEAR: []}
     )
     cells: list[np.ndarray] = field(default_factory=list)
+    recorded: list[np.ndarray] = field(default_factory=list)  # recorded paths' segments
+    recorded_points: list[np.ndarray] = field(default_factory=list)
 
 
 class ProgramScene:
@@ -110,6 +115,26 @@ class ProgramScene:
                     precision="float32",
                 )
             )
+        if drawing.recorded:
+            self._nodes.append(
+                scene.add_line_segments(
+                    f"{ROOT}/recorded_paths",
+                    np.asarray(drawing.recorded),
+                    RECORDED_RGB,
+                    thickness=PATH_THICKNESS_PX,
+                    thickness_units="screen",
+                )
+            )
+            self._nodes.append(
+                scene.add_point_cloud(
+                    f"{ROOT}/recorded_waypoints",
+                    np.asarray(drawing.recorded_points),
+                    RECORDED_RGB,
+                    point_size=RECORDED_POINT_M,
+                    point_shape="circle",
+                    precision="float32",
+                )
+            )
         for motion, pieces in drawing.pieces.items():
             if pieces:
                 color = PATH_JOINT_RGB if motion is MotionType.JOINT else PATH_LINEAR_RGB
@@ -129,6 +154,8 @@ class ProgramScene:
         """Draw `nodes` from `pen` (joint angles or None, TCP point); returns where the pen ends."""
         for node in nodes:
             match node:
+                case MoveGroup() if node.path:
+                    pen = self._recorded(node, drawing, pen)
                 case MoveGroup():
                     for target in node.targets:
                         q, point = self._place(target)
@@ -147,6 +174,18 @@ class ProgramScene:
                     drawing.cells.extend(np.array([c.point.x, c.point.y, c.point.z]) for c in node.cells)
                     pen = self._walk(node.pass_nodes(0), drawing, pen)
         return pen
+
+    def _recorded(
+        self, node: MoveGroup, drawing: _Drawing, pen: tuple[np.ndarray | None, np.ndarray] | None
+    ) -> tuple[np.ndarray | None, np.ndarray]:
+        """A recorded path: straight segments through its waypoints, one marker (and name) at its end."""
+        points = [self._place(target)[1] for target in node.targets]
+        if pen is not None:
+            points.insert(0, pen[1])
+        drawing.recorded.extend(np.stack([a, b]) for a, b in itertools.pairwise(points))
+        drawing.recorded_points.extend(points)
+        drawing.markers.append((node.targets[-1], points[-1]))
+        return None, points[-1]
 
     def _place(self, target: Target) -> tuple[np.ndarray | None, np.ndarray]:
         """Joint angles (radians, None for a TCP target) and where the marker goes: the flange by FK (as

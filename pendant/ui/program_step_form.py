@@ -24,11 +24,19 @@ from pendant.program import (
     OutputAction,
     OutputStep,
     PalletStep,
+    PathStep,
     Step,
     WaitInputStep,
     WaitStep,
 )
-from pendant.program.models import MAX_GRID, MAX_LOOP_TIMES, MAX_WAIT_MS, WaypointAction
+from pendant.program.models import (
+    MAX_GRID,
+    MAX_LOOP_TIMES,
+    MAX_WAIT_MS,
+    PATH_SPEED_MAX_MM_S,
+    WaypointAction,
+)
+from pendant.teach.path_step import resimplified
 
 if TYPE_CHECKING:
     from pendant.ui.program_panel import ProgramPanel
@@ -93,6 +101,22 @@ class StepForm:
             self.layers = gui.add_number("Layers", initial_value=1, min=1, max=MAX_GRID, step=1)
             self.layer_height = gui.add_number("Layer height mm", initial_value=0.0, min=0.0, step=1.0)
             self.approach = gui.add_number("Approach mm", initial_value=50.0, min=0.0, step=1.0)
+            # Recorded path (its speed % is the approach to its start)
+            self.path_speed = gui.add_number(
+                "Path mm/s",
+                initial_value=100.0,
+                min=1.0,
+                max=PATH_SPEED_MAX_MM_S,
+                step=10.0,
+                hint="TCP speed along the recorded path (Speed %: the move to its start)",
+            )
+            self.path_tol = gui.add_vector2(
+                "Path tol mm, °",
+                initial_value=(1.0, 1.0),
+                min=(0.01, 0.01),
+                step=0.1,
+                hint="Changing it simplifies the path again from its kept recording",
+            )
         self._groups: dict[type, tuple[viser.GuiInputHandle, ...]] = {
             MoveStep: (
                 self.goes_to,
@@ -123,6 +147,7 @@ class StepForm:
                 self.approach,
                 self.speed,
             ),
+            PathStep: (self.speed, self.path_speed, self.path_tol),
         }
         # Handles are not hashable: unique by identity, in form order.
         self.fields = list({id(h): h for group in self._groups.values() for h in group}.values())
@@ -201,6 +226,10 @@ class StepForm:
                 self.layer_height.value = step.layer_height_mm
                 self.approach.value = step.approach_mm
                 self.speed.value = step.speed
+            case PathStep():
+                self.speed.value = step.speed
+                self.path_speed.value = step.velocity_mm_s
+                self.path_tol.value = (step.tol_mm, step.tol_deg)
 
     # --- applying -----------------------------------------------------------------------------------
     def _apply(self, index: int) -> None:
@@ -259,6 +288,12 @@ class StepForm:
                     approach_mm=float(self.approach.value),
                     speed=float(self.speed.value),
                 )
+            case PathStep():  # validated; another tolerance simplifies the kept recording again
+                tol_mm, tol_deg = (float(v) for v in self.path_tol.value)
+                if (tol_mm, tol_deg) != (step.tol_mm, step.tol_deg):
+                    step = resimplified(step, self._host.shared.path_recordings, tol_mm, tol_deg)
+                fields = {"speed": float(self.speed.value), "velocity_mm_s": float(self.path_speed.value)}
+                updated = PathStep.model_validate({**dict(step), **fields})
             case _:
                 return
         self._host.shared.replace_step(index, updated)

@@ -1,13 +1,14 @@
 """Jog tab: "Record path" samples the arm at the refresh rate (30 Hz) while the operator free-drives or jogs;
 "Stop and add to program" simplifies it (tolerance in mm and degrees, at most 100 waypoints) and adds it to
-the program as a group of linear moves; the raw recording is downloadable."""
+the program as one Path step, played back as one blended run; the raw recording is downloadable."""
 
 from __future__ import annotations
 
 import viser
 
-from pendant.controller import MotionType
-from pendant.program import ProgramWorkspace
+from pendant.program import EditError, PathStep, ProgramWorkspace
+from pendant.program.models import DEFAULT_PATH_NAME, walk
+from pendant.teach.path_step import path_step
 from pendant.teach.recording import PathRecorder
 from pendant.teach.simplify import DEFAULT_TOL_DEG, DEFAULT_TOL_MM, MAX_WAYPOINTS
 from pendant.ui.commands import CommandRunner, notify_refusal
@@ -23,7 +24,6 @@ class RecordPanel:
         self._recorder = recorder
         self._programs = programs
         self._runner = runner
-        self._paths = 0
         with target.gui.add_folder("Path recording", expand_by_default=True):
             self.note = target.gui.add_markdown("Free-drive or jog the arm while recording.")
             self.tol_mm = target.gui.add_number(
@@ -51,33 +51,42 @@ class RecordPanel:
         self._say("**Recording…** move the arm, then Stop.")
         return True
 
-    def end(self, client: viser.ClientHandle | None = None) -> list[int]:
-        """Stop; add the simplified path to the program. Returns the indices of the steps added."""
+    def end(self, client: viser.ClientHandle | None = None) -> int | None:
+        """Stop; add the path to the program as one Path step. Returns its line (None: nothing added)."""
         if self._runner.refusal(client, "Stop recording") is not None:
-            return []
+            return None
         recording = self._recorder.stop()
         if recording is None:
             notify_refusal(client, "Nothing recorded", "press Record path first")
-            return []
+            return None
         asked_mm = float(self.tol_mm.value)
         try:
-            waypoints, tol_mm, tol_deg = recording.waypoints(asked_mm, float(self.tol_deg.value))
-        except ValueError as error:
+            step = path_step(recording, asked_mm, float(self.tol_deg.value), self._next_name())
+            line = self._programs.insert_step(step)
+        except (ValueError, EditError) as error:
             notify_refusal(client, "Path not added", str(error))
-            return []
-        self._paths += 1
-        added = [
-            self._programs.record(pose, position, name=f"path{self._paths}_{i + 1}", motion=MotionType.LINEAR)
-            for i, (pose, position) in enumerate(waypoints)
-        ]
-        self._runner.record(f"Recorded path: {len(added)} waypoints", client)
-        relaxed = "" if tol_mm == asked_mm else f" (relaxed to fit {MAX_WAYPOINTS} waypoints)"
-        rate = f"{recording.rate_hz:.0f} Hz"
-        self._say(
-            f"{len(recording.samples)} samples in {recording.duration_s:.1f} s ({rate}) → "
-            f"**{len(added)} waypoints** within {tol_mm:g} mm / {tol_deg:g}°{relaxed}, added to the program."
+            return None
+        count = len(step.points)
+        self._runner.record(f"Recorded path {step.name}: {count} waypoints", client)
+        relaxed = "" if step.tol_mm == asked_mm else f" (relaxed to fit {MAX_WAYPOINTS} waypoints)"
+        took = (
+            f"{len(recording.samples)} samples in {recording.duration_s:.1f} s ({recording.rate_hz:.0f} Hz)"
         )
-        return added
+        self._say(
+            f"{took} → **{count} waypoints** "
+            f"within {step.tol_mm:g} mm / {step.tol_deg:g}°{relaxed}, added to the program as step "
+            f"{line + 1} (path {step.name})."
+            + (f" The recording is kept as `{recording.file}`." if recording.file else "")
+        )
+        return line
+
+    def _next_name(self) -> str:
+        names = {s.name for s in walk(self._programs.program.steps) if isinstance(s, PathStep)}
+        return next(
+            f"{DEFAULT_PATH_NAME}{k}"
+            for k in range(1, len(names) + 2)
+            if f"{DEFAULT_PATH_NAME}{k}" not in names
+        )
 
     def send(self, client: viser.ClientHandle | None = None) -> bytes | None:
         recording = self._recorder.last

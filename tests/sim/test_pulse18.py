@@ -122,6 +122,14 @@ def test_a_waypoint_blend_rounds_the_corner_within_it(sim: SimController, clock:
     assert 5 * DEFAULT_BLEND_TOL_M < rounded <= 0.02
 
 
+def test_a_blend_below_the_default_rounds_the_corner_tighter(sim: SimController, clock: FakeClock) -> None:
+    default = _corner_run(sim, clock, 0.0)
+    sim.reset()
+    tight = _corner_run(sim, clock, DEFAULT_BLEND_TOL_M / 4)
+    # Samples 2 ms apart miss the apex of so tight a turn by a little more than they miss a wide one's.
+    assert tight <= DEFAULT_BLEND_TOL_M / 4 * 1.15 and tight < default / 2
+
+
 def test_actions_run_when_their_waypoint_is_reached(sim: SimController, clock: FakeClock) -> None:
     start = sim.get_position()
     first, second = shifted(start, dx=0.1), shifted(start, dx=0.2)

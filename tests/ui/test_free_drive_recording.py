@@ -1,5 +1,5 @@
 """Free drive in the page (simulator) and path recording, headless: the operator pulls the relaxed arm with
-the joint sliders; a recording of that becomes waypoints in the program, within the tolerance."""
+the joint sliders; a recording of that becomes one Path step in the program, within the tolerance."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from pendant.controller import MotionType
-from pendant.program.models import MoveStep
+from pendant.program import describe_step
+from pendant.program.models import PathStep
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.session import ClientSession
@@ -80,20 +80,28 @@ def test_a_free_driven_path_is_recorded_simplified_into_the_program_and_download
         s = i / STEPS
         q = home + np.radians([40.0 * s, 15.0 * np.sin(np.pi * s), -20.0 * np.sin(np.pi * s), 0.0, 0.0, 0.0])
         pull_to(pendant_ui, ui, sim, q, operator)
-    added = ui.record.end(operator)
+    line = ui.record.end(operator)
 
     steps = pendant_ui.programs.program.steps
-    assert 2 < len(added) <= 100 and len(steps) == len(added)
-    assert all(isinstance(step, MoveStep) and step.motion is MotionType.LINEAR for step in steps)
-    first, last = steps[0], steps[-1]
-    assert isinstance(first, MoveStep) and isinstance(last, MoveStep)
-    program = pendant_ui.programs.program  # moves name their waypoints in the program's table
-    np.testing.assert_allclose(program.waypoint(first.waypoint).pose.angles, np.degrees(home), atol=1e-6)
-    np.testing.assert_allclose(program.waypoint(last.waypoint).pose.angles, np.degrees(pose(sim)), atol=1e-6)
-    assert "waypoints** within 1 mm / 1°" in ui.record.note.content
+    assert line == 0 and len(steps) == 1  # one step, however many waypoints
+    path = steps[0]
+    assert isinstance(path, PathStep) and 2 < len(path.points) <= 100 and path.name == "path1"
+    np.testing.assert_allclose(path.points[0].pose.angles, np.degrees(home), atol=1e-6)
+    np.testing.assert_allclose(path.points[-1].pose.angles, np.degrees(pose(sim)), atol=1e-6)
+    assert path.points[-1].position == sim.get_position()
+    assert (path.tol_mm, path.tol_deg) == (1.0, 1.0)
+    assert f"**{len(path.points)} waypoints** within 1 mm / 1°" in ui.record.note.content
+    listed = ui.program.steps_view.content
+    assert describe_step(path).startswith(f"Path path1: {len(path.points)} waypoints, 1 mm / 1°")
+    assert describe_step(path) in listed
+    assert pendant_ui.programs.program.waypoints == ()  # its points are its own, not named waypoints
 
     data = ui.record.send(operator)
     assert data is not None and operator.downloads[-1][1] == data
+    folder = pendant_ui.recorder.folder  # kept in the data folder, named by the step
+    assert folder is not None and path.recording is not None and path.recording.startswith("path-")
+    assert (folder / path.recording).read_bytes() == data
+    assert f"kept as `{path.recording}`" in ui.record.note.content
     recording = json.loads(data)
     assert recording["format"] == "pulse-pendant-path-recording" and recording["schema_version"] == 1
     samples = recording["samples"]
