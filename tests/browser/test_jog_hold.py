@@ -186,6 +186,7 @@ def test_all_six_axes_of_the_pad_are_on_screen_without_scrolling(browser, viewpo
 def check_pad_on_screen(page, pendant: Pendant, viewport: tuple[int, int]) -> None:  # type: ignore[no-untyped-def]
     page.goto(pendant.ui_url)
     page.locator("#jog-pad").wait_for(timeout=60_000)
+    settled(page, "J1-")
     for label in ("J1-", "J1+", "J6-", "J6+"):
         box = button_box(page, label)
         assert box["y"] >= 0 and box["y"] + box["height"] <= viewport[1], label
@@ -201,6 +202,7 @@ def test_the_panel_leaves_the_arm_in_view(browser, pendant: Pendant, viewport) -
         page.goto(pendant.ui_url)
         page.locator("#jog-pad").wait_for(timeout=60_000)
         page.wait_for_timeout(1_500)  # the arm's meshes arrive after the panel
+        settled(page, "Freeze")
         view = page.locator("canvas").first.bounding_box()
         panel_left = button_box(page, "Freeze")["x"]
         assert view is not None and view["x"] + view["width"] <= panel_left + 1, (view, panel_left)
@@ -228,6 +230,19 @@ def dark_pixels(png: bytes) -> int:
 
     grey = np.asarray(Image.open(io.BytesIO(png)).convert("L"))
     return int(np.count_nonzero(grey < 110))
+
+
+def settled(page, label: str, timeout_s: float = 15.0) -> None:  # type: ignore[no-untyped-def]
+    """Wait until `label` stays put: while the page loads, the docked panel opens and its text wraps narrower
+    for a moment (on a loaded machine, J1 was seen 400 px lower for a second)."""
+    deadline = time.monotonic() + timeout_s
+    last = button_box(page, label)
+    while time.monotonic() < deadline:
+        time.sleep(0.3)
+        now = button_box(page, label)
+        if abs(now["x"] - last["x"]) < 0.5 and abs(now["y"] - last["y"]) < 0.5:
+            return
+        last = now
 
 
 @pytest.mark.parametrize(
