@@ -148,6 +148,8 @@ def browser_latencies(trials: int) -> list[float]:
             page.goto(f"http://127.0.0.1:{ui_port}/")
             page.locator("#motion-state").wait_for(timeout=30_000)
             button = page.get_by_role("button", name="J1+", exact=True)
+            button.wait_for(timeout=30_000)
+            time.sleep(2.0)  # the docked panel opens as the page loads: press where the button comes to rest
             box = button.bounding_box()
             assert box is not None
             page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
