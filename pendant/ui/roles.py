@@ -216,8 +216,10 @@ class ControlPanel:
         if desk.needs_token:
             hint = "from the page URL" if url_token else "printed when the pendant started"
             self.token = target.gui.add_text("Access token", initial_value="", hint=f"The token {hint}")
-        self.take_button = target.gui.add_button("Take control", icon=viser.Icon.STEERING_WHEEL)
-        self.release_button = target.gui.add_button("Release control", icon=viser.Icon.HAND_OFF)
+        # Both hidden until show() picks the one this browser can use: no flash of the other at load.
+        gui = target.gui
+        self.take_button = gui.add_button("Take control", icon=viser.Icon.STEERING_WHEEL, visible=False)
+        self.release_button = gui.add_button("Release control", icon=viser.Icon.HAND_OFF, visible=False)
         self.take_button.on_click(lambda event: self.take(event.client))
         self.release_button.on_click(lambda event: self.release())
         self.remote: viser.GuiCheckboxHandle | None = None
