@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -112,13 +113,28 @@ def api_hold(api: httpx.Client, hold_s: float, direction: int = +1) -> Timeline:
     wait_idle(api)
     target = api.get("/pose").json()["angles"]
     target[0] += direction * FAR_DEG
+    return timed_press(
+        api,
+        lambda: api.put(
+            "/pose", params={"speed": JOG_SPEED_PERCENT}, json={"angles": target}
+        ).raise_for_status(),
+        lambda: api.put("/freeze").raise_for_status(),
+        hold_s,
+    )
+
+
+def timed_press(
+    api: httpx.Client, press: Callable[[], object], release: Callable[[], object], hold_s: float
+) -> Timeline:
+    """J1 sampled from just before `press()` until a while after `release()`, which comes `hold_s` after the
+    press began (at once if the press itself took longer); times relative to the press."""
     sampler = PoseSampler(api)
     sampler.start()
     pressed = sampler.mark()
-    api.put("/pose", params={"speed": JOG_SPEED_PERCENT}, json={"angles": target}).raise_for_status()
+    press()
     time.sleep(max(0.0, hold_s - (sampler.mark() - pressed)))
     released = sampler.mark()
-    api.put("/freeze").raise_for_status()
+    release()
     return _relative(sampler.stop(released), pressed)
 
 
@@ -161,46 +177,23 @@ def ensure_operator(page: Any) -> None:
 
 def mouse_hold(page: Any, api: httpx.Client, label: str, hold_s: float) -> Timeline:
     wait_idle(api)
-    x, y = button_centre(page, label)
-    page.mouse.move(x, y)
-    sampler = PoseSampler(api)
-    sampler.start()
-    pressed = sampler.mark()
-    page.mouse.down()
-    time.sleep(max(0.0, hold_s - (sampler.mark() - pressed)))
-    released = sampler.mark()
-    page.mouse.up()
-    return _relative(sampler.stop(released), pressed)
+    page.mouse.move(*button_centre(page, label))
+    return timed_press(api, page.mouse.down, page.mouse.up, hold_s)
 
 
 def key_hold(page: Any, api: httpx.Client, label: str, hold_s: float, key: str = "Space") -> Timeline:
     """Space (or Enter) held down on the focused `label` for `hold_s`, as a keyboard user jogs."""
     wait_idle(api)
     page.get_by_role("button", name=label, exact=True).focus()
-    sampler = PoseSampler(api)
-    sampler.start()
-    pressed = sampler.mark()
-    page.keyboard.down(key)
-    time.sleep(max(0.0, hold_s - (sampler.mark() - pressed)))
-    released = sampler.mark()
-    page.keyboard.up(key)
-    return _relative(sampler.stop(released), pressed)
+    return timed_press(api, lambda: page.keyboard.down(key), lambda: page.keyboard.up(key), hold_s)
 
 
 def close_while_held(page: Any, api: httpx.Client, label: str, hold_s: float) -> Timeline:
     """Hold `label` by mouse, then close the tab while it is still held, as a person closes it (the page's
     unload handlers run; then the worker and the socket die)."""
     wait_idle(api)
-    x, y = button_centre(page, label)
-    page.mouse.move(x, y)
-    sampler = PoseSampler(api)
-    sampler.start()
-    pressed = sampler.mark()
-    page.mouse.down()
-    time.sleep(max(0.0, hold_s - (sampler.mark() - pressed)))
-    released = sampler.mark()
-    page.close(run_before_unload=True)
-    return _relative(sampler.stop(released), pressed)
+    page.mouse.move(*button_centre(page, label))
+    return timed_press(api, page.mouse.down, lambda: page.close(run_before_unload=True), hold_s)
 
 
 def touch(cdp: Any, kind: str, x: float, y: float) -> None:
@@ -212,31 +205,24 @@ def touch_hold(page: Any, cdp: Any, api: httpx.Client, label: str, hold_s: float
     """A finger on `label` for `hold_s`, then lifted (the page must have been opened with has_touch)."""
     wait_idle(api)
     x, y = button_centre(page, label)
-    sampler = PoseSampler(api)
-    sampler.start()
-    pressed = sampler.mark()
-    touch(cdp, "touchStart", x, y)
-    time.sleep(max(0.0, hold_s - (sampler.mark() - pressed)))
-    released = sampler.mark()
-    touch(cdp, "touchEnd", x, y)
-    return _relative(sampler.stop(released), pressed)
+    return timed_press(
+        api, lambda: touch(cdp, "touchStart", x, y), lambda: touch(cdp, "touchEnd", x, y), hold_s
+    )
 
 
 def touch_swipe(page: Any, cdp: Any, api: httpx.Client, label: str, distance_px: float = 150.0) -> Timeline:
     """A finger put on `label` and swiped upwards (to scroll the panel) over 0.2 s, then lifted."""
     wait_idle(api)
     x, y = button_centre(page, label)
-    sampler = PoseSampler(api)
-    sampler.start()
-    pressed = sampler.mark()
-    touch(cdp, "touchStart", x, y)
     steps = 10
-    for i in range(1, steps + 1):
-        time.sleep(0.02)
-        touch(cdp, "touchMove", x, y - distance_px * i / steps)
-    released = sampler.mark()
-    touch(cdp, "touchEnd", x, y - distance_px)
-    return _relative(sampler.stop(released), pressed)
+
+    def put_down_and_swipe() -> None:
+        touch(cdp, "touchStart", x, y)
+        for i in range(1, steps + 1):
+            time.sleep(0.02)
+            touch(cdp, "touchMove", x, y - distance_px * i / steps)
+
+    return timed_press(api, put_down_and_swipe, lambda: touch(cdp, "touchEnd", x, y - distance_px), 0.0)
 
 
 def _relative(timeline: Timeline, pressed: float) -> Timeline:
