@@ -30,24 +30,21 @@ from __future__ import annotations
 import argparse
 import itertools
 import statistics
-import subprocess
 import sys
 import threading
 import time
 from pathlib import Path
-
-import httpx
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from pendant.controller import MotionStatus
 from pendant.jog import JogFrame, Jogger, JogRequest
 from pendant.sim import MonotonicClock, SimController
 from tests.api.server import free_port, wait_until
+from tests.browser.conftest import CHROMIUM, CHROMIUM_ARGS, running_pendant
 
 CONFIRM_PERIOD_S = 0.05
 # Small, because Chromium paints WebGL in software here: a bigger canvas only measures the painting.
 VIEWPORT = (960, 600)
-CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking"]
 
 
 def deadman_latencies(trials: int) -> list[float]:
@@ -131,41 +128,30 @@ _FIRST_UPDATE_AFTER_PRESS = "() => window.__messages.find(t => t > window.__pres
 def browser_latencies(trials: int) -> list[float]:
     from playwright.sync_api import sync_playwright
 
-    ui_port, api_port = free_port(), free_port()
-    process = subprocess.Popen(
-        [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    api = httpx.Client(base_url=f"http://127.0.0.1:{api_port}", timeout=5.0)
     latencies = []
-    try:
-        wait_until(lambda: api.get("/pose").status_code == 200, what="the pendant answering")
-        with sync_playwright() as playwright:
-            browser = playwright.chromium.launch(executable_path="/usr/bin/chromium", args=CHROMIUM_ARGS)
-            page = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
-            page.add_init_script(_INSTRUMENT)
-            page.goto(f"http://127.0.0.1:{ui_port}/")
-            page.locator("#motion-state").wait_for(timeout=30_000)
-            button = page.get_by_role("button", name="J1+", exact=True)
-            button.wait_for(timeout=30_000)
-            time.sleep(2.0)  # the docked panel opens as the page loads: press where the button comes to rest
-            box = button.bounding_box()
-            assert box is not None
-            page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
-            for _ in range(trials):
-                page.mouse.down()
-                page.wait_for_function(f"({_FIRST_UPDATE_AFTER_PRESS})() !== null", timeout=5_000)
-                first = page.evaluate(_FIRST_UPDATE_AFTER_PRESS)
-                latencies.append((first - page.evaluate("window.__pressedAt")) / 1000.0)
-                time.sleep(0.2)
-                page.mouse.up()
-                wait_until(lambda: api.get("/status/motion").text.strip('"') == "IDLE", what="IDLE")
-                time.sleep(0.3)
-            browser.close()
-    finally:
-        process.terminate()
-        process.wait(10)
+    with running_pendant() as pendant, sync_playwright() as playwright:
+        api = pendant.api
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        page = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
+        page.add_init_script(_INSTRUMENT)
+        page.goto(pendant.ui_url)
+        page.locator("#motion-state").wait_for(timeout=30_000)
+        button = page.get_by_role("button", name="J1+", exact=True)
+        button.wait_for(timeout=30_000)
+        time.sleep(2.0)  # the docked panel opens as the page loads: press where the button comes to rest
+        box = button.bounding_box()
+        assert box is not None
+        page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+        for _ in range(trials):
+            page.mouse.down()
+            page.wait_for_function(f"({_FIRST_UPDATE_AFTER_PRESS})() !== null", timeout=5_000)
+            first = page.evaluate(_FIRST_UPDATE_AFTER_PRESS)
+            latencies.append((first - page.evaluate("window.__pressedAt")) / 1000.0)
+            time.sleep(0.2)
+            page.mouse.up()
+            wait_until(lambda: api.get("/status/motion").text.strip('"') == "IDLE", what="IDLE")
+            time.sleep(0.3)
+        browser.close()
     return latencies
 
 
@@ -184,42 +170,31 @@ def frame_report(rounds: int) -> None:
     at a time, alternating, so both see the same load."""
     from playwright.sync_api import sync_playwright
 
-    ui_port, api_port = free_port(), free_port()
-    process = subprocess.Popen(
-        [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    api = httpx.Client(base_url=f"http://127.0.0.1:{api_port}", timeout=5.0)
     variants = {"viser's rendering": "?render=viser", "the pendant's": ""}
     frames: dict[str, list[float]] = {name: [] for name in variants}
     blocked: dict[str, list[float]] = {name: [] for name in variants}
-    try:
-        wait_until(lambda: api.get("/pose").status_code == 200, what="the pendant answering")
-        with sync_playwright() as playwright:
-            browser = playwright.chromium.launch(executable_path="/usr/bin/chromium", args=CHROMIUM_ARGS)
-            for i in range(rounds):
-                for name, query in variants.items():
-                    page = browser.new_page(viewport={"width": 1400, "height": 900})
-                    page.add_init_script(_FRAMES)
-                    page.goto(f"http://127.0.0.1:{ui_port}/{query}")
-                    page.locator("#jog-pad").wait_for(timeout=90_000)
-                    time.sleep(1.5)
-                    target = api.get("/pose").json()["angles"]
-                    target[0] += 30.0 if i % 2 == 0 else -30.0
-                    api.put("/pose", params={"speed": 10}, json={"angles": target})
-                    time.sleep(0.3)
-                    page.evaluate("window.__frames.length = 0; window.__blocked.length = 0")
-                    time.sleep(2.0)
-                    stamps = page.evaluate("window.__frames.slice()")
-                    frames[name] += [(b - a) / 1000.0 for a, b in itertools.pairwise(stamps)]
-                    blocked[name] += [d / 1000.0 for d in page.evaluate("window.__blocked.slice()")]
-                    api.put("/freeze")
-                    page.close()
-            browser.close()
-    finally:
-        process.terminate()
-        process.wait(10)
+    with running_pendant() as pendant, sync_playwright() as playwright:
+        api = pendant.api
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        for i in range(rounds):
+            for name, query in variants.items():
+                page = browser.new_page(viewport={"width": 1400, "height": 900})
+                page.add_init_script(_FRAMES)
+                page.goto(f"{pendant.ui_url}{query}")
+                page.locator("#jog-pad").wait_for(timeout=90_000)
+                time.sleep(1.5)
+                target = api.get("/pose").json()["angles"]
+                target[0] += 30.0 if i % 2 == 0 else -30.0
+                api.put("/pose", params={"speed": 10}, json={"angles": target})
+                time.sleep(0.3)
+                page.evaluate("window.__frames.length = 0; window.__blocked.length = 0")
+                time.sleep(2.0)
+                stamps = page.evaluate("window.__frames.slice()")
+                frames[name] += [(b - a) / 1000.0 for a, b in itertools.pairwise(stamps)]
+                blocked[name] += [d / 1000.0 for d in page.evaluate("window.__blocked.slice()")]
+                api.put("/freeze")
+                page.close()
+        browser.close()
     for name in variants:
         if frames[name]:
             _report(f"frame interval while the arm moves, {name}", frames[name])
@@ -249,50 +224,39 @@ def hold_report(holds: int) -> None:
 
     from tests.browser.jog_measure import api_hold, close_while_held, mouse_hold, touch_hold, touch_swipe
 
-    ui_port, api_port = free_port(), free_port()
-    process = subprocess.Popen(
-        [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    api = httpx.Client(base_url=f"http://127.0.0.1:{api_port}", timeout=5.0)
-    try:
-        wait_until(lambda: api.get("/pose").status_code == 200, what="the pendant answering")
-        with sync_playwright() as playwright:
-            browser = playwright.chromium.launch(executable_path="/usr/bin/chromium", args=CHROMIUM_ARGS)
-            page = browser.new_page(viewport={"width": 1400, "height": 900}, has_touch=True)
-            page.add_init_script(_FRAMES)
-            page.add_init_script(_LIFTS)
-            page.goto(f"http://127.0.0.1:{ui_port}/")
-            page.locator("#jog-pad").wait_for(timeout=90_000)
-            time.sleep(2.0)
-            cdp = page.context.new_cdp_session(page)
-            stages: dict[str, list[tuple[float, float]]] = {"mouse": [], "touch": []}
-            results: dict[str, list] = {"api": [], "mouse": [], "touch": []}
-            frames: list[float] = []
-            for i in range(holds):
-                label = "J1+" if i % 2 == 0 else "J1-"
-                results["api"].append(api_hold(api, 1.0, +1 if i % 2 == 0 else -1))
-                page.evaluate("window.__frames.length = 0")
-                results["mouse"].append(mouse_hold(page, api, label, 1.0))
-                stages["mouse"].append(release_stages(page, results["mouse"][-1]))
-                stamps = page.evaluate("window.__frames.slice()")
-                frames += [b - a for a, b in itertools.pairwise(stamps)]
-                results["touch"].append(touch_hold(page, cdp, api, label, 1.0))
-                stages["touch"].append(release_stages(page, results["touch"][-1]))
-            swipes = [touch_swipe(page, cdp, api, "J1+").moved_deg for _ in range(max(2, holds // 2))]
-            page.close()
-            closed = []
-            for _ in range(max(2, holds // 2)):
-                tab = browser.new_page(viewport={"width": 1400, "height": 900})
-                tab.goto(f"http://127.0.0.1:{ui_port}/")
-                tab.locator("#jog-pad").wait_for(timeout=90_000)
-                time.sleep(1.0)
-                closed.append(close_while_held(tab, api, "J1+", 0.6).stop_after_release_s())
-            browser.close()
-    finally:
-        process.terminate()
-        process.wait(10)
+    with running_pendant() as pendant, sync_playwright() as playwright:
+        api = pendant.api
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        page = browser.new_page(viewport={"width": 1400, "height": 900}, has_touch=True)
+        page.add_init_script(_FRAMES)
+        page.add_init_script(_LIFTS)
+        page.goto(pendant.ui_url)
+        page.locator("#jog-pad").wait_for(timeout=90_000)
+        time.sleep(2.0)
+        cdp = page.context.new_cdp_session(page)
+        stages: dict[str, list[tuple[float, float]]] = {"mouse": [], "touch": []}
+        results: dict[str, list] = {"api": [], "mouse": [], "touch": []}
+        frames: list[float] = []
+        for i in range(holds):
+            label = "J1+" if i % 2 == 0 else "J1-"
+            results["api"].append(api_hold(api, 1.0, +1 if i % 2 == 0 else -1))
+            page.evaluate("window.__frames.length = 0")
+            results["mouse"].append(mouse_hold(page, api, label, 1.0))
+            stages["mouse"].append(release_stages(page, results["mouse"][-1]))
+            stamps = page.evaluate("window.__frames.slice()")
+            frames += [b - a for a, b in itertools.pairwise(stamps)]
+            results["touch"].append(touch_hold(page, cdp, api, label, 1.0))
+            stages["touch"].append(release_stages(page, results["touch"][-1]))
+        swipes = [touch_swipe(page, cdp, api, "J1+").moved_deg for _ in range(max(2, holds // 2))]
+        page.close()
+        closed = []
+        for _ in range(max(2, holds // 2)):
+            tab = browser.new_page(viewport={"width": 1400, "height": 900})
+            tab.goto(pendant.ui_url)
+            tab.locator("#jog-pad").wait_for(timeout=90_000)
+            time.sleep(1.0)
+            closed.append(close_while_held(tab, api, "J1+", 0.6).stop_after_release_s())
+        browser.close()
     api_deg = statistics.median(t.moved_deg for t in results["api"])
     print(f"hold 1.0 s, API-sent equivalent: J1 moved median {api_deg:.2f} deg")
     for how in ("mouse", "touch"):
