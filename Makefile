@@ -8,7 +8,7 @@ STAMP := $(VENV)/.installed
 SDK_VENV := .venv-sdk
 SDK_STAMP := $(SDK_VENV)/.installed
 
-.PHONY: run test lint format bench models clean
+.PHONY: run test lint format bench models fleet clean
 
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -28,6 +28,11 @@ run: $(STAMP)
 test: $(STAMP) $(SDK_STAMP)
 	@$(BIN)/pytest -q -n 2 --ignore=tests/browser $(PYTEST_ARGS)
 	@$(BIN)/pytest -q tests/browser $(PYTEST_ARGS)
+
+# N simulated pendants + Prometheus + Alertmanager on loopback with deploy/'s files; Ctrl-C stops all.
+N ?= 3
+fleet: $(STAMP)
+	@$(BIN)/python -m pendant.monitoring.fleet --pendants $(N)
 
 lint: $(STAMP)
 	@$(BIN)/ruff check . && $(BIN)/ruff format --check .

@@ -37,6 +37,11 @@ def assets_dir() -> Path:
     return data_root() / "assets"
 
 
+def deploy_dir() -> Path:
+    """The site's monitoring files: Prometheus, Alertmanager and Grafana configuration."""
+    return data_root() / "deploy"
+
+
 MODEL_NAMES = ("pulse75", "pulse90")
 
 

@@ -28,6 +28,9 @@ MOTION_ENDPOINTS = frozenset({"/pose", "/position", "/poses/run", "/positions/ru
 MOTION_FAILURE_STATUSES = frozenset(
     {412, 500, 502, 503}
 )  # the arm cannot (not: a malformed or unauthorised request)
+# Every source of a motion failure, counted from 0 at start: Prometheus' increase() needs a first sample
+# before the first failure, or a fresh pendant's first failures would not count towards an alert.
+MOTION_FAILURE_SOURCES = ("api", "page", "program", "controller")
 _NUMBER = re.compile(r"/\d+(?=/|$)")
 
 
@@ -62,6 +65,8 @@ class PendantMetrics:
             ["source"],
             registry=r,
         )
+        for source in MOTION_FAILURE_SOURCES:
+            self.motion_failures.labels(source)
         self.events = Counter("pendant_events", "Events logged, by kind", ["kind"], registry=r)
         self.program_runs = Counter("pendant_program_runs", "Program runs started", registry=r)
         self.program_failures = Counter("pendant_program_failures", "Program runs that failed", registry=r)
