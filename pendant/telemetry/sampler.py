@@ -15,8 +15,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from pendant.controller import Controller, ControllerError
+from pendant.controller.cell_types import Obstacle
 from pendant.controller.types import INPUT_PORTS, OUTPUT_PORTS, MotorStatus, Position, SignalLevel
 from pendant.eventlog import Event
+from pendant.telemetry.arm_scene import ArmDrawing
 from pendant.telemetry.history import HistoryWindow, MotorHistory
 from pendant.telemetry.mcap_file import McapFile
 from pendant.telemetry.recorder import CsvRecorder
@@ -34,6 +36,8 @@ class ArmState:
     outputs: Mapping[int, SignalLevel] = field(default_factory=dict)
     inputs: Mapping[int, SignalLevel] = field(default_factory=dict)
     motion_status: str | None = None
+    obstacles: tuple[Obstacle, ...] | None = None  # the cell, when the page has read it
+    program: tuple[int, str, str] | None = None  # the step running: line (1-based), its text, the run state
 
 
 def _levels(levels: Mapping[int, SignalLevel], ports: tuple[int, ...]) -> list[float]:
@@ -51,8 +55,10 @@ class Telemetry:
         *,
         recordings_folder: Path,
         wall_now: Callable[[], float] = time.time,
+        arm: ArmDrawing | None = None,
     ) -> None:
         self._controller = controller
+        self._arm = arm  # draws the arm in the recording's 3D channels
         self._now = now
         self._wall_now = wall_now
         self.history = MotorHistory()
@@ -65,6 +71,7 @@ class Telemetry:
         self.seq = 0  # counts samples: the dashboard redraws only when it moved
         self._wall_offset = 0.0  # wall clock minus `now`, fixed at the recording's start
         self._pending_events: deque[Event] = deque(maxlen=PENDING_EVENTS_MAX)
+        self._cell_written: tuple[Obstacle, ...] | None = None
         self._lock = threading.Lock()
 
     def sample(self, state: ArmState | None = None) -> list[MotorStatus] | None:
@@ -95,12 +102,12 @@ class Telemetry:
         assert self.mcap is not None
         time_ns = int((now + self._wall_offset) * 1e9)
         while self._pending_events:
-            event = self._pending_events.popleft()
-            self.mcap.write(
-                "/events",
-                int(event.wall_time * 1e9),
-                {"id": event.seq, "kind": event.kind.value, "source": event.source, "message": event.message},
-            )
+            self.mcap.write_event(self._pending_events.popleft())
+        if state.obstacles is not None and state.obstacles != self._cell_written:
+            self.mcap.write_cell(time_ns, state.obstacles)
+            self._cell_written = state.obstacles
+        if state.program is not None:
+            self.mcap.write_program(time_ns, *state.program)
         self.mcap.write_sample(
             time_ns,
             motors,
@@ -122,7 +129,9 @@ class Telemetry:
             self.last_stem = new_stem(self.recordings_folder, wall)
             self._wall_offset = wall - now
             self._pending_events.clear()
-            self.mcap = McapFile(self.recordings_folder / f"{self.last_stem}.mcap")
+            self._cell_written = None
+            path = self.recordings_folder / f"{self.last_stem}.mcap"
+            self.mcap = McapFile(path, self._arm, start_ns=int(wall * 1e9))
 
     def stop_recording(self) -> int:
         with self._lock:

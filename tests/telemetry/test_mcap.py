@@ -1,5 +1,6 @@
-"""Recordings in MCAP, read back with the `mcap` package's reader (what Foxglove and Lichtblick open):
-JSON-schema channels, the motors as GET /status/motors said, the TCP, IO and events, the CSV beside it."""
+"""Recordings in MCAP, read back with the official `mcap` reader and its protobuf decoder (what Foxglove and
+Lichtblick open): Foxglove's schemas for the arm's frames, meshes, the cell, the TCP's course and the log;
+JSON-schema series for the motors as GET /status/motors said, the TCP, IO and the program step; the CSV."""
 
 from __future__ import annotations
 
@@ -7,9 +8,13 @@ import csv
 import io
 import json
 from pathlib import Path
+from typing import Any
 
 import pytest
+from mcap.decoder import DecoderFactory as McapDecoderFactory
 from mcap.reader import make_reader
+from mcap.records import Schema
+from mcap_protobuf.decoder import DecoderFactory
 
 from pendant.controller import MotionParams, Pose, SignalLevel
 from pendant.eventlog import EventKind, EventLog
@@ -20,7 +25,14 @@ from pendant.telemetry.recordings import MAX_KEPT
 SAMPLE_PERIOD_S = 0.1
 WALL_START = 1_800_000_000.0
 N_SAMPLES = 20
-TOPICS = {"/joints", "/tcp", "/motors", "/io", "/events"}
+TOPICS = {"/joints", "/tcp", "/motors", "/io", "/events"}  # those a recording without the arm drawn fills
+FOXGLOVE_SCHEMAS = {
+    "/tf": "foxglove.FrameTransforms",
+    "/arm": "foxglove.SceneUpdate",
+    "/cell": "foxglove.SceneUpdate",
+    "/tcp_path": "foxglove.SceneUpdate",
+    "/events": "foxglove.Log",
+}
 
 
 @pytest.fixture
@@ -30,21 +42,32 @@ def telemetry(sim: SimController, clock: FakeClock, tmp_path: Path) -> Telemetry
     )
 
 
-def read_mcap(path: Path) -> tuple[dict[str, dict[str, object]], list[tuple[str, int, dict[str, object]]]]:
-    """Schemas by topic, and (topic, log time ns, message) in file order."""
+class JsonDecoder(McapDecoderFactory):
+    def decoder_for(self, message_encoding: str, schema: Schema | None) -> Any:
+        return json.loads if message_encoding == "json" else None
+
+
+def read_mcap(path: Path) -> tuple[dict[str, object], list[tuple[str, int, object]]]:
+    """Schemas by topic (JSON schemas parsed; protobuf ones by name), and (topic, log time ns, message) in
+    file order: JSON messages as dicts, Foxglove's protobuf messages decoded from the file's own schemas."""
+    decoder = DecoderFactory()
     with path.open("rb") as stream:
-        reader = make_reader(stream)
+        reader = make_reader(stream, decoder_factories=[decoder, JsonDecoder()])
         summary = reader.get_summary()
         assert summary is not None
-        schemas = {}
+        schemas: dict[str, object] = {}
         for channel in summary.channels.values():
             schema = summary.schemas[channel.schema_id]
-            assert schema.encoding == "jsonschema" and channel.message_encoding == "json"
-            schemas[channel.topic] = json.loads(schema.data)
-        messages = [
-            (channel.topic, message.log_time, json.loads(message.data))
-            for _, channel, message in reader.iter_messages(log_time_order=False)
-        ]
+            if channel.topic in FOXGLOVE_SCHEMAS:
+                assert (schema.encoding, channel.message_encoding) == ("protobuf", "protobuf")
+                assert schema.name == FOXGLOVE_SCHEMAS[channel.topic]
+                schemas[channel.topic] = schema.name
+            else:
+                assert (schema.encoding, channel.message_encoding) == ("jsonschema", "json")
+                schemas[channel.topic] = json.loads(schema.data)
+        messages: list[tuple[str, int, object]] = []
+        for _, channel, message, decoded in reader.iter_decoded_messages(log_time_order=False):
+            messages.append((channel.topic, message.log_time, decoded))
     return schemas, messages
 
 
@@ -68,13 +91,14 @@ def test_a_recording_opens_in_an_mcap_reader(
     mcap_path, csv_path = recording.files
     assert mcap_path.suffix == ".mcap" and csv_path.suffix == ".csv"
     schemas, messages = read_mcap(mcap_path)
-    assert set(schemas) == TOPICS
-    assert "position_deg" in schemas["/joints"]["properties"]  # type: ignore[operator]
+    assert set(schemas) >= TOPICS
+    assert "position_deg" in schemas["/joints"]["properties"]  # type: ignore[index]
 
-    by_topic: dict[str, list[tuple[int, dict[str, object]]]] = {topic: [] for topic in TOPICS}
+    by_topic: dict[str, list[tuple[int, Any]]] = {topic: [] for topic in TOPICS}
     for topic, time_ns, message in messages:
         by_topic[topic].append((time_ns, message))
-    assert [m["message"] for _, m in by_topic["/events"]] == ["Move J"]
+    assert [m.message for _, m in by_topic["/events"]] == ["[command] Move J"]  # type: ignore[attr-defined]
+    assert [m.name for _, m in by_topic["/events"]] == ["browser #1 (127.0.0.1)"]  # type: ignore[attr-defined]
     assert {len(by_topic[t]) for t in ("/joints", "/tcp", "/motors", "/io")} == {N_SAMPLES}
     for i, ((position, motors), (time_ns, joints), (_, tcp), (_, motor_msg), (_, io_msg)) in enumerate(
         zip(

@@ -1,0 +1,52 @@
+"""What a recording needs to draw the arm in Foxglove's 3D panel: each link's mesh with its visual origin
+(read from the URDF with yourdfpy), and each link's pose for a joint vector (the pendant's own kinematics)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import yourdfpy
+
+from pendant.kinematics import ArmModel
+
+LinkPoses = Callable[[np.ndarray], dict[str, np.ndarray]]
+
+
+@dataclass(frozen=True)
+class LinkMesh:
+    link: str
+    mesh: bytes  # glTF binary, as the URDF names it
+    T_link_visual: np.ndarray
+
+
+@dataclass(frozen=True)
+class ArmDrawing:
+    """The arm as a recording draws it: `link_poses(q)` gives T_base_link for every link (q in radians)."""
+
+    urdf: Path
+    meshes: tuple[LinkMesh, ...]
+    link_poses: LinkPoses
+
+
+def link_meshes(urdf_path: Path) -> tuple[LinkMesh, ...]:
+    robot = yourdfpy.URDF.load(str(urdf_path), load_meshes=False, build_scene_graph=False)
+    meshes = []
+    for link in robot.robot.links:
+        for visual in link.visuals:
+            mesh = visual.geometry.mesh if visual.geometry is not None else None
+            if mesh is None:
+                continue
+            path = (urdf_path.parent / mesh.filename).resolve()
+            if path.suffix.lower() != ".glb" or not path.is_file():
+                continue  # only what Foxglove draws as it is (model/gltf-binary)
+            origin = visual.origin if visual.origin is not None else np.eye(4)
+            meshes.append(LinkMesh(link.name, path.read_bytes(), np.asarray(origin, dtype=float)))
+    return tuple(meshes)
+
+
+def arm_drawing(arm: ArmModel) -> ArmDrawing:
+    """The arm's meshes from its URDF and its links' poses from the pendant's kinematics."""
+    return ArmDrawing(urdf=arm.urdf_path, meshes=link_meshes(arm.urdf_path), link_poses=arm.fk_all_links)
