@@ -39,8 +39,8 @@ from pendant.access.token import token_problem
 from pendant.banner import announce
 from pendant.config import Settings
 from pendant.controller.protocol import Controller
-from pendant.eventlog import EventLog
-from pendant.monitoring import EventStore, PendantMetrics, data_dir
+from pendant.eventlog import EventKind, EventLog
+from pendant.monitoring import PendantMetrics, data_dir, open_event_store
 from pendant.monitoring.state_watch import StateWatch
 from pendant.paths import MODEL_NAMES
 
@@ -237,7 +237,7 @@ def make_api_app(
     from pendant.remote import health_router
 
     access = access if access is not None else access_rules(settings, events)
-    store = events.store if events is not None else None
+    store = events  # GET /pendant/events: from disk, or from memory when the data folder cannot hold the log
     if settings.robot_url is not None:
         from pendant.remote import RemoteController, create_proxy_app
 
@@ -292,6 +292,25 @@ def start_ui(
     ).start()
 
 
+def clean_up_after_a_crash(settings: Settings) -> list[str]:
+    """Orphaned temporary files of the programs and recordings folders go (said on stderr); an unfinished
+    recording (the pendant was killed) is finished where its last flush left it (one line each, returned for
+    the event log)."""
+    from pendant.program import programs_dir
+    from pendant.stale_files import remove_stale_temporaries
+    from pendant.telemetry.recordings import recordings_dir
+    from pendant.telemetry.repair import repair_all
+
+    programs = Path(settings.programs_dir) if settings.programs_dir else programs_dir()
+    recordings = recordings_dir(resolve_data_dir(settings))
+    for path in remove_stale_temporaries([programs, recordings]):
+        print(f"Removed a temporary file left by an earlier run: {path}", file=sys.stderr)
+    notes = repair_all(recordings) if recordings.is_dir() else []
+    for note in notes:
+        print(note, file=sys.stderr)
+    return notes
+
+
 def resolve_data_dir(settings: Settings) -> Path:
     return data_dir(settings.data_dir, settings.programs_dir)
 
@@ -322,7 +341,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     started_at = time.monotonic()
     controller = make_controller(settings)
     # One log for the page and the API (who sent what), kept on disk; one set of metrics for both.
-    events = EventLog(store=EventStore(resolve_data_dir(settings)))
+    repaired = clean_up_after_a_crash(settings)
+    store, storage_problem = open_event_store(resolve_data_dir(settings))
+    if storage_problem is not None:
+        print(storage_problem, file=sys.stderr, flush=True)
+    events = EventLog(store=store, storage_problem=storage_problem)
+    for note in repaired:
+        events.record(EventKind.ERROR, "pendant", note)
     metrics = PendantMetrics(
         controller,
         mode="robot" if settings.robot_url else "sim",

@@ -51,8 +51,10 @@ class EventLog:
         capacity: int = DEFAULT_CAPACITY,
         now: Callable[[], float] = time.time,
         store: EventStore | None = None,
+        storage_problem: str | None = None,
     ) -> None:
         self._events: deque[Event] = deque(maxlen=capacity)
+        self.storage_problem = storage_problem  # why the log is in memory only (None: on disk, or meant so)
         self._lock = threading.Lock()
         self._now = now
         self.store = store
@@ -88,9 +90,25 @@ class EventLog:
         return events if count is None else events[-count:]
 
     @property
+    def dropped(self) -> int:
+        """Events that never reached the disk (the writer fell behind, or the disk refused them)."""
+        return self.store.dropped if self.store is not None else 0
+
+    @property
+    def problem(self) -> str | None:
+        """What the Dashboard says about the log's storage: kept in memory only, or failing to write."""
+        if self.store is not None:
+            return self.store.write_problem
+        return self.storage_problem
+
+    @property
     def searchable_seq(self) -> int:
         """The newest event a search can find (on disk, with a store): a view redraws when it moves."""
         return self.store.written_id if self.store is not None else self._seq
+
+    def flush(self, timeout: float = 2.0) -> bool:
+        """Wait until what was logged is searchable (on disk, with a store)."""
+        return self.store.flush(timeout) if self.store is not None else True
 
     def search(self, query: EventQuery, cap: int | None = None) -> list[StoredEvent]:
         """Newest first: the store's whole history, or the ring kept in memory without one."""

@@ -8,8 +8,8 @@ from pathlib import Path
 from fastapi import FastAPI
 
 from pendant.eventquery import EventQuery, StoredEvent
-from pendant.monitoring.events_api import EVENTS_PATH, events_router
-from pendant.monitoring.eventstore import EventStore
+from pendant.monitoring.events_api import EVENTS_PATH, EventSource, events_router
+from pendant.monitoring.eventstore import EventStore, open_event_store
 from pendant.monitoring.metrics import METRICS_PATH, CommandMetrics, PendantMetrics, metrics_router
 
 DATA_DIR_ENV = "PENDANT_DATA_DIR"
@@ -29,7 +29,7 @@ def data_dir(flag: str | None, programs: str | None = None) -> Path:
     return folder.resolve().parent / DATA_DIR_NAME
 
 
-def add_monitoring(app: FastAPI, metrics: PendantMetrics | None, store: EventStore | None) -> None:
+def add_monitoring(app: FastAPI, metrics: PendantMetrics | None, store: EventSource | None) -> None:
     """GET /metrics and GET /pendant/events on an API app; the command counter outside everything else
     (added last), so it also counts what the token guard refuses."""
     if store is not None:
@@ -44,6 +44,7 @@ __all__ = [
     "METRICS_PATH",
     "CommandMetrics",
     "EventQuery",
+    "EventSource",
     "EventStore",
     "PendantMetrics",
     "StoredEvent",
@@ -51,4 +52,5 @@ __all__ = [
     "data_dir",
     "events_router",
     "metrics_router",
+    "open_event_store",
 ]

@@ -9,14 +9,14 @@ from __future__ import annotations
 import datetime as dt
 import json
 from dataclasses import asdict
-from typing import Annotated
+from typing import Annotated, Protocol
 
 from fastapi import APIRouter, Query
 from starlette.responses import Response
 
 from pendant.eventlog import EventKind
 from pendant.eventquery import EventQuery, StoredEvent
-from pendant.monitoring.eventstore import MAX_LIMIT, TEXT_MAX_CHARS, EventStore
+from pendant.monitoring.eventstore import MAX_LIMIT, TEXT_MAX_CHARS
 
 EVENTS_PATH = "/pendant/events"
 DEFAULT_LIMIT = 100
@@ -75,7 +75,15 @@ def _refusal(message: str) -> Response:
     return Response(json.dumps(message), status_code=412, media_type="text/plain")
 
 
-def events_router(store: EventStore) -> APIRouter:
+class EventSource(Protocol):
+    """Where the events come from: the log (on disk or, when its folder cannot hold it, in memory) or its
+    store."""
+
+    def search(self, query: EventQuery, cap: int = ...) -> list[StoredEvent]: ...
+    def flush(self, timeout: float = ...) -> bool: ...
+
+
+def events_router(store: EventSource) -> APIRouter:
     router = APIRouter(tags=["pendant"])
 
     # A plain `def`: SQLite runs in FastAPI's thread pool, never on the event loop.

@@ -53,7 +53,8 @@ class EventStore:
         self.path = self.folder / DB_NAME
         self.max_age_s = max_age_s
         self.max_rows = max_rows
-        self.dropped = 0  # events lost because the writer fell QUEUE_MAX behind
+        self.dropped = 0  # events lost: the writer fell QUEUE_MAX behind, or the disk refused them
+        self.write_problem: str | None = None  # the last write failure in words, until a write succeeds
         self.written_id = 0  # the newest event on disk: a view redraws when it moves
         self._queue: queue.Queue[tuple[int, float, str, str, str] | None] = queue.Queue(QUEUE_MAX)
         with self._connect() as db:
@@ -114,8 +115,14 @@ class EventStore:
                 if written >= PRUNE_EVERY:
                     written = 0
                     self._prune(db)
-            except sqlite3.Error:
-                log.exception("could not write %d events to %s", len(rows), self.path)
+            except sqlite3.Error as error:
+                self.dropped += len(rows)
+                problem = f"Events could not be written to {self.path} ({error}): {self.dropped} lost so far"
+                if self.write_problem is None:  # once per run of failures, not once per batch
+                    log.error("%s. Fix: free space on that disk or make the folder writable.", problem)
+                self.write_problem = problem
+            else:
+                self.write_problem = None
             finally:
                 for _ in batch:
                     self._queue.task_done()
@@ -196,3 +203,17 @@ def _folded(db: sqlite3.Connection, condition: str, args: list[object], limit: i
         if event is not None:
             out.append(event)
     return fold_states(out, limit)
+
+
+def open_event_store(folder: str | Path) -> tuple[EventStore | None, str | None]:
+    """The event log's store in `folder`, or (None, why) when that folder cannot hold it (read-only, full,
+    not a folder): the pendant then starts with its log in memory and says so, in one line."""
+    try:
+        return EventStore(folder), None
+    except (OSError, sqlite3.Error) as error:
+        reason = getattr(error, "strerror", None) or str(error)
+        return None, (
+            f"The event log cannot be kept in {Path(folder).resolve()} ({reason}): it is kept in memory "
+            "until the pendant stops. Fix: make that folder writable or free space on its disk, or start "
+            "with --data DIR."
+        )

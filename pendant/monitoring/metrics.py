@@ -10,9 +10,12 @@ from __future__ import annotations
 import re
 import threading
 import time
+from collections.abc import Iterable
 
 from fastapi import APIRouter
 from prometheus_client import CONTENT_TYPE_LATEST, CollectorRegistry, Counter, Gauge, Info, generate_latest
+from prometheus_client.core import CounterMetricFamily, GaugeMetricFamily, Metric
+from prometheus_client.registry import Collector
 from starlette.responses import Response
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
@@ -32,6 +35,25 @@ MOTION_FAILURE_STATUSES = frozenset(
 # before the first failure, or a fresh pendant's first failures would not count towards an alert.
 MOTION_FAILURE_SOURCES = ("api", "page", "program", "controller")
 _NUMBER = re.compile(r"/\d+(?=/|$)")
+
+
+class _EventLogHealth(Collector):
+    """Whether the event log reaches the disk: events lost on the way, and whether it is kept there at all."""
+
+    def __init__(self, events: EventLog) -> None:
+        self._events = events
+
+    def collect(self) -> Iterable[Metric]:
+        yield CounterMetricFamily(
+            "pendant_events_dropped",
+            "Events of the log that never reached the disk",
+            value=self._events.dropped,
+        )
+        yield GaugeMetricFamily(
+            "pendant_event_log_on_disk",
+            "1 when the event log is kept on disk, 0 when only in memory (its folder could not hold it)",
+            value=0.0 if self._events.store is None else 1.0,
+        )
 
 
 class PendantMetrics:
@@ -101,6 +123,7 @@ class PendantMetrics:
             self.events.labels(event.kind.value).inc()
 
         events.on_record(counted)
+        self.registry.register(_EventLogHealth(events))
 
     def exposition(self) -> bytes:
         return generate_latest(self.registry)

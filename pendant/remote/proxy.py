@@ -37,7 +37,7 @@ from pendant.access.http_guard import AccessGuard, AccessRules
 from pendant.access.origin import OriginPolicy
 from pendant.api.limits import BodySizeLimit
 from pendant.config import Settings
-from pendant.monitoring import EventStore, PendantMetrics, add_monitoring
+from pendant.monitoring import EventSource, PendantMetrics, add_monitoring
 from pendant.remote.client import RemoteController
 from pendant.remote.health import health_router
 from pendant.remote.upstream import (
@@ -185,7 +185,7 @@ def create_proxy_app(
     started_at: float | None = None,
     access: AccessRules | None = None,
     metrics: PendantMetrics | None = None,
-    store: EventStore | None = None,
+    store: EventSource | None = None,
 ) -> FastAPI:
     """An ASGI app serving the PULSE API by forwarding to the controller at `robot_url` (plain HTTP), plus
     GET /pendant/health. More pendant routes can be added to it under /pendant/.

@@ -12,11 +12,14 @@ PREFIX = "pendant-"
 SUFFIXES = (".mcap", ".csv")
 
 
+class RecordingError(Exception):
+    """A recording cannot be written where it must go; the message says where, why and what to do."""
+
+
 def recordings_dir(data_dir: str | Path) -> Path:
-    """`<data>/recordings` (created when missing)."""
-    folder = Path(data_dir) / "recordings"
-    folder.mkdir(parents=True, exist_ok=True)
-    return folder
+    """`<data>/recordings` (created by the first recording: a read-only data folder must not stop the
+    pendant from starting)."""
+    return Path(data_dir) / "recordings"
 
 
 @dataclass(frozen=True)

@@ -35,8 +35,11 @@ def repair_all(folder: Path) -> list[str]:
     """Finish every unfinished recording in `folder`; one line per file for the event log."""
     notes = []
     for path in sorted(folder.glob(f"{PREFIX}*.mcap")):
-        if not finished(path):
-            notes.append(repair(path))
+        try:
+            if not finished(path):
+                notes.append(repair(path))
+        except OSError as error:  # a read-only folder: the file stays as it is, readable up to its last flush
+            notes.append(f"Recording {path.stem} was not finished and could not be repaired ({error})")
     return notes
 
 

@@ -22,7 +22,14 @@ from pendant.telemetry.arm_scene import ArmDrawing
 from pendant.telemetry.history import HistoryWindow, MotorHistory
 from pendant.telemetry.mcap_file import McapFile
 from pendant.telemetry.recorder import CsvRecorder
-from pendant.telemetry.recordings import MAX_KEPT, Recording, list_recordings, new_stem, prune
+from pendant.telemetry.recordings import (
+    MAX_KEPT,
+    Recording,
+    RecordingError,
+    list_recordings,
+    new_stem,
+    prune,
+)
 
 SAMPLE_HZ = 10.0
 PENDING_EVENTS_MAX = 1000  # events waiting for the next sample to be written to the MCAP
@@ -123,15 +130,24 @@ class Telemetry:
         with self._lock:
             self._close_files()
             now, wall = self._now(), self._wall_now()
+            try:
+                self.recordings_folder.mkdir(parents=True, exist_ok=True)
+                prune(self.recordings_folder, keep=MAX_KEPT - 1)  # room for this one
+                stem = new_stem(self.recordings_folder, wall)
+                self.mcap = McapFile(
+                    self.recordings_folder / f"{stem}.mcap", self._arm, start_ns=int(wall * 1e9)
+                )
+            except OSError as error:
+                reason = error.strerror or str(error)
+                raise RecordingError(
+                    f"Cannot record in {self.recordings_folder} ({reason}): make that folder writable or "
+                    "free space on its disk, or start the pendant with --data DIR"
+                ) from error
+            self.last_stem = stem
             self.recorder.start(now)
-            self.recordings_folder.mkdir(parents=True, exist_ok=True)
-            prune(self.recordings_folder, keep=MAX_KEPT - 1)  # room for this one
-            self.last_stem = new_stem(self.recordings_folder, wall)
             self._wall_offset = wall - now
             self._pending_events.clear()
             self._cell_written = None
-            path = self.recordings_folder / f"{self.last_stem}.mcap"
-            self.mcap = McapFile(path, self._arm, start_ns=int(wall * 1e9))
 
     def stop_recording(self) -> int:
         with self._lock:

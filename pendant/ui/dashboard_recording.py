@@ -10,6 +10,8 @@ from pathlib import Path
 import viser
 
 from pendant.telemetry import Telemetry
+from pendant.telemetry.recordings import RecordingError
+from pendant.ui.commands import notify_refusal
 from pendant.ui.gui_target import GuiTarget
 
 NO_RECORDINGS = "(none yet)"
@@ -78,7 +80,11 @@ class RecordingControls:
     def start_recording(self, client: viser.ClientHandle | None) -> bool:
         if self._refused(client, "Start recording"):
             return False
-        self._telemetry.start_recording()
+        try:
+            self._telemetry.start_recording()
+        except RecordingError as error:
+            notify_refusal(client, "Start recording", str(error))
+            return False
         self._on_recording(client, "Recording started")
         return True
 
