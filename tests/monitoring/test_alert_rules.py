@@ -7,7 +7,7 @@ from pathlib import Path
 
 import httpx
 
-from tests.api.server import running_pendant
+from tests.support.launchers import running_pendant
 
 from .promql import firing, scrape, values
 

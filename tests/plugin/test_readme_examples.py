@@ -5,9 +5,13 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from tests.api.server import REPO_ROOT
+import pytest
+
+from tests.support.launchers import REPO_ROOT
 
 from .project import run_project
+
+pytestmark = [pytest.mark.sdk, pytest.mark.slow]
 
 MAX_EXAMPLE_LINES = 20
 

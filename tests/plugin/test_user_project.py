@@ -7,9 +7,13 @@ import re
 import tomllib
 from pathlib import Path
 
-from tests.api.server import REPO_ROOT
+import pytest
+
+from tests.support.launchers import REPO_ROOT
 
 from .project import port_is_closed, run_project
+
+pytestmark = pytest.mark.slow
 
 USER_TESTS = Path(__file__).with_name("user_tests.py").read_text(encoding="utf-8")
 INI = "[pytest]\n"
