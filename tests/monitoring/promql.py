@@ -1,6 +1,6 @@
-"""Scrape /metrics with prometheus_client's parser, and evaluate the README's alert rules on the samples.
+"""Scrape /metrics with prometheus_client's parser, and evaluate the alert rules of docs/monitoring.md on the samples.
 
-Only the three expression shapes the README uses are understood (anything else fails the test, so a rule
+Only the three expression shapes the rules page (docs/monitoring.md) uses are understood (anything else fails the test, so a rule
 edited into a shape this cannot judge is noticed); `increase(...[10m])` is the growth since a baseline scrape
 taken at the start of the test (well inside ten minutes).
 """
@@ -13,7 +13,7 @@ from pathlib import Path
 import httpx
 from prometheus_client.parser import text_string_to_metric_families
 
-README = Path(__file__).resolve().parents[2] / "README.md"
+RULES_PAGE = Path(__file__).resolve().parents[2] / "docs" / "monitoring.md"
 
 Samples = dict[str, list[tuple[dict[str, str], float]]]
 
@@ -34,8 +34,8 @@ def values(samples: Samples, name: str) -> list[float]:
 
 
 def readme_rules() -> dict[str, str]:
-    """alert name -> expr, from the README's pulse-alerts.yml block."""
-    rules = dict(re.findall(r"- alert: (\w+)\n\s+expr: (.+)", README.read_text()))
+    """alert name -> expr, from the pulse-alerts.yml block of docs/monitoring.md."""
+    rules = dict(re.findall(r"- alert: (\w+)\n\s+expr: (.+)", RULES_PAGE.read_text()))
     assert len(rules) == 3, rules
     return rules
 
