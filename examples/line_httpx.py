@@ -17,7 +17,8 @@ RISE_M = 0.05
 def main() -> None:
     url = sys.argv[1] if len(sys.argv) > 1 else os.environ.get("PULSE_URL", "http://127.0.0.1:8081")
     with httpx.Client(base_url=url, timeout=10.0) as api:
-        start = api.get("/position").json()  # {"point": {x, y, z} in m, "rotation": {roll, pitch, yaw} in rad}
+        # {"point": {"x", "y", "z"} in metres, "rotation": {"roll", "pitch", "yaw"} in radians}
+        start = api.get("/position").json()
         target = {**start, "point": {**start["point"], "z": start["point"]["z"] + RISE_M}}
         api.put("/position", params={"speed": 30, "motionType": "LINEAR"}, json=target).raise_for_status()
         while api.get("/status/motion").json() == "RUNNING":

@@ -16,7 +16,8 @@ TARGET = [-30.0, -80.0, 80.0, -90.0, -90.0, 15.0]  # degrees, J1..J6
 
 def call(method: str, url: str, body: object = None) -> object:
     data = None if body is None else json.dumps(body).encode()
-    request = urllib.request.Request(url, data=data, method=method, headers={"Content-Type": "application/json"})
+    headers = {"Content-Type": "application/json"}
+    request = urllib.request.Request(url, data=data, method=method, headers=headers)
     with urllib.request.urlopen(request, timeout=10) as response:
         text = response.read().decode()
     return json.loads(text) if text else None

@@ -1,6 +1,7 @@
-"""Scrape /metrics with prometheus_client's parser, and evaluate the alert rules of docs/monitoring.md on the samples.
+"""Scrape /metrics with prometheus_client's parser, and evaluate the alert rules of docs/monitoring.md on
+the samples.
 
-Only the three expression shapes the rules page (docs/monitoring.md) uses are understood (anything else fails the test, so a rule
+Only the three expression shapes that page uses are understood (anything else fails the test, so a rule
 edited into a shape this cannot judge is noticed); `increase(...[10m])` is the growth since a baseline scrape
 taken at the start of the test (well inside ten minutes).
 """

@@ -1,5 +1,5 @@
-"""The alert rules of docs/monitoring.md, run on what a real `pendant --no-ui` serves at /metrics, with injected faults:
-each fires on its own fault and on nothing else."""
+"""The alert rules of docs/monitoring.md, run on what a real `pendant --no-ui` serves at /metrics, with
+injected faults: each fires on its own fault and on nothing else."""
 
 from __future__ import annotations
 
