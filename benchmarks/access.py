@@ -25,7 +25,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from benchmarks.api import raw_socket_latency, split_url
-from tests.api.server import answers, free_port, running_pendant, wait_until
+from tests.support.launchers import running_pendant
+from tests.support.ports import free_port
+from tests.support.waiting import answers, wait_until
 
 ROUNDS = 3
 

@@ -29,7 +29,8 @@ from pathlib import Path
 import httpx
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from tests.api.server import LOOPBACK, running_pendant
+from tests.support.launchers import running_pendant
+from tests.support.ports import LOOPBACK
 
 CONNECTIONS = 32
 WARMUP_REQUESTS = 500

@@ -29,7 +29,8 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from tests.api.server import LOOPBACK, running_pendant
+from tests.support.launchers import running_pendant
+from tests.support.ports import LOOPBACK
 
 CHUNK = 64 * 1024
 RUN_BODY_LIMIT = 128 * 1024  # pendant.api.limits: PUT /poses/run

@@ -39,8 +39,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from pendant.controller import MotionStatus
 from pendant.jog import JogFrame, Jogger, JogRequest
 from pendant.sim import MonotonicClock, SimController
-from tests.api.server import free_port, wait_until
-from tests.browser.conftest import CHROMIUM, CHROMIUM_ARGS, running_pendant
+from tests.support.chromium import CHROMIUM, CHROMIUM_ARGS
+from tests.support.launchers import running_pendant_ui
+from tests.support.waiting import wait_until
 
 CONFIRM_PERIOD_S = 0.05
 # Small, because Chromium paints WebGL in software here: a bigger canvas only measures the painting.
@@ -71,10 +72,10 @@ def deadman_latencies(trials: int) -> list[float]:
 def server_latencies(trials: int) -> list[float]:
     """The pendant's own part of a press: from the jog request to the moved arm handed to viser (which then
     batches messages for up to 1/60 s before they leave), in-process on the real clock."""
-    from pendant.ui.app import PendantUI
+    from tests.support.pages import new_page
 
     sim = SimController("pulse75", MonotonicClock())
-    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=free_port(), mode_line="benchmark")
+    page = new_page(sim, sim.arm, mode_line="benchmark")
     moved = threading.Event()
     show = page.scene.show
 
@@ -129,7 +130,7 @@ def browser_latencies(trials: int) -> list[float]:
     from playwright.sync_api import sync_playwright
 
     latencies = []
-    with running_pendant() as pendant, sync_playwright() as playwright:
+    with running_pendant_ui() as pendant, sync_playwright() as playwright:
         api = pendant.api
         browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
         page = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
@@ -173,7 +174,7 @@ def frame_report(rounds: int) -> None:
     variants = {"viser's rendering": "?render=viser", "the pendant's": ""}
     frames: dict[str, list[float]] = {name: [] for name in variants}
     blocked: dict[str, list[float]] = {name: [] for name in variants}
-    with running_pendant() as pendant, sync_playwright() as playwright:
+    with running_pendant_ui() as pendant, sync_playwright() as playwright:
         api = pendant.api
         browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
         for i in range(rounds):
@@ -222,9 +223,9 @@ def hold_report(holds: int) -> None:
     """Hold J1 by mouse and by finger against the API-sent equivalent; a swipe; the frame time."""
     from playwright.sync_api import sync_playwright
 
-    from tests.browser.jog_measure import api_hold, close_while_held, mouse_hold, touch_hold, touch_swipe
+    from tests.support.jog_measure import api_hold, close_while_held, mouse_hold, touch_hold, touch_swipe
 
-    with running_pendant() as pendant, sync_playwright() as playwright:
+    with running_pendant_ui() as pendant, sync_playwright() as playwright:
         api = pendant.api
         browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
         page = browser.new_page(viewport={"width": 1400, "height": 900}, has_touch=True)

@@ -10,25 +10,28 @@ stop-and-go (a controller without /run/*) for comparison.
 
 from __future__ import annotations
 
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 from fastapi.testclient import TestClient
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from pendant.api import create_app
 from pendant.kinematics.transforms import position_to_matrix
 from pendant.program import Program, ProgramRunner
 from pendant.remote import RemoteController
 from pendant.sim import FakeClock, SimController
 from pendant.teach.path_step import path_step
-from tests.program.test_path_step import (
+from tests.support.deviation import max_deviation_mm, max_turn_deg, start_index
+from tests.support.path_playback import (
     SAMPLE_S,
     Sampler,
     WithoutRunOperations,
     hand_drawn_s,
     recorded_points,
 )
-from tests.teach.deviation import max_deviation_mm, max_turn_deg, start_index
 
 TOLERANCES = ((0.5, 0.5), (1.0, 1.0), (2.0, 2.0), (5.0, 5.0))
 

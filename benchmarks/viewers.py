@@ -32,8 +32,9 @@ import websockets
 import zstandard
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from tests.api.server import answers, free_port, wait_until
-from tests.ui.headless_viewer import CAMERA_HELLO
+from tests.support.headless_viewer import CAMERA_HELLO
+from tests.support.ports import free_port
+from tests.support.waiting import answers, wait_until
 
 STATE_NODE = "/tcp_frame"  # its position is set on every refresh tick while the arm moves
 START_TIMEOUT_S = 60.0

@@ -8,6 +8,9 @@ from pendant.monitoring import DATA_DIR_ENV
 from pendant.program import PROGRAMS_DIR_ENV
 from pendant.sim import FakeClock, SimController
 
+# The test kit's fixtures (pendant_ui, ui, remote, controller, launch) for every test directory.
+pytest_plugins = ["tests.support.fixtures"]
+
 
 @pytest.fixture(autouse=True)
 def programs_folder(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch):  # type: ignore[no-untyped-def]

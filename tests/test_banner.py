@@ -14,9 +14,8 @@ from pendant.access import ui_url
 from pendant.banner import announce, interface_addresses, qr_lines
 from pendant.cli import parse_settings, with_access_token
 from pendant.sim import SimController
-from pendant.ui.app import PendantUI
 from pendant.ui.join_qr import qr_html
-from tests.api.server import free_port
+from tests.support.pages import new_page
 
 UI_PORT, API_PORT = 9001, 9002
 
@@ -68,7 +67,7 @@ def test_on_loopback_the_banner_stays_short(capsys: pytest.CaptureFixture[str]) 
 
 
 def test_the_page_shows_the_viewer_qr(sim: SimController) -> None:
-    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=free_port(), mode_line="sim")
+    page = new_page(sim, sim.arm, mode_line="sim")
     try:
         session = page.open_session(page.server)
         assert session.join is not None

@@ -14,8 +14,7 @@ import pytest
 from pendant.api.errors import MSG_TIMEOUT
 from pendant.api.limits import BODY_LIMITS, too_large_message
 from pendant.controller.types import GRIPPER_TIMEOUT_MAX_MS, TOOL_NAME_MAX
-
-from .server import running_pendant
+from tests.support.launchers import running_pendant
 
 TOOL = {
     "point": {"x": 0.0, "y": 0.0, "z": 0.1},

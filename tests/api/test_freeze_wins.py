@@ -24,9 +24,12 @@ from pendant.api import create_app
 from pendant.api.limits import DOCUMENT_BODY_LIMIT, RUN_BODY_LIMIT, too_large_message
 from pendant.api.serving import MAX_HEAD_BYTES, connection_cap, guarded_protocol
 from pendant.sim import SimController
-from tests.remote.uvicorn_thread import serve_in_thread
+from tests.support.launchers import pendant_process
+from tests.support.ports import LOOPBACK
+from tests.support.threads import serve_in_thread
+from tests.support.waiting import wait_until
 
-from .server import LOOPBACK, pendant_process, wait_until
+pytestmark = pytest.mark.slow
 
 AUDIT_OPEN_FILES = 1024
 IDLE_CONNECTIONS = 1100

@@ -29,6 +29,8 @@ from pendant.api import create_app
 from pendant.controller.errors import MSG_EMERGENCY, MSG_NOT_RESPONDING
 from pendant.sim import FakeClock, SimController
 
+pytestmark = pytest.mark.slow
+
 EXAMPLES_PER_OPERATION = 30
 FUZZ_BUDGET_S = 50.0  # the whole fuzz run; examples past it pass without a request
 CLOCK_STEP_S = 0.25  # let queued motions progress between requests, as real time would

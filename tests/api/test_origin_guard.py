@@ -15,8 +15,8 @@ from pendant.access.origin import OriginPolicy
 from pendant.api import create_app
 from pendant.remote import create_proxy_app
 from pendant.sim import FakeClock, SimController
-from tests.api.server import running_pendant
-from tests.remote.uvicorn_thread import serve_in_thread
+from tests.support.launchers import running_pendant
+from tests.support.threads import serve_in_thread
 
 EVIL = "http://evil.example"
 TOOL = {

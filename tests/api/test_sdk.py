@@ -10,8 +10,11 @@ from typing import Any
 import httpx
 import pytest
 
+from tests.support.launchers import REPO_ROOT, running_pendant
+
 from .helpers import ANGLE_TOL_DEG, POS_TOL_M
-from .server import REPO_ROOT, running_pendant
+
+pytestmark = [pytest.mark.sdk, pytest.mark.slow]
 
 SDK_PYTHON = REPO_ROOT / ".venv-sdk" / "bin" / "python"
 SCRIPT = Path(__file__).with_name("sdk_script.py")

@@ -35,7 +35,9 @@ from pulseapi import (
     tool_shape,
 )
 
-from .server import running_pendant
+from tests.support.launchers import running_pendant
+
+pytestmark = pytest.mark.sdk
 
 HOME = [0.0, -90.0, 90.0, -90.0, -90.0, 0.0]  # the power-on pose
 POS_TOL_M = 1e-4

@@ -21,7 +21,9 @@ import pytest
 from pendant.api import create_app
 from pendant.controller.types import MotionParams, Pose, SignalLevel
 from pendant.sim import FakeClock, SimController
-from tests.remote.uvicorn_thread import serve_in_thread
+from tests.support.threads import serve_in_thread
+
+pytestmark = pytest.mark.sdk
 
 README_HOST = 'host = "http://127.0.0.1:8081"'
 SETTLE_S = 600.0  # fake seconds to let whatever an example left running finish (1 cm/s runs included)

@@ -22,9 +22,9 @@ from pendant.api import create_app
 from pendant.eventlog import EventKind, EventLog
 from pendant.remote import create_proxy_app
 from pendant.sim import FakeClock, SimController
-from tests.api.server import REPO_ROOT, running_pendant
 from tests.remote.servers import http_answer, raw_server
-from tests.remote.uvicorn_thread import serve_in_thread
+from tests.support.launchers import REPO_ROOT, running_pendant
+from tests.support.threads import serve_in_thread
 
 TOKEN = "Zürich-Ω-token-2026-ähnlich"  # UTF-8, and long enough not to be warned about
 INTERVAL_S = 0.2  # a small turn so the test stays short; the product's is 1 s
@@ -169,7 +169,7 @@ def test_a_token_with_spaces_is_refused_at_start_up() -> None:
 
 def _start_and_read(flags: list[str]) -> str:
     """Start `pendant --no-ui` with `flags`, read what it prints until it serves, stop it."""
-    from tests.api.server import free_port
+    from tests.support.ports import free_port
 
     port = free_port()
     process = subprocess.Popen(

@@ -1,63 +1,27 @@
-"""A real pendant process (simulator + UI + API on loopback) and a real Chromium driven by Playwright."""
+"""A real pendant process (simulator + UI + API on loopback) and a real Chromium driven by Playwright.
+Every test in this folder is marked `browser` (`pytest -m "not browser"` leaves them out)."""
 
 from __future__ import annotations
 
-import contextlib
-import os
-import shutil
-import subprocess
-import sys
-import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
-import httpx
 import pytest
 
-from tests.api.server import answers, free_port, wait_until
+from tests.support.chromium import CHROMIUM, CHROMIUM_ARGS
+from tests.support.launchers import Pendant
+from tests.support.launchers import running_pendant_ui as running_pendant
 
-CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
-CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking"]
 ARTIFACTS = Path(__file__).resolve().parents[2] / "test-artifacts"
-START_TIMEOUT_S = 60.0
+HERE = Path(__file__).resolve().parent
+
+__all__ = ["ARTIFACTS", "CHROMIUM", "CHROMIUM_ARGS", "Pendant", "running_pendant"]
 
 
-class Pendant:
-    def __init__(self, ui_port: int, api_port: int) -> None:
-        self.ui_port = ui_port
-        self.ui_url = f"http://127.0.0.1:{ui_port}/"
-        self.api = httpx.Client(base_url=f"http://127.0.0.1:{api_port}", timeout=5.0)
-
-    def pose(self) -> list[float]:
-        return self.api.get("/pose").json()["angles"]
-
-    def status(self) -> str:
-        return self.api.get("/status/motion").text.strip('"')
-
-
-@contextlib.contextmanager
-def running_pendant(*flags: str, env: dict[str, str] | None = None) -> Iterator[Pendant]:
-    """A `pendant` process (simulator, UI and API on free loopback ports) with extra `flags`."""
-    ui_port, api_port = free_port(), free_port()
-    data = tempfile.TemporaryDirectory(prefix="pendant-data-")  # its event log and recordings
-    process = subprocess.Popen(
-        [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port), *flags],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        env={**os.environ, "PYTHONUNBUFFERED": "1", "PENDANT_DATA_DIR": data.name, **(env or {})},
-    )
-    try:
-        wait_until(lambda: answers(f"http://127.0.0.1:{api_port}/pose"), START_TIMEOUT_S, "the API")
-        wait_until(lambda: answers(f"http://127.0.0.1:{ui_port}/"), START_TIMEOUT_S, "the page")
-        yield Pendant(ui_port, api_port)
-    finally:
-        process.terminate()
-        try:
-            process.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            process.kill()
-            process.wait(timeout=10)
-        data.cleanup()
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    for item in items:
+        if HERE in Path(item.path).parents:
+            item.add_marker(pytest.mark.browser)
 
 
 @pytest.fixture(scope="module")

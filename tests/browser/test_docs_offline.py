@@ -8,7 +8,7 @@ from urllib.parse import urlsplit
 
 import pytest
 
-from tests.api.server import running_pendant
+from tests.support.launchers import running_pendant
 
 RENDER_TIMEOUT_MS = 30_000
 SHOWN = "Setting a new arm pose"

@@ -15,8 +15,7 @@ from collections.abc import Iterator
 
 import pytest
 
-from .conftest import ARTIFACTS, Pendant, running_pendant
-from .jog_measure import (
+from tests.support.jog_measure import (
     PoseSampler,
     api_hold,
     button_box,
@@ -30,6 +29,8 @@ from .jog_measure import (
     touch_swipe,
     wait_idle,
 )
+
+from .conftest import ARTIFACTS, Pendant, running_pendant
 
 HOLD_S = 1.0
 PRESSES = 3

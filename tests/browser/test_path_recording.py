@@ -11,7 +11,7 @@ from __future__ import annotations
 import json
 import re
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -20,13 +20,14 @@ import pytest
 from pendant.controller import Position
 from pendant.kinematics.transforms import position_to_matrix
 from pendant.program.motion import ARRIVAL_TOL_M
-from tests.teach.deviation import (
+from tests.support.deviation import (
     coverage_mm,
     distances_to_polyline,
     max_deviation_mm,
     max_turn_deg,
     start_index,
 )
+from tests.support.waiting import wait_until
 
 from .conftest import ARTIFACTS, Pendant, running_pendant
 
@@ -61,13 +62,6 @@ def tcp(pendant: Pendant) -> np.ndarray:
     return position_to_matrix(Position.model_validate(pendant.api.get("/position").json()))
 
 
-def wait_until(condition: Callable[[], bool], what: str, timeout_s: float = HAND_TIMEOUT_S) -> None:
-    deadline = time.monotonic() + timeout_s
-    while not condition():
-        assert time.monotonic() < deadline, f"timed out waiting for {what}"
-        time.sleep(0.02)
-
-
 def take_control(page) -> None:  # type: ignore[no-untyped-def]
     """On loopback the first page gets control; a loaded machine may take a while to say so (and to draw
     the page): take it if the page shows the button meanwhile, then start once the page draws."""
@@ -87,7 +81,9 @@ def toggle_free_drive(page, pendant: Pendant, on: bool) -> None:  # type: ignore
     row = page.get_by_text("Free drive", exact=True).locator("xpath=ancestor::div[.//input][1]")
     row.locator(".mantine-Checkbox-inner").click()
     wanted = "ZERO_GRAVITY" if on else "ACTIVE"
-    wait_until(lambda: system_state(pendant) == wanted, f"the arm to be {wanted}")
+    wait_until(
+        lambda: system_state(pendant) == wanted, HAND_TIMEOUT_S, f"the arm to be {wanted}", poll_s=0.02
+    )
 
 
 def pull(page, pendant: Pendant, joint: int, angle: float) -> None:  # type: ignore[no-untyped-def]

@@ -15,7 +15,7 @@ from collections.abc import Iterator
 import numpy as np
 import pytest
 
-from tests.api.server import REPO_ROOT
+from tests.support.launchers import REPO_ROOT
 
 from .conftest import ARTIFACTS, Pendant, running_pendant
 from .test_program_page import ANGLE_TOL_DEG, POLL_S, RUN_TIMEOUT_S, UI_TIMEOUT_MS, move_to

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import httpx
 
-from tests.api.server import running_pendant
+from tests.support.launchers import running_pendant
 
 from .scrape import scrape, values
 

@@ -19,7 +19,8 @@ from pendant.eventlog import EventKind, EventLog
 from pendant.monitoring import EventQuery, EventStore, events_router
 from pendant.monitoring.events_api import parse_since
 from pendant.monitoring.eventstore import BUSY_TIMEOUT_S, DB_NAME
-from tests.api.server import running_pendant, wait_until
+from tests.support.launchers import running_pendant
+from tests.support.waiting import wait_until
 
 POSE = {"angles": [10.0, -90.0, 90.0, -90.0, -90.0, 0.0]}
 

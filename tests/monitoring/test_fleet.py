@@ -9,6 +9,7 @@ from collections.abc import Callable
 from typing import TypeVar
 
 import httpx
+import pytest
 
 from pendant.monitoring.fleet import Site, Timings, query, running_fleet
 from tests.monitoring.test_deploy_files import dashboard_queries
@@ -17,6 +18,8 @@ T = TypeVar("T")
 FAST = Timings(scrape_interval="1s", alert_for="2s", group_wait="1s")
 SETTLE_S = 60.0  # a generous bound for a loaded 2-core machine; typically a few seconds
 REACHABLE_POSE = {"angles": [10.0, -90.0, 90.0, -90.0, -90.0, 0.0]}
+
+pytestmark = pytest.mark.slow  # real Prometheus, Alertmanager and pendant processes
 
 
 def eventually(probe: Callable[[], T], done: Callable[[T], bool], what: str) -> T:

@@ -14,14 +14,19 @@ from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
 import httpx
+import pytest
 
-from tests.api.server import LOOPBACK, REPO_ROOT, free_port, wait_until
 from tests.monitoring.scrape import scrape, values
+from tests.support.launchers import REPO_ROOT
+from tests.support.ports import LOOPBACK, free_port
+from tests.support.waiting import wait_until
 
 # Root writes anywhere: without these capabilities (util-linux's setpriv) it meets the folder's permissions.
 WITHOUT_OVERRIDES = ["setpriv", "--bounding-set=-dac_override,-dac_read_search,-fowner", "--"]
 FILE_SIZE_LIMIT_BYTES = 256 * 1024  # "the disk is full" for the process, through RLIMIT_FSIZE
 REACHABLE_POSE = {"angles": [10.0, -90.0, 90.0, -90.0, -90.0, 0.0]}
+
+pytestmark = pytest.mark.slow  # real pendant processes
 
 
 @contextlib.contextmanager

@@ -13,12 +13,11 @@ from pendant.monitoring import PendantMetrics
 from pendant.program import ProgramRunner, ProgramStore, ProgramWorkspace, RunState
 from pendant.sim import FakeClock, Fault, SimController
 from pendant.ui.activity import ActivityLog
-from pendant.ui.app import PendantUI
 from pendant.ui.roles import ControlDesk
 from pendant.ui.snapshot import Snapshot
-from tests.api.server import free_port
 from tests.program.conftest import POLL_S, POSE_A_DEG, settle, teach
-from tests.ui.doubles import OPERATOR, VIEWER, FakeBrowser
+from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser
+from tests.support.pages import headless_session, new_page
 
 WAIT_S = 10.0
 
@@ -68,12 +67,10 @@ def test_program_runs_failures_and_alarms_are_counted(
 
 def test_viewers_and_page_commands_are_counted(sim: SimController) -> None:
     metrics = PendantMetrics(sim, mode="sim", model="pulse75", robot_url=None)
-    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=free_port(), mode_line="sim", metrics=metrics)
+    page = new_page(sim, sim.arm, mode_line="sim", metrics=metrics)
     try:
         assert scraped(metrics)["pendant_viewers_connected"] == 0
-        session = page.open_session(page.server)
-        with page._sessions_lock:
-            page.sessions[-1] = session
+        headless_session(page)
         assert scraped(metrics)["pendant_viewers_connected"] == 1
         page.desk.join(OPERATOR)
         page.desk.join(VIEWER)

@@ -12,7 +12,7 @@ from pendant.api import create_app
 from pendant.config import Settings
 from pendant.remote import RemoteController, create_proxy_app
 from pendant.sim import SimController
-from tests.remote.uvicorn_thread import serve_in_thread
+from tests.support.threads import serve_in_thread
 
 from .scrape import scrape, values
 

@@ -8,7 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from tests.api.server import REPO_ROOT
+from tests.support.launchers import REPO_ROOT
 
 RUN_TIMEOUT_S = 300.0
 

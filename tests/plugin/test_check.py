@@ -11,7 +11,8 @@ from collections.abc import Iterator
 import pytest
 
 from pendant.simserver import SimServer
-from tests.api.server import LOOPBACK, REPO_ROOT, free_port, running_pendant
+from tests.support.launchers import REPO_ROOT, running_pendant
+from tests.support.ports import LOOPBACK, free_port
 
 CHECK_TIMEOUT_S = 60.0
 

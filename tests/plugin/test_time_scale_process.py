@@ -9,7 +9,9 @@ import httpx
 import pytest
 
 from pendant.cli import parse_settings
-from tests.api.server import running_pendant
+from tests.support.launchers import running_pendant
+
+pytestmark = pytest.mark.slow
 
 SCALE = 100.0
 FAR = {"angles": [270.0, -90.0, 90.0, -90.0, -90.0, 0.0]}  # J1 turns 270 degrees at speed 4: about 60 s

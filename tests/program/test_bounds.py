@@ -32,8 +32,8 @@ from pendant.program import (
 from pendant.program.files import MAX_FILE_BYTES, dump_program
 from pendant.program.models import MAX_STEPS, PROGRAM_NAME_MAX, WAYPOINT_NAME_MAX
 from pendant.program.plan import MoveGroup
-from tests.api.server import running_pendant
 from tests.program.conftest import Taught, move, program_of
+from tests.support.launchers import running_pendant
 
 LONG_RUN = 2 * MAX_RUN_WAYPOINTS + 50
 ANGLE_TOL_DEG = 1e-6

@@ -32,8 +32,10 @@ from pendant.program import (
     Waypoint,
     export_script,
 )
-from tests.api.server import REPO_ROOT, running_pendant
 from tests.program.conftest import move, program_of
+from tests.support.launchers import REPO_ROOT, running_pendant
+
+pytestmark = pytest.mark.slow
 
 RUN_TIMEOUT_S = 120.0
 POLL_S = 0.02

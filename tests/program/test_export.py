@@ -37,9 +37,9 @@ from pendant.program import (
 )
 from pendant.program.export import TOKEN_ENV
 from pendant.sim import MonotonicClock, SimController
-from tests.api.server import running_pendant
 from tests.program.conftest import move, program_of
-from tests.remote.uvicorn_thread import serve_in_thread
+from tests.support.launchers import running_pendant
+from tests.support.threads import serve_in_thread
 
 ANGLE_TOL_DEG = 1e-6
 SCRIPT_TIMEOUT_S = 60.0

@@ -18,7 +18,7 @@ from pendant.program.blended import FALLBACK_NOTE
 from pendant.sim import FakeClock, MonotonicClock, SimController
 from pendant.teach.path_step import path_step
 from tests.program.test_path_step import WithoutRunOperations, hand_drawn_s
-from tests.remote.uvicorn_thread import serve_in_thread
+from tests.support.threads import serve_in_thread
 
 SCRIPT_TIMEOUT_S = 60.0
 FAST_MM_S = 400.0  # the test's own path speed: the same run, sooner

@@ -26,7 +26,7 @@ from pendant.program import (
 from pendant.sim import FakeClock, SimController
 from pendant.ui.commands import CommandRunner
 from pendant.ui.program_panel import ProgramPanel
-from tests.api.server import free_port
+from tests.support.ports import free_port
 
 from .conftest import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, teach
 

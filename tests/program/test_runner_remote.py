@@ -3,13 +3,9 @@ through Starlette's TestClient, no network) does what it does on the simulator i
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
 import numpy as np
 import pytest
-from fastapi.testclient import TestClient
 
-from pendant.api import create_app
 from pendant.controller import Controller, MotionType, Pose, SignalLevel
 from pendant.controller.types import OUTPUT_PORTS
 from pendant.program import (
@@ -28,21 +24,6 @@ from tests.program.test_runner import angles, sleeping
 ANGLE_TOL_DEG = 1e-6
 POS_TOL_M = 1e-6
 WAIT_MS = 300
-
-
-@pytest.fixture
-def remote(sim: SimController) -> Iterator[RemoteController]:
-    """RemoteController -> TestClient -> create_app(sim): the simulator on the fake clock, over HTTP."""
-    with TestClient(create_app(sim)) as client:
-        yield RemoteController("http://testserver", client=client)
-
-
-@pytest.fixture(params=["sim", "remote"])
-def controller(request: pytest.FixtureRequest, sim: SimController) -> Iterator[Controller]:
-    if request.param == "sim":
-        yield sim
-        return
-    yield request.getfixturevalue("remote")
 
 
 def pick_and_place(waypoints: dict[str, Waypoint]) -> Program:

@@ -1,35 +1,13 @@
-"""Tiny misbehaving servers on 127.0.0.1 for the fault tests, and helpers to find ports and wait for them."""
+"""Tiny misbehaving servers on 127.0.0.1 for the fault tests."""
 
 from __future__ import annotations
 
-import socket
 import socketserver
 import threading
-import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
 Handler = Callable[[bytes], bytes | None]  # request head -> bytes to send (None: say nothing)
-
-WAIT_STEP_S = 0.05
-
-
-def free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return sock.getsockname()[1]
-
-
-def wait_for_port(port: int, timeout_s: float) -> None:
-    """Return once something accepts connections on `port`; fail after `timeout_s`."""
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        try:
-            with socket.create_connection(("127.0.0.1", port), timeout=WAIT_STEP_S):
-                return
-        except OSError:
-            time.sleep(WAIT_STEP_S)
-    raise TimeoutError(f"nothing listens on 127.0.0.1:{port} after {timeout_s} s")
 
 
 @contextmanager

@@ -11,8 +11,9 @@ import httpx
 
 from pendant.remote import create_proxy_app
 from pendant.remote.proxy import MSG_MAY_HAVE_RUN
-from tests.remote.servers import free_port, http_answer, raw_server, request_path
-from tests.remote.uvicorn_thread import serve_in_thread
+from tests.remote.servers import http_answer, raw_server, request_path
+from tests.support.ports import free_port
+from tests.support.threads import serve_in_thread
 
 READ_TIMEOUT_S = 0.3
 COMMAND_TIMEOUT_S = 3.0

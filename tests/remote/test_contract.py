@@ -4,12 +4,8 @@ the controller's messages; the remote one must also return exactly what the simu
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
 import pytest
-from fastapi.testclient import TestClient
 
-from pendant.api import create_app
 from pendant.controller.errors import (
     MSG_COLLISION,
     MSG_EMERGENCY,
@@ -35,7 +31,6 @@ from pendant.controller.types import (
     SignalLevel,
     Tool,
 )
-from pendant.remote import RemoteController
 from pendant.sim import HOME_POSE_DEG, PACK_POSE_DEG, FakeClock, Fault, SimController
 
 ANGLE_TOL_DEG = 1e-6
@@ -54,15 +49,6 @@ GRIPPER = Tool(
     rotation=Rotation(roll=0.0, pitch=0.0, yaw=0.0),
     radius=0.05,
 )
-
-
-@pytest.fixture(params=["sim", "remote"])
-def controller(request: pytest.FixtureRequest, sim: SimController) -> Iterator[Controller]:
-    if request.param == "sim":
-        yield sim
-        return
-    with TestClient(create_app(sim)) as client:
-        yield RemoteController("http://testserver", client=client)
 
 
 def assert_pose_close(actual: Pose, expected: Pose | tuple[float, ...]) -> None:

@@ -3,12 +3,8 @@ the simulator's REST API. Both answer the same, down to the controller's message
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
 import pytest
-from fastapi.testclient import TestClient
 
-from pendant.api import create_app
 from pendant.controller.cell_types import BoxObstacle, SimplifiedCapsuleObstacle, ToolInfo, ToolShape
 from pendant.controller.errors import MSG_PROTECTIVE_STOP, Collision, PreconditionFailed
 from pendant.controller.protocol import Controller
@@ -23,20 +19,10 @@ from pendant.controller.system_types import (
     SystemState,
 )
 from pendant.controller.types import Point, Position, RecoverResult, Rotation, SignalLevel
-from pendant.remote import RemoteController
 from pendant.sim import FakeClock, Fault, SimController
 
 LONG_ENOUGH_S = 60.0
 LINEAR = LinearMotionParameters(velocity=0.3, acceleration=1.0)
-
-
-@pytest.fixture(params=["sim", "remote"])
-def controller(request: pytest.FixtureRequest, sim: SimController) -> Iterator[Controller]:
-    if request.param == "sim":
-        yield sim
-        return
-    with TestClient(create_app(sim)) as client:
-        yield RemoteController("http://testserver", client=client)
 
 
 def beside(controller: Controller, dy: float, actions: list | None = None) -> PositionWaypoint:  # type: ignore[type-arg]

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import subprocess
 import time
-from collections.abc import Callable
 
 import httpx
 import pytest
@@ -21,10 +20,11 @@ from pendant.controller.errors import (
 from pendant.controller.types import MotionParams, MotionStatus, Pose
 from pendant.remote import RemoteController, create_proxy_app
 from pendant.sim import HOME_POSE_DEG
+from tests.support.launchers import Launcher
+from tests.support.ports import free_port, wait_for_port
+from tests.support.threads import serve_in_thread
 
-from .conftest import Launch
-from .servers import free_port, wait_for_port
-from .uvicorn_thread import serve_in_thread
+pytestmark = pytest.mark.slow
 
 START_TIMEOUT_S = 15.0
 STOP_TIMEOUT_S = 5.0
@@ -34,7 +34,7 @@ FAR = Pose(angles=[120.0, -60.0, 60.0, -90.0, -90.0, 90.0])
 QUIET_S = 0.5  # how long we watch a restarted controller for motion nobody asked for
 
 
-def start_controller(launch: Launch, port: int) -> subprocess.Popen[bytes]:
+def start_controller(launch: Launcher, port: int) -> subprocess.Popen[bytes]:
     process = launch(["--no-ui", "--api-port", str(port)], "controller")
     wait_for_port(port, START_TIMEOUT_S)
     return process
@@ -45,15 +45,7 @@ def kill(process: subprocess.Popen[bytes]) -> None:
     process.wait(STOP_TIMEOUT_S)
 
 
-def wait_until(condition: Callable[[], bool], timeout_s: float = START_TIMEOUT_S) -> None:
-    deadline = time.monotonic() + timeout_s
-    while not condition():
-        if time.monotonic() > deadline:
-            raise TimeoutError("condition not met in time")
-        time.sleep(0.05)
-
-
-def test_the_pendant_starts_before_the_controller(launch: Launch) -> None:
+def test_the_pendant_starts_before_the_controller(launch: Launcher) -> None:
     controller_port, pendant_port = free_port(), free_port()
     controller_url = f"http://127.0.0.1:{controller_port}"
     launch(["--no-ui", "--api-port", str(pendant_port), "--robot", controller_url])
@@ -72,7 +64,7 @@ def test_the_pendant_starts_before_the_controller(launch: Launch) -> None:
         assert pendant.get("/pose").json()["angles"] == list(HOME_POSE_DEG)
 
 
-def test_the_controller_dies_mid_motion_and_nothing_is_replayed(launch: Launch) -> None:
+def test_the_controller_dies_mid_motion_and_nothing_is_replayed(launch: Launcher) -> None:
     port = free_port()
     url = f"http://127.0.0.1:{port}"
     controller_process = start_controller(launch, port)
@@ -105,7 +97,7 @@ def test_the_controller_dies_mid_motion_and_nothing_is_replayed(launch: Launch) 
         assert first_pose.angles == pytest.approx(list(HOME_POSE_DEG), abs=ANGLE_TOL_DEG)
 
 
-def test_emergency_and_no_response_come_through_with_their_messages(launch: Launch) -> None:
+def test_emergency_and_no_response_come_through_with_their_messages(launch: Launcher) -> None:
     port = free_port()
     url = f"http://127.0.0.1:{port}"
     start_controller(launch, port)
@@ -132,7 +124,7 @@ def test_emergency_and_no_response_come_through_with_their_messages(launch: Laun
         assert controller.get_motion_status() is MotionStatus.IDLE
 
 
-def test_kept_alive_connections_to_a_dead_controller_do_not_swallow_commands(launch: Launch) -> None:
+def test_kept_alive_connections_to_a_dead_controller_do_not_swallow_commands(launch: Launcher) -> None:
     port = free_port()
     url = f"http://127.0.0.1:{port}"
     controller_process = start_controller(launch, port)

@@ -20,8 +20,7 @@ from starlette.responses import PlainTextResponse, Response
 from pendant.api import create_app
 from pendant.remote import create_proxy_app
 from pendant.sim import FakeClock, SimController
-
-from .uvicorn_thread import serve_in_thread
+from tests.support.threads import serve_in_thread
 
 POSE = {"angles": [30.0, -80.0, 70.0, -80.0, -90.0, 10.0]}
 POSITION = {

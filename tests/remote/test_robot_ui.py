@@ -13,10 +13,11 @@ import httpx
 import pytest
 
 from pendant.sim import HOME_POSE_DEG
-from tests.api.server import wait_until
+from tests.support.launchers import Launcher
+from tests.support.ports import free_port, wait_for_port
+from tests.support.waiting import wait_until
 
-from .conftest import Launch
-from .servers import free_port, wait_for_port
+pytestmark = pytest.mark.slow
 
 START_TIMEOUT_S = 60.0  # the UI loads the arm model and meshes before it serves
 OFFLINE_WITHIN_S = 5.0
@@ -33,7 +34,7 @@ def page_served(url: str) -> bool:
     return page.status_code == 200 and "text/html" in page.headers["content-type"]
 
 
-def test_the_pendant_drives_a_separate_simulator_and_outlives_it(launch: Launch, tmp_path: Path) -> None:
+def test_the_pendant_drives_a_separate_simulator_and_outlives_it(launch: Launcher, tmp_path: Path) -> None:
     robot_port, ui_port, api_port = free_port(), free_port(), free_port()
     robot_url = f"http://127.0.0.1:{robot_port}"
     ui_url, api_url = f"http://127.0.0.1:{ui_port}/", f"http://127.0.0.1:{api_port}"

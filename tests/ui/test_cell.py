@@ -16,8 +16,7 @@ from pendant.jog import JogFrame, JogRequest
 from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.session import ClientSession
-
-from .doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 
 WAIT_S = 10.0
 

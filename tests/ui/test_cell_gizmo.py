@@ -20,8 +20,8 @@ from pendant.sim import SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.obstacle_gizmo import ObstacleGizmo
 from pendant.ui.session import ClientSession
+from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 
-from .doubles import OPERATOR, VIEWER, FakeBrowser, fire
 from .test_cell import box
 
 WAIT_S = 10.0

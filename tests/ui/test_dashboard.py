@@ -18,8 +18,7 @@ from pendant.telemetry import CSV_FIELDS, csv_header
 from pendant.ui.app import PendantUI
 from pendant.ui.dashboard_panel import EVENTS_SHOWN, PLOTS
 from pendant.ui.session import ClientSession
-
-from .doubles import OPERATOR, FakeBrowser, fire
+from tests.support.doubles import OPERATOR, FakeBrowser, fire
 
 SAMPLE_PERIOD_S = 0.1  # the refresh loop samples the motors at 10 Hz
 VALUE_TOL = 1e-9

@@ -22,9 +22,8 @@ from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.dashboard_plots import MAX_POINTS, PLOT_HEIGHT_PX, UNITS
 from pendant.ui.session import ClientSession
-from tests.api.server import free_port
-
-from .doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.pages import headless_session, new_page
 
 SAMPLE_PERIOD_S = 0.1
 MOVE = Pose(angles=[40.0, -70.0, 30.0, -90.0, -90.0, 20.0])
@@ -34,9 +33,7 @@ READABLE_HEIGHT_PX = 200
 @pytest.fixture
 def pendant_ui(sim: SimController, clock: FakeClock) -> Iterator[PendantUI]:
     """The page with its telemetry on the simulator's fake clock (an hour of history in a moment)."""
-    page = PendantUI(
-        sim, sim.arm, host="127.0.0.1", port=free_port(), mode_line="Simulator · pulse75", clock=clock.now
-    )
+    page = new_page(sim, sim.arm, clock=clock.now)
     page.desk.join(OPERATOR)
     page.desk.join(VIEWER)
     page.refresh()
@@ -170,13 +167,9 @@ def test_the_dashboard_shows_the_stored_log_of_earlier_runs(sim: SimController, 
     store.close()
 
     store = EventStore(tmp_path)  # the pendant started again
-    page = PendantUI(
-        sim, sim.arm, host="127.0.0.1", port=free_port(), mode_line="sim", events=EventLog(store=store)
-    )
+    page = new_page(sim, sim.arm, mode_line="sim", events=EventLog(store=store))
     try:
-        session = page.open_session(page.server)
-        with page._sessions_lock:
-            page.sessions[-1] = session
+        session = headless_session(page)
         page.refresh_dashboard()
         assert [line.split(": ", 1)[1] for line in lines(session)] == ["Collision detected", "Move J"]
         page.events.record(EventKind.CONTROL, "browser #5", "took control")

@@ -14,8 +14,8 @@ from pendant.program.models import PathStep
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.session import ClientSession
+from tests.support.doubles import OPERATOR, FakeBrowser
 
-from .doubles import OPERATOR, FakeBrowser
 from .test_cell import box
 
 WAIT_S = 10.0

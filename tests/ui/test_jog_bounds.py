@@ -15,8 +15,8 @@ from pendant.jog import JogFrame, JogRefused, JogRequest
 from pendant.jog.targets import MAX_STEP_M, MAX_STEP_RAD
 from pendant.sim import FakeClock, SimController
 from pendant.ui.session import ClientSession
+from tests.support.doubles import OPERATOR, FakeBrowser, fire
 
-from .doubles import OPERATOR, FakeBrowser, fire
 from .test_panels import button, confirm_hold, finish_motion, pose_deg
 
 FORGED_STEPS = ["500", "-10", "1e9", "nan", "inf", "0", "0.5", "", "Continuous "]

@@ -15,8 +15,8 @@ from pendant.program import RunState
 from pendant.sim import FakeClock, Fault, SimController
 from pendant.ui.app import PROGRAM_RUNNING, PendantUI
 from pendant.ui.session import ClientSession
+from tests.support.doubles import OPERATOR, FakeBrowser, fire
 
-from .doubles import OPERATOR, FakeBrowser, fire
 from .test_panels import button, confirm_hold, pose_deg
 
 ANGLE_TOL_DEG = 1e-6

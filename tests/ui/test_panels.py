@@ -24,8 +24,7 @@ from pendant.ui.app import PendantUI
 from pendant.ui.commands import HOME_POSE_DEG
 from pendant.ui.jog_panel import CONTINUOUS, DEFAULT_SPEED_PERCENT, HOLD_CONFIRM_HZ
 from pendant.ui.session import ClientSession
-
-from .doubles import OPERATOR, VIEWER, FakeBrowser, event, fire
+from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, event, fire
 
 ANGLE_TOL_DEG = 1e-6
 POS_TOL_M = 1e-6

@@ -20,10 +20,9 @@ from pendant.jog import JogFrame, JogRequest
 from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.session import ClientSession
-from tests.api.server import free_port
-from tests.remote.uvicorn_thread import serve_in_thread
-
-from .doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.pages import new_page
+from tests.support.threads import serve_in_thread
 
 TARGET = [30.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 ANGLE_TOL_DEG = 1e-6
@@ -32,14 +31,7 @@ J1_PLUS = JogRequest(JogFrame.JOINT, 0, +1, 20.0)
 
 @pytest.fixture
 def page(sim: SimController) -> Iterator[PendantUI]:
-    ui = PendantUI(
-        sim,
-        sim.arm,
-        host="127.0.0.1",
-        port=free_port(),
-        mode_line="Simulator · pulse75",
-        remote=RemoteControl(enabled=False),
-    )
+    ui = new_page(sim, sim.arm, remote=RemoteControl(enabled=False))
     ui.desk.join(OPERATOR, "10.0.0.7")
     ui.desk.join(VIEWER)
     ui.refresh()

@@ -16,9 +16,8 @@ from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.commands import CommandRefused
 from pendant.ui.roles import MSG_NO_TOKEN, MSG_WRONG_TOKEN
-from tests.api.server import free_port
-
-from .doubles import FakeBrowser, fire
+from tests.support.doubles import FakeBrowser, fire
+from tests.support.pages import new_page
 
 TOKEN = "s3cret-token"
 ANGLE_TOL_DEG = 1e-9
@@ -27,9 +26,7 @@ HOME_MOVE = Pose(angles=[20.0, -90.0, 0.0, -90.0, -90.0, 0.0])
 
 
 def _ui(sim: SimController, token: str | None) -> PendantUI:
-    page = PendantUI(
-        sim, sim.arm, host="127.0.0.1", port=free_port(), mode_line="Simulator · pulse75", token=token
-    )
+    page = new_page(sim, sim.arm, token=token)
     page.refresh()
     return page
 

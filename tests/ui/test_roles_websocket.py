@@ -18,8 +18,9 @@ from pendant.jog import JogFrame, JogRequest
 from pendant.sim import MonotonicClock, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.roles import MSG_NO_TOKEN
-from tests.api.server import free_port
-from tests.ui.headless_viewer import CAMERA_HELLO
+from tests.support.headless_viewer import CAMERA_HELLO
+from tests.support.pages import new_page
+from tests.support.ports import free_port
 
 TOKEN = "url-token-123"
 CONNECT_TIMEOUT_S = 20.0
@@ -29,7 +30,7 @@ CONNECT_TIMEOUT_S = 20.0
 def exposed() -> Iterator[tuple[PendantUI, int]]:
     port = free_port()
     sim = SimController("pulse75", MonotonicClock())
-    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=port, mode_line="Simulator · pulse75", token=TOKEN)
+    page = new_page(sim, sim.arm, port=port, token=TOKEN)
     page.start()
     yield page, port
     page.stop()

@@ -17,10 +17,9 @@ from pendant.remote import RemoteController
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.session import ClientSession
-from tests.api.server import free_port
-from tests.remote.uvicorn_thread import serve_in_thread
-
-from .doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.pages import new_page
+from tests.support.threads import serve_in_thread
 
 WAIT_S = 10.0
 SDK18_ONLY = (
@@ -127,7 +126,7 @@ def page_on(controller_app: Any, sim: SimController) -> Iterator[tuple[PendantUI
     """A page whose browser is the operator, on a real HTTP controller serving `controller_app`."""
     with serve_in_thread(controller_app) as url:
         remote = RemoteController(url)
-        page = PendantUI(remote, sim.arm, host="127.0.0.1", port=free_port(), mode_line="Robot")
+        page = new_page(remote, sim.arm, mode_line="Robot")
         page.desk.join(OPERATOR)
         page.refresh()
         page.refresh_cell()

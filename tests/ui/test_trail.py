@@ -7,7 +7,7 @@ import pytest
 import viser
 
 from pendant.ui.trail import MIN_STEP_M, TRAIL_SECONDS, TcpTrail
-from tests.api.server import free_port
+from tests.support.ports import free_port
 
 
 @pytest.fixture

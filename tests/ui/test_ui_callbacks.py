@@ -19,7 +19,7 @@ from pendant.ui.app import PendantUI
 from pendant.ui.session import ClientSession
 from pendant.ui.snapshot import Snapshot
 from pendant.ui.status_panel import render_status
-from tests.api.server import free_port
+from tests.support.pages import pendant_page
 
 TOOL_LENGTH_M = 0.12
 ANGLE_TOL_DEG = 1e-6
@@ -169,13 +169,10 @@ def test_a_controller_that_does_not_respond_is_online_with_a_red_banner(
 
 def test_the_robot_id_appears_once_a_controller_that_was_down_at_start_answers(sim: SimController) -> None:
     sim.inject_fault(Fault.NO_RESPONSE)
-    page = PendantUI(sim, sim.arm, host="127.0.0.1", port=free_port(), mode_line="Simulator · pulse75")
-    try:
+    with pendant_page(sim, sim.arm) as page:
         assert page.refresh().robot_id == ""
         sim.reset()
         assert page.refresh(with_io=True).robot_id == sim.get_robot_id() != ""
-    finally:
-        page.stop()
 
 
 def test_invalid_tool_form_is_refused_before_anything_is_sent(ui: ClientSession, sim: SimController) -> None:

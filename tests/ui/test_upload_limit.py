@@ -18,8 +18,9 @@ import websockets
 from pendant.sim import MonotonicClock, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.session import ClientSession
-from tests.api.server import free_port
-from tests.ui.headless_viewer import CAMERA_HELLO
+from tests.support.headless_viewer import CAMERA_HELLO
+from tests.support.pages import new_page
+from tests.support.ports import free_port
 
 WAIT_S = 20.0
 PART_BYTES = 1024 * 1024
@@ -30,7 +31,7 @@ HUGE_PARTS = 60  # 60 MB, as in the audit
 def page(tmp_path) -> Iterator[tuple[PendantUI, int]]:  # type: ignore[no-untyped-def]
     port = free_port()
     sim = SimController("pulse75", MonotonicClock())
-    ui = PendantUI(sim, sim.arm, host="127.0.0.1", port=port, mode_line="sim", programs_dir=str(tmp_path))
+    ui = new_page(sim, sim.arm, port=port, mode_line="sim", programs_dir=str(tmp_path))
     ui.start()
     yield ui, port
     ui.stop()

@@ -15,21 +15,14 @@ from websockets.sync.client import connect
 from pendant.access.origin import OriginPolicy
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
-from tests.api.server import free_port
+from tests.support.pages import new_page
 
 SUBPROTOCOL = f"viser-v{viser.__version__}"
 
 
 @pytest.fixture
 def page(sim: SimController) -> Iterator[PendantUI]:
-    ui = PendantUI(
-        sim,
-        sim.arm,
-        host="127.0.0.1",
-        port=free_port(),
-        mode_line="Simulator · pulse75",
-        origins=OriginPolicy("127.0.0.1"),
-    )
+    ui = new_page(sim, sim.arm, origins=OriginPolicy("127.0.0.1"))
     yield ui
     ui.stop()
 

@@ -1,0 +1,166 @@
+"""Real `pendant` processes on free loopback ports (`python -m pendant ...`), started, waited for, stopped."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+
+from .ports import LOOPBACK, free_port
+from .waiting import answers, wait_until
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+START_TIMEOUT_S = 60.0
+STOP_TIMEOUT_S = 10.0
+
+
+def pendant_command(*args: str) -> list[str]:
+    """`python -m pendant ARGS...` with this interpreter (so this checkout's package, via PYTHONPATH)."""
+    return [sys.executable, "-m", "pendant", *args]
+
+
+def child_env(extra: dict[str, str] | None = None) -> dict[str, str]:
+    """The environment for a child process: this checkout first on PYTHONPATH, unbuffered output."""
+    path = str(REPO_ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")
+    return {**os.environ, "PYTHONPATH": path, "PYTHONUNBUFFERED": "1", **(extra or {})}
+
+
+def stop(process: subprocess.Popen, timeout_s: float = STOP_TIMEOUT_S) -> None:  # type: ignore[type-arg]
+    """SIGTERM, then SIGKILL if it has not exited within `timeout_s`."""
+    if process.poll() is None:
+        process.terminate()
+    try:
+        process.wait(timeout_s)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait(timeout_s)
+
+
+@contextlib.contextmanager
+def running_pendant(*extra_args: str, max_open_files: int | None = None) -> Iterator[str]:
+    """The base URL of a freshly started `pendant --no-ui`; the process is stopped on exit.
+
+    `max_open_files`: the process's open-file limit (soft and hard), as a service or shell might set it."""
+    with pendant_process(*extra_args, max_open_files=max_open_files) as (_, base_url):
+        yield base_url
+
+
+@contextlib.contextmanager
+def pendant_process(
+    *extra_args: str, max_open_files: int | None = None
+) -> Iterator[tuple[subprocess.Popen[str], str]]:
+    """running_pendant(), also giving the process (to read its memory, say)."""
+    port = free_port()
+    command = pendant_command("--no-ui", "--host", LOOPBACK, "--api-port", str(port), *extra_args)
+    process = subprocess.Popen(
+        command,
+        cwd=REPO_ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        preexec_fn=None if max_open_files is None else lambda: _limit_open_files(max_open_files),
+    )
+    base_url = f"http://{LOOPBACK}:{port}"
+    try:
+        _wait_until_serving(process, base_url)
+        yield process, base_url
+    finally:
+        stop(process)
+        if process.stdout is not None:
+            process.stdout.close()
+
+
+def _limit_open_files(count: int) -> None:
+    resource.setrlimit(resource.RLIMIT_NOFILE, (count, count))
+
+
+ANNOUNCE_MAX_LINES = 20
+
+
+def _wait_until_serving(process: subprocess.Popen[str], base_url: str) -> None:
+    deadline = time.monotonic() + START_TIMEOUT_S
+    said = []  # start-up notes (a repaired recording, a stale file removed) may come before the URL
+    for _ in range(ANNOUNCE_MAX_LINES):
+        said.append(process.stdout.readline() if process.stdout else "")
+        if base_url in said[-1] or not said[-1]:
+            break
+    if base_url not in said[-1]:
+        raise RuntimeError(f"pendant did not announce {base_url}, it said: {''.join(said)!r}")
+    while time.monotonic() < deadline:
+        if process.poll() is not None:
+            output = process.stdout.read() if process.stdout else ""
+            raise RuntimeError(f"pendant exited with {process.returncode}:\n{output}")
+        try:
+            if httpx.get(f"{base_url}/robot/id", timeout=1.0).status_code == 200:
+                return
+        except httpx.TransportError:
+            pass
+        time.sleep(0.05)  # polling a real process starting up: no fake clock can stand in for this wait
+    raise RuntimeError(f"pendant did not answer on {base_url} within {START_TIMEOUT_S} s")
+
+
+class Pendant:
+    """A running pendant with its page: the page's URL and an HTTP client of its API."""
+
+    def __init__(self, ui_port: int, api_port: int) -> None:
+        self.ui_port = ui_port
+        self.ui_url = f"http://{LOOPBACK}:{ui_port}/"
+        self.api = httpx.Client(base_url=f"http://{LOOPBACK}:{api_port}", timeout=5.0)
+
+    def pose(self) -> list[float]:
+        return self.api.get("/pose").json()["angles"]
+
+    def status(self) -> str:
+        return self.api.get("/status/motion").text.strip('"')
+
+
+@contextlib.contextmanager
+def running_pendant_ui(*flags: str, env: dict[str, str] | None = None) -> Iterator[Pendant]:
+    """A `pendant` process (simulator, page and API on free loopback ports) with extra `flags`; its event
+    log and recordings in a temporary data folder."""
+    ui_port, api_port = free_port(), free_port()
+    data = tempfile.TemporaryDirectory(prefix="pendant-data-")
+    process = subprocess.Popen(
+        pendant_command("--ui-port", str(ui_port), "--api-port", str(api_port), *flags),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        env={**os.environ, "PYTHONUNBUFFERED": "1", "PENDANT_DATA_DIR": data.name, **(env or {})},
+    )
+    try:
+        wait_until(lambda: answers(f"http://{LOOPBACK}:{api_port}/pose"), START_TIMEOUT_S, "the API")
+        wait_until(lambda: answers(f"http://{LOOPBACK}:{ui_port}/"), START_TIMEOUT_S, "the page")
+        yield Pendant(ui_port, api_port)
+    finally:
+        stop(process)
+        data.cleanup()
+
+
+class Launcher:
+    """`launcher(args, name="pendant")` starts `python -m pendant ARGS...`, its output in FOLDER/NAME.log;
+    `close()` kills every process it started (the `launch` fixture)."""
+
+    def __init__(self, folder: Path) -> None:
+        self._folder = folder
+        self._processes: list[subprocess.Popen[bytes]] = []
+
+    def __call__(self, args: list[str], name: str = "pendant") -> subprocess.Popen[bytes]:
+        with open(self._folder / f"{name}.log", "wb") as log:
+            process = subprocess.Popen(
+                pendant_command(*args), cwd=REPO_ROOT, env=child_env(), stdout=log, stderr=subprocess.STDOUT
+            )
+        self._processes.append(process)
+        return process
+
+    def close(self) -> None:
+        for process in self._processes:
+            if process.poll() is None:
+                process.kill()
+            process.wait(STOP_TIMEOUT_S)

@@ -1,0 +1,33 @@
+"""Waiting for a real process on a real clock: no fake clock can stand in for these waits."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+import httpx
+
+DEFAULT_TIMEOUT_S = 60.0
+POLL_S = 0.05
+
+
+def wait_until(
+    ready: Callable[[], bool], timeout_s: float = DEFAULT_TIMEOUT_S, what: str = "it", poll_s: float = POLL_S
+) -> None:
+    """Poll `ready` until it holds (an HTTP error counts as "not yet"); TimeoutError naming `what` after
+    `timeout_s`."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        try:
+            if ready():
+                return
+        except httpx.HTTPError:
+            pass
+        time.sleep(poll_s)
+    raise TimeoutError(f"{what} did not happen within {timeout_s} s")
+
+
+def answers(url: str) -> bool:
+    """Anything at `url` answers HTTP at all."""
+    httpx.get(url, timeout=1.0)
+    return True
