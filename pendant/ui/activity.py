@@ -4,6 +4,7 @@ With metrics, the same happenings are counted for Prometheus (commands, program 
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from concurrent.futures import Future
 
@@ -43,8 +44,9 @@ class LoggedJogger(Jogger):
         on_start: Callable[[], None] = lambda: None,
         stops: StopBus | None = None,
         touching: Touching = lambda q: [],
+        clock: Callable[[], float] = time.monotonic,
     ) -> None:
-        super().__init__(controller, arm, on_stop=self._stopped, stops=stops, touching=touching)
+        super().__init__(controller, arm, clock, on_stop=self._stopped, stops=stops, touching=touching)
         self._events = events
         self._desk = desk
         self._remote = remote
