@@ -39,6 +39,7 @@ from pendant.access.token import token_problem
 from pendant.banner import announce
 from pendant.config import Settings
 from pendant.controller.protocol import Controller
+from pendant.controller.stops import StopBus
 from pendant.eventlog import EventKind, EventLog
 from pendant.monitoring import PendantMetrics, data_dir, open_event_store
 from pendant.monitoring.state_watch import StateWatch
@@ -229,6 +230,7 @@ def make_api_app(
     events: EventLog | None = None,
     access: AccessRules | None = None,
     metrics: PendantMetrics | None = None,
+    stops: StopBus | None = None,
 ) -> ASGIApp:
     """The app on the API port: the simulator's PULSE API, or a transparent proxy to the real controller;
     both also answer GET /pendant/health, GET /metrics and (with a stored log) GET /pendant/events.
@@ -250,10 +252,11 @@ def make_api_app(
             access=access,
             metrics=metrics,
             store=store,
+            stops=stops,
         )
     from pendant.api import create_app
 
-    app = create_app(controller, access=access)
+    app = create_app(controller, access=access, stops=stops)
     app.include_router(health_router(settings, controller, started_at))
     if metrics is None:
         metrics = PendantMetrics(controller, mode="sim", model=settings.model, robot_url=None)
@@ -267,6 +270,7 @@ def start_ui(
     events: EventLog | None = None,
     access: AccessRules | None = None,
     metrics: PendantMetrics | None = None,
+    stops: StopBus | None = None,
 ) -> PendantUI:
     """The pendant's page on its own port (viser serves it from its own thread), sharing the API's Host and
     Origin rules and Remote control switch."""
@@ -289,6 +293,7 @@ def start_ui(
         attempts=access.attempts,
         data_dir=str(resolve_data_dir(settings)),
         metrics=metrics,
+        stops=stops,
     ).start()
 
 
@@ -356,8 +361,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     metrics.watch(events)
     access = access_rules(settings, events)  # one switch and one set of rules for both ports
-    api_app = make_api_app(settings, controller, started_at, events, access, metrics)
-    ui = None if settings.no_ui else start_ui(settings, controller, events, access, metrics)
+    stops = StopBus()  # the API's stops end the page's held jog
+    api_app = make_api_app(settings, controller, started_at, events, access, metrics, stops)
+    ui = None if settings.no_ui else start_ui(settings, controller, events, access, metrics, stops)
     # Without the page's refresh loop, a thread of its own logs the arm's state changes.
     watch = StateWatch(controller, events, metrics).start() if ui is None else None
     announce(settings)

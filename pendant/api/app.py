@@ -28,8 +28,10 @@ from pendant.api.routers.status import status_router
 from pendant.api.routers.system import system_router
 from pendant.api.routers.tool import tool_router
 from pendant.api.routing import DirectDispatch, direct_endpoints
+from pendant.api.stop_notice import StopNotice
 from pendant.controller.cell_types import Obstacle, ToolInfo, ToolShape
 from pendant.controller.protocol import Controller
+from pendant.controller.stops import StopBus
 from pendant.controller.system_types import (
     JoggingAcceleration,
     JointPoses,
@@ -91,13 +93,15 @@ def create_app(
     token: str | None = None,
     events: EventLog | None = None,
     access: AccessRules | None = None,
+    stops: StopBus | None = None,
 ) -> FastAPI:
     """The API for one controller; the /sim routes are mounted only when it is the simulator.
 
     `token`: when given (the pendant is exposed on a network), every command needs it in the
     `X-Pendant-Token` header (401 without, 403 wrong); reads stay open. `events`: log of every command.
     `access`: the whole guard (Host and Origin rules, Remote control; see pendant.access.http_guard), which
-    `token` and `events` are shorthands for.
+    `token` and `events` are shorthands for. `stops`: told of every stop request (PUT /freeze, POST /stop)
+    that passed the guard, before the controller.
     """
     # /docs and /redoc from Swagger UI and ReDoc files installed with the package: they work offline.
     app = FastAPIOffline(
@@ -132,6 +136,8 @@ def create_app(
     app.add_middleware(DirectDispatch, table=direct_endpoints(routers))
     if sim_type is not None and isinstance(controller, sim_type):
         app.add_middleware(UnavailableFirst, check_alive=controller.check_alive)
+    if stops is not None:
+        app.add_middleware(StopNotice, stops=stops)
     app.add_middleware(BodySizeLimit)  # before any body is read
     rules = access if access is not None else AccessRules(token=token, events=events)
     if rules.active:

@@ -123,7 +123,7 @@ def cartesian_jog_path(
     q_prev = q
     safe = []
     for k in range(1, n + 1):
-        T = _displaced(T_zero_tool, request, request.direction * travel * k / n)
+        T = displaced(T_zero_tool, request, request.direction * travel * k / n)
         q_k = arm.ik(T_base_zero @ T @ T_flange_tool_inv, q_prev)
         if q_k is None or np.max(np.abs(q_k - q_prev)) > MAX_JOINT_JUMP_RAD or arm.in_collision(q_k):
             break
@@ -135,7 +135,7 @@ def cartesian_jog_path(
     return safe[keep - 1] if keep > 0 else best
 
 
-def _displaced(T_zero_tool: np.ndarray, request: JogRequest, amount: float) -> np.ndarray:
+def displaced(T_zero_tool: np.ndarray, request: JogRequest, amount: float) -> np.ndarray:
     """T_zero_tool moved by `amount` along or about the request's axis, in the base or the tool frame."""
     out = T_zero_tool.copy()
     unit = np.zeros(3)

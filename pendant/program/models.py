@@ -11,7 +11,7 @@ from __future__ import annotations
 from enum import StrEnum
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, model_validator
 from pydantic_core import ErrorDetails
 
 from pendant.controller.types import (
@@ -21,7 +21,6 @@ from pendant.controller.types import (
     MAX_RUN_WAYPOINTS,
     OUTPUT_PORTS,
     SPEED_MAX,
-    SPEED_MIN,
     MotionType,
     Pose,
     Position,
@@ -60,7 +59,21 @@ class _Frozen(BaseModel):
 
 
 WaypointName = Annotated[str, Field(min_length=1, max_length=WAYPOINT_NAME_MAX)]
-Speed = Annotated[float, Field(ge=SPEED_MIN, le=SPEED_MAX, allow_inf_nan=False)]
+# A step's speed: 0 % would be accepted here and fail only when run, so the editor refuses it with the range.
+PROGRAM_SPEED_MIN = 1.0
+
+
+def _speed_in_range(speed: float) -> float:
+    if not PROGRAM_SPEED_MIN <= speed <= SPEED_MAX:
+        raise ValueError(f"Speed must be {PROGRAM_SPEED_MIN:g} to {SPEED_MAX:g} %, not {speed:g}")
+    return speed
+
+
+Speed = Annotated[
+    float,
+    Field(allow_inf_nan=False, json_schema_extra={"minimum": PROGRAM_SPEED_MIN, "maximum": SPEED_MAX}),
+    AfterValidator(_speed_in_range),
+]
 Millis = Annotated[int, Field(ge=0, le=MAX_WAIT_MS)]
 OutputPort = Annotated[int, Field(ge=min(OUTPUT_PORTS), le=max(OUTPUT_PORTS))]
 InputPort = Annotated[int, Field(ge=min(INPUT_PORTS), le=max(INPUT_PORTS))]

@@ -36,7 +36,9 @@ from starlette.types import ASGIApp, Receive, Scope, Send
 from pendant.access.http_guard import AccessGuard, AccessRules
 from pendant.access.origin import OriginPolicy
 from pendant.api.limits import BodySizeLimit
+from pendant.api.stop_notice import StopNotice
 from pendant.config import Settings
+from pendant.controller.stops import StopBus
 from pendant.monitoring import EventSource, PendantMetrics, add_monitoring
 from pendant.remote.client import RemoteController
 from pendant.remote.health import health_router
@@ -186,6 +188,7 @@ def create_proxy_app(
     access: AccessRules | None = None,
     metrics: PendantMetrics | None = None,
     store: EventSource | None = None,
+    stops: StopBus | None = None,
 ) -> FastAPI:
     """An ASGI app serving the PULSE API by forwarding to the controller at `robot_url` (plain HTTP), plus
     GET /pendant/health. More pendant routes can be added to it under /pendant/.
@@ -195,7 +198,8 @@ def create_proxy_app(
     `connect_timeout`, `read_timeout` (reads), `command_timeout` (everything else): seconds, by default the
     settings'. `access`: the pendant's guard (token, Host and Origin rules, Remote control), run first.
     `metrics`: served at GET /metrics (by default the app's own, reading the controller through the probe);
-    `store`: the persistent event log, served at GET /pendant/events.
+    `store`: the persistent event log, served at GET /pendant/events. `stops`: told of every stop request
+    before it is forwarded (the page's held jog ends); what the arm then does is the controller's decision.
     """
     robot_url = robot_url.rstrip("/")
     parts = urlsplit(robot_url)
@@ -233,6 +237,8 @@ def create_proxy_app(
     app.add_middleware(
         _Forwarder, robot_url=robot_url, pool=pool, on_request=on_request, command_timeout=command_timeout
     )
+    if stops is not None:
+        app.add_middleware(StopNotice, stops=stops)
     app.add_middleware(BodySizeLimit)  # no body, GET's included, is buffered past its limit
     if access is not None and access.active:
         app.add_middleware(AccessGuard, rules=access)  # /pendant/ routes included

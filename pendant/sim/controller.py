@@ -220,10 +220,11 @@ class SimController(MotionCommands, Pulse18Operations):
             self._mode = Mode.ZERO_GRAVITY
 
     def freeze(self) -> None:
-        """Stop where the arm is, drop the queue and hold the position (IDLE). In ERROR it stays in ERROR."""
+        """Stop where the arm is, drop the queue and hold the position (IDLE). In ERROR, a protective stop or
+        twisted it stays so: only PUT /recover (PUT /untwisting/finish) leaves those, never a freeze."""
         with self._lock:
             self.check_alive()
-            if self._mode is Mode.ERROR:
+            if self._mode in (Mode.ERROR, Mode.STOPPED, Mode.TWISTED):
                 return
             self._freezes += 1  # cancels what is being planned (see the module doc)
             self._motions.stop(self._now())

@@ -4,6 +4,7 @@ With metrics, the same happenings are counted for Prometheus (commands, program 
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from concurrent.futures import Future
 
@@ -11,8 +12,10 @@ import viser
 
 from pendant.access.remote import RemoteControl
 from pendant.controller import Controller, ControllerError, MotionStatus, PreconditionFailed
+from pendant.controller.stops import StopBus
 from pendant.eventlog import EventKind, EventLog
 from pendant.jog import Jogger, JogRequest
+from pendant.jog.blocked import Touching
 from pendant.kinematics import ArmModel
 from pendant.monitoring import PendantMetrics
 from pendant.program import Change, ProgramWorkspace, RunState
@@ -39,20 +42,25 @@ class LoggedJogger(Jogger):
         desk: ControlDesk,
         remote: RemoteControl | None = None,
         on_start: Callable[[], None] = lambda: None,
+        stops: StopBus | None = None,
+        touching: Touching = lambda q: [],
+        clock: Callable[[], float] = time.monotonic,
     ) -> None:
-        super().__init__(controller, arm, on_stop=self._stopped)
+        super().__init__(controller, arm, clock, on_stop=self._stopped, stops=stops, touching=touching)
         self._events = events
         self._desk = desk
         self._remote = remote
         self._on_start = on_start
         self._refused: JogRequest | None = None  # this press was refused: say so once, not 20 times a second
 
-    def hold(self, request: JogRequest, releases: int | None = None) -> bool:
+    def hold(self, request: JogRequest, releases: int | None = None, holder: object = None) -> bool:
+        if self.latch_cause(holder) is not None:
+            return False  # a stop ended this press: nothing to claim until it is released
         starting = self.active != request
         if starting and self._remote is not None and not self._claim(request):
             return False
         try:
-            moved = super().hold(request, releases)
+            moved = super().hold(request, releases, holder)
         finally:
             if self._remote is not None and self.active is None:
                 self._remote.end_jog()  # it did not start (or stopped at once): the API's turn again
@@ -90,10 +98,10 @@ class LoggedJogger(Jogger):
         )
         raise PreconditionFailed(refusal)
 
-    def _stopped(self, reason: str) -> None:
+    def _stopped(self, label: str, cause: str) -> None:
         if self._remote is not None:
             self._remote.end_jog()  # the freeze has gone out: API commands may follow
-        self._events.record(EventKind.COMMAND, "pendant", f"Jog stopped ({reason})")
+        self._events.record(EventKind.COMMAND, "pendant", f"Jog {label} stopped: {cause}")
 
 
 class ActivityLog:

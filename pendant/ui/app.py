@@ -26,6 +26,7 @@ from pendant.access.throttle import FailedAttempts
 from pendant.cell.file import cells_dir
 from pendant.cell.geometry import CellAwareArm, CellModel
 from pendant.controller import Controller, ControllerError, MotionStatus, Tool
+from pendant.controller.stops import StopBus
 from pendant.eventlog import EventKind, EventLog
 from pendant.eventquery import EventQuery
 from pendant.kinematics import ArmModel
@@ -94,6 +95,7 @@ class PendantUI:
         metrics: PendantMetrics | None = None,
         clock: Callable[[], float] = time.monotonic,
         cells_folder: str | None = None,
+        stops: StopBus | None = None,
     ) -> None:
         self.controller = controller
         self.arm = arm
@@ -114,6 +116,8 @@ class PendantUI:
         self.activity = ActivityLog(self.events, self.desk, metrics)
         self.runner.on_submit = self.activity.command
         self._stop = threading.Event()
+        # Stops heard anywhere in this process (the page's, the API's): shared with the API app by the CLI.
+        self.stops = stops if stops is not None else StopBus()
         self._wake = threading.Event()  # a jog started: show its first motion now, not at the next tick
         self.cell_model: CellModel | None = None  # the controller's cell as geometry, for the page's checks
         jog_arm = cast(ArmModel, CellAwareArm(arm, lambda: self.cell_model))  # jogs stop short of obstacles
@@ -124,6 +128,12 @@ class PendantUI:
             desk=self.desk,
             remote=self.remote,
             on_start=self._wake.set,
+            stops=self.stops,
+            touching=lambda q: self.cell_model.touching(q) if self.cell_model is not None else [],
+        )
+        # Every stop pressed in a page (Freeze, Esc, Protective stop) ends the held jog until it is released.
+        self.runner.on_stop = lambda label, client: self.stops.notify(
+            f"{label} by {self.activity.who(client)}"
         )
         recordings = recordings_dir(resolve_data_dir(data_dir, programs_dir))  # --data, env, beside programs
         self.telemetry = Telemetry(controller, clock, recordings_folder=recordings)
@@ -198,7 +208,7 @@ class PendantUI:
 
     def _page_closed_mid_jog(self) -> None:
         jogger = getattr(self, "jogger", None)  # a request before the jogger exists has nothing to stop
-        if jogger is not None and jogger.active is not None:
+        if jogger is not None and jogger.pressed:
             jogger.release("page closed")
 
     def stop(self) -> None:
@@ -342,7 +352,7 @@ class PendantUI:
             return None, None
 
     def _control_changed(self, operator: int | None) -> None:
-        if self.jogger.active is not None:
+        if self.jogger.pressed:
             self.jogger.release("control changed")  # the operator left or handed over: no jog goes on
         for session in self._sessions():
             session.apply_role(operator)

@@ -22,6 +22,8 @@ FREEZE_HOTKEY_LABEL = "Esc"
 Gate = Callable[[viser.ClientHandle | None], str | None]
 # Why the page may not move the arm now (a program is running), or None.
 MotionBlock = Callable[[], str | None]
+# Told of every stop (an urgent command) before it goes to the controller: the label and who pressed it.
+OnStop = Callable[[str, viser.ClientHandle | None], None]
 # Told of every command, for the event log: label, sender, refusal (None: accepted) and, for a controller
 # call, its future (None: an action of the pendant's own, such as a program edit or run).
 OnSubmit = Callable[[str, viser.ClientHandle | None, str | None, Future[object] | None], None]
@@ -50,6 +52,7 @@ class CommandRunner:
         self._controller = controller
         self.gate: Gate = gate if gate is not None else (lambda client: None)
         self.on_submit: OnSubmit | None = None
+        self.on_stop: OnStop | None = None  # e.g. the held jog stays stopped until released
         self.motion_block: MotionBlock = lambda: None
         # Words a refusal of a motion needs besides the controller's own (the arm is in ERROR: Recover).
         self.explain: Callable[[str], str] = lambda message: message
@@ -81,6 +84,8 @@ class CommandRunner:
         urgent: bool = False,
         motion: bool = False,
     ) -> Future[object]:
+        if urgent and self.on_stop is not None:
+            self.on_stop(label, client)  # before the stop goes out: a jog confirmation then cannot undo it
         reason = None if urgent else self.refusal(client, label, motion=motion)
         if reason is not None:  # refusal() has told the page and the event log
             refused: Future[object] = Future()
@@ -120,13 +125,13 @@ def add_freeze_button(target: GuiTarget, runner: CommandRunner) -> viser.GuiButt
     hotkey = target.gui.add_command(
         "Freeze", description="Stop the arm where it is", hotkey=FREEZE_HOTKEY, icon=viser.Icon.HAND_STOP
     )
-    hotkey.on_trigger(lambda event: freeze(runner, event.client))
+    hotkey.on_trigger(lambda event: freeze(runner, event.client, f"Freeze ({FREEZE_HOTKEY_LABEL})"))
     return button
 
 
-def freeze(runner: CommandRunner, client: viser.ClientHandle | None) -> Future[object]:
+def freeze(runner: CommandRunner, client: viser.ClientHandle | None, label: str = "Freeze") -> Future[object]:
     """Every browser may stop the arm, and it never waits behind another command."""
-    return runner.submit("Freeze", lambda c: c.freeze(), client, urgent=True)
+    return runner.submit(label, lambda c: c.freeze(), client, urgent=True)
 
 
 def add_robot_commands(target: GuiTarget, runner: CommandRunner) -> dict[str, viser.GuiButtonHandle]:

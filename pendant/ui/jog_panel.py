@@ -57,7 +57,7 @@ class JogPanel:
                 self.buttons[(axis, direction)] = button
                 self._bind(button, axis, direction)
         self.stop = target.gui.add_button("Stop jog", visible=False)
-        self.stop.on_click(lambda _: self._jogger.release("released"))
+        self.stop.on_click(lambda _: self._cancelled())
         # The pad first, its settings under it: all six rows fit a 1024x768 screen with the status above.
         self.pad = target.gui.add_html("")
         self.frame = target.gui.add_dropdown("Frame", [f.value for f in JogFrame], initial_value="Joint")
@@ -69,6 +69,7 @@ class JogPanel:
         self._locked = False
         self._shown_at = -math.inf
         self._refused_at = -math.inf
+        self._told_stop = False  # this press's stop was told to the page (once per press)
         self.frame.on_update(lambda _: self._relabel())
         self.speed.on_update(lambda _: self._render())
         self._render()
@@ -149,11 +150,25 @@ class JogPanel:
             request = self.request(axis, direction)
             if request.step is not None or self._refused(client, request.label()):
                 return
-            self._jogger.hold(request, releases)
+            holder = client.client_id if client is not None else None
+            if not self._jogger.hold(request, releases, holder):
+                self._tell_stop(client, label, self._jogger.latch_cause(holder))
         except ControllerError as error:  # JogRefused (forged values) included
+            self._told_stop = True  # the refusal says why: no second message for the same press
             if time.monotonic() - self._refused_at >= REFUSAL_REPEAT_S:
                 self._refused_at = time.monotonic()
                 notify_refusal(client, f"{label} refused", self._runner.explain(error.message))
+
+    def _cancelled(self) -> None:
+        self._told_stop = False
+        self._jogger.release("released")
+
+    def _tell_stop(self, client: viser.ClientHandle | None, label: str, cause: str | None) -> None:
+        """Say "J1+ stopped: the arm would touch Box 1", once a press (the button stays down after it)."""
+        if cause is None or self._told_stop:
+            return
+        self._told_stop = True
+        notify_refusal(client, "Jog stopped", f"{label} stopped: {cause}")
 
     def _bind(self, button: viser.GuiButtonHandle, axis: int, direction: int) -> None:
         @button.on_hold(callback_hz=HOLD_CONFIRM_HZ)
@@ -169,6 +184,7 @@ class JogPanel:
         @button.on_click
         def _(event: viser.GuiEvent) -> None:
             self._refused_at = -math.inf  # a press ended: the next one is told its refusal again
+            self._told_stop = False
             try:
                 if self.step.value == CONTINUOUS:  # the click arrives on release: stop at once, whatever
                     self._jogger.release("released")  # else the page sent

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import viser
 
 from pendant.controller import MotionType, SignalLevel
-from pendant.controller.types import INPUT_PORTS, OUTPUT_PORTS, SPEED_MAX, SPEED_MIN
+from pendant.controller.types import INPUT_PORTS, OUTPUT_PORTS, SPEED_MAX
 from pendant.program import (
     CallStep,
     CommentStep,
@@ -34,6 +34,7 @@ from pendant.program.models import (
     MAX_LOOP_TIMES,
     MAX_WAIT_MS,
     PATH_SPEED_MAX_MM_S,
+    PROGRAM_SPEED_MIN,
     WaypointAction,
 )
 from pendant.teach.path_step import resimplified
@@ -75,7 +76,9 @@ class StepForm:
             # Moves
             self.goes_to = gui.add_dropdown("Goes to", options=["-"], hint="The waypoint this move goes to")
             self.motion = gui.add_dropdown("Motion", options=[m.value for m in MotionType])
-            self.speed = gui.add_slider("Speed %", min=SPEED_MIN, max=SPEED_MAX, step=1.0, initial_value=20.0)
+            self.speed = gui.add_slider(
+                "Speed %", min=PROGRAM_SPEED_MIN, max=SPEED_MAX, step=1.0, initial_value=20.0
+            )
             self.relative = gui.add_checkbox("Relative move", initial_value=False)
             self.offset_mm = gui.add_vector3("Offset mm", initial_value=(0.0, 0.0, 0.0), step=1.0)
             self.offset_deg = gui.add_vector3("Turn deg", initial_value=(0.0, 0.0, 0.0), step=1.0)

@@ -9,6 +9,7 @@ import math
 import viser
 
 from pendant.controller import MotionStatus, SignalLevel
+from pendant.controller.system_types import FailureType
 from pendant.ui.cell_state import CellState
 from pendant.ui.commands import CommandRunner
 from pendant.ui.gui_target import GuiTarget
@@ -37,9 +38,23 @@ def _led(level: SignalLevel | None, label: str) -> str:
     )
 
 
-def render_status(snapshot: Snapshot, mode_line: str, system: str = "") -> str:
+MSG_PROTECTIVE_STOP_SHOWN = "Protective stop - Recover to continue"
+
+
+def in_protective_stop(snapshot: Snapshot, state: CellState) -> bool:
+    """Stopped in error, and the controller's newest failure is its protective stop (STOP_2): only Recover
+    leaves it (Freeze does not)."""
+    return (
+        snapshot.motion_status is MotionStatus.ERROR
+        and bool(state.failures)
+        and state.failures[-1].type is FailureType.STOP_2
+    )
+
+
+def render_status(snapshot: Snapshot, mode_line: str, system: str = "", protective: bool = False) -> str:
     """The status block as HTML; ERROR and EMERGENCY fill a red banner that cannot be missed. `system`: the
-    system state's fragment (safety_panel.render_system_state), on the first line."""
+    system state's fragment (safety_panel.render_system_state), on the first line. `protective`: the
+    banner says it is a protective stop, which only Recover leaves."""
     state = snapshot.motion_status
     if state is not None:
         label, colour = state.value, STATE_COLOURS[state]
@@ -59,6 +74,11 @@ def render_status(snapshot: Snapshot, mode_line: str, system: str = "") -> str:
         f'<div id="motion-state" style="background:{colour};color:white;font-weight:bold;'
         f'text-align:center;border-radius:6px;margin:6px 0;{big}">{label}</div>',
     ]
+    if protective:
+        parts.append(
+            '<div id="protective-stop" style="color:#e03131;font-weight:bold">'
+            f"{MSG_PROTECTIVE_STOP_SHOWN}</div>"
+        )
     if snapshot.error:
         parts.append(f'<div style="color:#e03131">{html.escape(snapshot.error)}</div>')
     if snapshot.q is not None:
@@ -111,6 +131,7 @@ class StatusPanel:
         self.recover.on_click(lambda event: runner.submit("Recover", lambda c: c.recover(), event.client))
         self._snapshot = Snapshot(taken_at=0.0)
         self._system = render_system_state(CellState())
+        self._cell_state = CellState()
         self._last = ""
 
     @property
@@ -129,13 +150,15 @@ class StatusPanel:
     def show_system(self, state: CellState) -> None:
         """The controller's system state (`/status`); without it (older firmware) the Stop is greyed out."""
         self._system = render_system_state(state)
+        self._cell_state = state
         unsupported = "status" in state.unsupported
         if self.stop.disabled != unsupported:
             self.stop.disabled = unsupported
         self._render()
 
     def _render(self) -> None:
-        content = render_status(self._snapshot, self._mode_line, self._system)
+        protective = in_protective_stop(self._snapshot, self._cell_state)
+        content = render_status(self._snapshot, self._mode_line, self._system, protective)
         if content != self._last:
             self._html.content = content
             self._last = content

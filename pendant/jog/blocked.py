@@ -1,0 +1,73 @@
+"""Why a jog cannot go further, in the page's words: "the arm would touch Box 1", "joint limit".
+
+Asked when a jog finds no progress possible from where the arm is (its target stops short of the obstacle
+by a few samples): the samples just beyond the arm say what is there.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from pendant.jog.targets import (
+    JOINT_SAMPLE_RAD,
+    LINEAR_SAMPLE_M,
+    MAX_JOINT_JUMP_RAD,
+    ROTATION_SAMPLE_RAD,
+    SAFETY_BACKOFF_SAMPLES,
+    JogFrame,
+    JogRequest,
+    displaced,
+)
+from pendant.kinematics import ArmModel
+from pendant.kinematics.transforms import inverse
+
+# The names of the obstacles the arm or its tool touches at q ([]: none, or no cell known).
+Touching = Callable[[np.ndarray], list[str]]
+
+MSG_JOINT_LIMIT = "joint limit"
+MSG_REACH = "the edge of the arm's reach"
+MSG_SINGULAR = "a singular pose (the joints would jump)"
+MSG_FLOOR_OR_SELF = "the arm or its tool would touch the floor or the arm itself"
+MSG_NO_FURTHER = "cannot move further that way"
+PROBE_SAMPLES = SAFETY_BACKOFF_SAMPLES + 2  # the target backs off this many samples from the obstacle
+
+
+def touch_cause(names: list[str]) -> str:
+    return f"the arm would touch {', '.join(names)}" if names else MSG_FLOOR_OR_SELF
+
+
+def why_blocked(
+    arm: ArmModel,
+    q: np.ndarray,
+    request: JogRequest,
+    touching: Touching,
+    T_base_zero: np.ndarray | None = None,
+    T_flange_tool: np.ndarray | None = None,
+) -> str:
+    """What stops `request` just beyond `q` (Cartesian jogs need the zero point and the tool)."""
+    if request.frame is JogFrame.JOINT:
+        for k in range(1, PROBE_SAMPLES + 1):
+            sample = q.copy()
+            sample[request.axis] += request.direction * JOINT_SAMPLE_RAD * k
+            if not arm.within_limits(sample):
+                return MSG_JOINT_LIMIT
+            if arm.in_collision(sample):
+                return touch_cause(touching(sample))
+        return MSG_NO_FURTHER
+    assert T_base_zero is not None and T_flange_tool is not None
+    T_zero_tool = inverse(T_base_zero) @ arm.fk(q) @ T_flange_tool
+    sample_size = ROTATION_SAMPLE_RAD if request.is_rotation else LINEAR_SAMPLE_M
+    q_prev = q
+    for k in range(1, PROBE_SAMPLES + 1):
+        T = displaced(T_zero_tool, request, request.direction * sample_size * k)
+        q_k = arm.ik(T_base_zero @ T @ inverse(T_flange_tool), q_prev)
+        if q_k is None:
+            return MSG_REACH
+        if np.max(np.abs(q_k - q_prev)) > MAX_JOINT_JUMP_RAD:
+            return MSG_SINGULAR
+        if arm.in_collision(q_k):
+            return touch_cause(touching(q_k))
+        q_prev = q_k
+    return MSG_NO_FURTHER
