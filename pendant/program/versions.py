@@ -7,6 +7,7 @@ as it was found before the pendant replaces or deletes it, so that version is ne
 
 from __future__ import annotations
 
+import errno
 import getpass
 import logging
 from collections.abc import Callable
@@ -35,6 +36,13 @@ def default_who() -> str:
         return "pendant"
 
 
+def _not_written(what: str, file_name: str, folder: Path, error: OSError) -> str:
+    reason = error.strerror or str(error)
+    if error.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
+        reason += f": the programs folder {folder} is read-only for the pendant"
+    return f"{file_name} could not be {what} ({reason}); nothing was changed"
+
+
 class VersionedStore(ProgramStore):
     """A ProgramStore with a git history. `who()` names whoever is saving now, for the commit's author."""
 
@@ -52,7 +60,10 @@ class VersionedStore(ProgramStore):
         file_name = clean + SUFFIX
         self.history_note = None
         previous = self._committed_program(file_name)
-        saved = super().save(program, clean)
+        try:
+            saved = super().save(program, clean)
+        except OSError as error:
+            raise ProgramFileError(_not_written("saved", file_name, self.folder, error)) from error
         if previous is None:
             summary = f"new program, {len(saved.steps)} steps, {len(saved.waypoints)} waypoints"
             body: tuple[str, ...] = ()
@@ -67,7 +78,10 @@ class VersionedStore(ProgramStore):
         self.history_note = None
         if self.exists(clean):
             self._committed_program(clean + SUFFIX)  # a hand-edited file is kept before it goes
-        super().delete(clean)
+        try:
+            super().delete(clean)
+        except OSError as error:
+            raise ProgramFileError(_not_written("deleted", clean + SUFFIX, self.folder, error)) from error
         self._record(clean + SUFFIX, f"Delete {clean}", ())
 
     def restore_version(self, name: str, revision: str) -> Program:
@@ -78,7 +92,10 @@ class VersionedStore(ProgramStore):
         version, data = self._read(file_name, revision)
         program = parse_program(data, f"{file_name} of version {version.short}")
         self._committed_program(file_name)
-        atomic_write(self.folder / file_name, data)
+        try:
+            atomic_write(self.folder / file_name, data)
+        except OSError as error:
+            raise ProgramFileError(_not_written("restored", file_name, self.folder, error)) from error
         when = version.time.strftime("%Y-%m-%d %H:%M")
         self._record(file_name, f"Restore {clean} to version {version.short} of {when} UTC", ())
         return program.model_copy(update={"name": clean})
@@ -128,6 +145,10 @@ class VersionedStore(ProgramStore):
 
     def _read(self, file_name: str, revision: str) -> tuple[Version, bytes]:
         return self.history.read(file_name, revision)
+
+    def version_bytes(self, name: str, revision: str) -> bytes:
+        """Program `name` as version `revision` holds it, byte for byte."""
+        return self._read(sanitize_name(name) + SUFFIX, revision)[1]
 
     def version_program(self, name: str, revision: str) -> Program:
         clean = sanitize_name(name)
