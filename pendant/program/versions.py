@@ -126,8 +126,8 @@ class VersionedStore(ProgramStore):
                     )
                 self.history.record(file_name, message, OUTSIDE)
                 committed = found
-        except HistoryError as error:
-            self._note(f"The history of {file_name} could not be read: {error}")
+        except HistoryError as error:  # the commit that follows meets it too, and says so
+            log.warning("the history of %s could not be read: %s", file_name, error)
             committed = None
         except OSError as error:
             self._note(f"{file_name} could not be read before it was replaced: {error}")
