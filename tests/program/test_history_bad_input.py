@@ -23,7 +23,7 @@ from .history_support import git, pick_program
 NO_OVERRIDE = ["setpriv", "--inh-caps=-dac_override,-dac_read_search", "--bounding-set=-dac_override"]
 SAVE_SCRIPT = """
 import json, sys
-from pendant.program import MoveStep
+from pendant.program import MoveStep, ProgramFileError
 from pendant.program.files import parse_program
 from pendant.program.versions import VersionedStore
 store = VersionedStore(sys.argv[1], who=lambda: "browser #1 (127.0.0.1)")
