@@ -60,10 +60,8 @@ class ProgramDiff:
 
 
 def diff_programs(old: Program, new: Program) -> ProgramDiff:
-    """The changes that make `old` into `new`."""
-    lines: list[str] = []
-    if old.name != new.name:
-        lines.append(f"program renamed {old.name!r} -> {new.name!r}")
+    """The changes that make `old` into `new` (their waypoints and steps)."""
+    lines: list[str] = []  # (the names are the files' names, not content: the caller says which files)
     renames = _renames(old, new)
     lines += [f"waypoint {a} renamed to {b}" for a, b in renames.items()]
     old_points = {renames.get(w.name, w.name): w for w in old.waypoints}
