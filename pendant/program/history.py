@@ -16,6 +16,7 @@ from pathlib import Path
 from dulwich.errors import NotGitRepository
 from dulwich.objects import Blob, Commit, Tree
 from dulwich.objectspec import AmbiguousShortId, parse_commit
+from dulwich.refs import Ref
 from dulwich.repo import Repo
 
 MAX_VERSIONS = 1000  # listed per program: the newest ones (older commits stay in the repository)
@@ -88,7 +89,7 @@ class ProgramHistory:
 
     def _head(self, repo: Repo) -> Commit | None:
         try:
-            head = repo.refs[b"HEAD"]
+            head = repo.refs[Ref(b"HEAD")]
         except KeyError:
             return None  # a new repository: no commit yet
         try:
@@ -209,7 +210,9 @@ class ProgramHistory:
         head = self._head(repo)
         tree = Tree()
         if head is not None:
-            for entry in repo[head.tree].items():  # type: ignore[union-attr]
+            head_tree = repo[head.tree]
+            assert isinstance(head_tree, Tree)
+            for entry in head_tree.items():
                 tree.add(entry.path, entry.mode, entry.sha)
         path = self.folder / file_name
         key = file_name.encode()
