@@ -155,3 +155,24 @@ def test_programs_already_in_the_folder_start_the_history(tmp_path, runner) -> N
     assert first == "Start the history of this programs folder (1 program in it)"
     assert git(folder, "show", "HEAD~1:old.json") == "kept as it was\n"
     assert set(git(folder, "ls-files").split()) == {".gitignore", "old.json", "pick.json"}
+
+
+def test_the_folder_pushes_to_a_server_with_ordinary_git(tmp_path, runner) -> None:
+    folder = tmp_path / "programs"
+    workspace = workspace_in(folder, runner)
+    workspace.open_uploaded(pick_program())
+    workspace.save_as("pick")
+    workspace.replace_step(0, MoveStep(waypoint="P1", speed=45.0))
+    workspace.save()
+    assert "error" not in git(folder, "fsck", "--full", "--strict").lower()
+
+    server = tmp_path / "server.git"
+    git(tmp_path, "init", "-q", "--bare", str(server))
+    git(folder, "push", "-q", str(server), "HEAD:refs/heads/main")
+    clone = tmp_path / "clone"
+    git(tmp_path, "clone", "-q", "--branch", "main", str(server), str(clone))
+    assert (clone / "pick.json").read_bytes() == (folder / "pick.json").read_bytes()
+    assert (
+        git(clone, "log", "-1", "--format=%an|%s")
+        == f"{OPERATOR}|Save pick: step 1 (Move J to P1 @ 45%): speed 20 -> 45 %\n"
+    )
