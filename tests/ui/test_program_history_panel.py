@@ -99,3 +99,19 @@ def test_restore_is_for_the_operator_and_undo_brings_back_the_program(pendant_ui
 
     fire(ui.program.history, operator, "Undo")
     assert workspace.program == edited and workspace.dirty
+
+
+def test_a_save_the_history_cannot_record_is_kept_and_said_in_the_page(pendant_ui, ui, two_saves) -> None:
+    operator = FakeBrowser(OPERATOR)
+    workspace = pendant_ui.programs
+    folder = workspace.store.folder
+    head = git(folder, "rev-parse", "HEAD").strip()
+    (folder / ".git" / "MERGE_HEAD").write_text(head + "\n")  # someone left a merge half done
+
+    workspace.replace_step(0, MoveStep(waypoint="P1", speed=80.0))
+    save(ui, operator, "Save")
+    assert operator.notifications[-1] == "Saved: pick.json"  # the save itself went through
+    assert b'"speed": 80.0' in (folder / "pick.json").read_bytes()
+    status = ui.program.history_section.status.content
+    assert "pick.json was saved, but not recorded in the history" in status and "middle of a merge" in status
+    assert git(folder, "rev-parse", "HEAD").strip() == head
