@@ -4,11 +4,14 @@
             [--connect-timeout 1] [--read-timeout 3] [--no-ui [--time-scale K]]
     pendant check URL [--timeout S]
     pendant run PROGRAM.json [--robot URL] [--loops N]
+    pendant diff A.json B.json
+    pendant history PROGRAM [--programs DIR]
 
 serves the pendant's page and the PULSE REST API (the simulator's, or a proxy to the real arm at --robot);
 with --no-ui, the API alone on the controller's own port (its clock K times the wall clock with
 --time-scale K). `pendant check URL` waits until a PULSE API answers at URL (for CI scripts).
 `pendant run PROGRAM.json` runs a saved program without a browser (pendant.program.headless).
+`pendant diff` and `pendant history` show a program's changes and versions (pendant.program.history_cli).
 
 Bound to loopback (the default) nobody else can reach it. Bound to anything else (`--host 0.0.0.0`) it
 has an access token (`--token`, or a fresh one printed at start-up with a ready-to-open URL carrying it):
@@ -342,6 +345,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         from pendant.program.headless import main as run_program
 
         return run_program(args[1:])
+    if args[:1] in (["diff"], ["history"]):  # a program's changes and versions (docs/history.md)
+        from pendant.program import history_cli
+
+        return (history_cli.diff_main if args[0] == "diff" else history_cli.history_main)(args[1:])
     settings = with_access_token(parse_settings(argv))
     started_at = time.monotonic()
     controller = make_controller(settings)

@@ -20,6 +20,7 @@ from pendant.program.export import export_script
 from pendant.program.files import ProgramFileError, ProgramStore, dump_program, parse_program, sanitize_name
 from pendant.program.models import Program
 from pendant.program.runner import ProgramRunner, RunProgress
+from pendant.program.versions import VersionedStore
 
 log = logging.getLogger(__name__)
 
@@ -70,8 +71,8 @@ class ProgramWorkspace(ProgramEditing):
     @classmethod
     def for_controller(cls, controller: Controller, folder: str | Path | None = None) -> ProgramWorkspace:
         """The workspace a pendant creates once: programs in `folder` (default: $PENDANT_PROGRAMS_DIR, else
-        ./programs), runs on the real clock."""
-        return cls(ProgramStore(folder), ProgramRunner(controller))
+        ./programs) with their git history, runs on the real clock."""
+        return cls(VersionedStore(folder), ProgramRunner(controller))
 
     # --- observing ---------------------------------------------------------------------------------
     @property
@@ -194,6 +195,23 @@ class ProgramWorkspace(ProgramEditing):
         self._notify(Change.PROGRAM)
         self._notify(Change.FILES)
         return self._program.name
+
+    @property
+    def versions(self) -> VersionedStore:
+        """The programs folder's history (pendant.program.versions)."""
+        if not isinstance(self.store, VersionedStore):
+            raise ProgramFileError("This programs folder keeps no history")
+        return self.store
+
+    def restore_version(self, revision: str) -> None:
+        """Bring back version `revision` of the current file, as a new version; Undo gives back the program
+        that was on screen (as unsaved changes: the file now holds the restored version)."""
+        with self._lock:
+            if self._file_name is None:
+                raise ProgramFileError("This program has no file yet: there are no versions to restore")
+            program = self.versions.restore_version(self._file_name, revision)
+            self._replace_program(program, program.name, False)
+            self._undo[-1] = self._undo[-1]._replace(dirty=True)
 
     def load(self, name: str) -> None:
         """Open a saved program; a refused file leaves the current program (and every file) as it was."""

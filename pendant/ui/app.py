@@ -139,6 +139,8 @@ class PendantUI:
         self.telemetry = Telemetry(controller, clock, recordings_folder=recordings)
         self.events.on_record(self.telemetry.log_event)
         self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
+        # Each version's author: the operator's browser (only the operator may save).
+        self.programs.versions.who = lambda: self.desk.name(self.desk.operator)
         self.programs.on_change(lambda change: self.activity.program_changed(self.programs, change))
         self.runner.motion_block = self._motion_block
         self.runner.explain = self._explain

@@ -42,6 +42,7 @@ from pendant.program.tree import Line
 from pendant.ui.commands import CommandRunner, notify_refusal
 from pendant.ui.gui_target import GuiTarget
 from pendant.ui.program_file_panel import FileSection
+from pendant.ui.program_history_panel import HistorySection
 from pendant.ui.program_refusals import USER_ERRORS
 from pendant.ui.program_run_panel import RunSection
 from pendant.ui.program_scene import ProgramScene
@@ -93,6 +94,7 @@ class ProgramPanel:
         self.form = StepForm(self)
         self.waypoints = WaypointSection(self, arm)
         self.file_section = FileSection(self)
+        self.history_section = HistorySection(self)
         self.scene = ProgramScene(target, arm)
         self._wire()
         self._listener = self._on_change
@@ -131,12 +133,13 @@ class ProgramPanel:
         yield from (w.name, w.rename, w.reteach, w.go_to, w.teach_new, w.delete)
         yield from self.form.fields
         f = self.file_section
-        yield from (self.run_section.loops, f.file_name, f.files, f.upload)
+        yield from (self.run_section.loops, f.file_name, f.files, f.upload, self.history_section.restore)
 
     def close(self) -> None:
         """Stop following the workspace (the browser left)."""
         self.shared.remove_listener(self._listener)
         self.scene.close()
+        self.history_section.close()
 
     # --- shared by the sections ----------------------------------------------------------------------
     def allowed(self, client: viser.ClientHandle | None, label: str) -> bool:
