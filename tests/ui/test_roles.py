@@ -176,7 +176,9 @@ def test_operator_leaving_hands_control_on_and_stops_the_jog(
     local_ui._disconnect(FakeBrowser(2))  # the last one leaves: nobody is left to hand it to
     assert local_ui.desk.operator is None
     assert "left: control released" in local_ui.events.recent()[-1].message
-    assert any(m == "Jog J1+" for m in messages) and any("Jog J1+ stopped: control changed" in m for m in messages)
+    assert any(m == "Jog J1+" for m in messages) and any(
+        "Jog J1+ stopped: control changed" in m for m in messages
+    )
 
 
 def test_a_viewer_cannot_record_or_run_a_program_and_the_log_says_who_did_what(
