@@ -17,7 +17,7 @@ from pendant.controller.errors import MSG_PROTECTIVE_STOP
 from pendant.controller.stops import StopBus
 from pendant.jog import JogFrame, Jogger, JogRequest
 from pendant.sim import SimController
-from tests.remote.uvicorn_thread import serve_in_thread
+from tests.support.threads import serve_in_thread
 
 PRECONDITION_FAILED = 412  # the reference's answer to a motion the arm cannot take now
 MOVED_DEG = 1.0

@@ -9,8 +9,8 @@ from collections.abc import Callable, Iterator
 
 import pytest
 
-from .conftest import Pendant
-from .jog_measure import PoseSampler, button_centre, open_as_operator, touch, wait_idle
+from tests.support.jog_measure import PoseSampler, button_centre, open_as_operator, touch, wait_idle
+from tests.support.launchers import Pendant
 
 HELD_BEFORE_S = 0.8  # the jog runs this long before the stop comes
 STOP_SETTLE_S = 0.3  # the stop has reached the controller by then
