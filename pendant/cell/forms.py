@@ -21,7 +21,7 @@ from pendant.controller.cell_types import (
     ToolShape,
 )
 from pendant.kinematics.transforms import matrix_to_position, position_to_matrix
-from pendant.ui.settings_panel import position_from_form
+from pendant.ui.robot.settings_panel import position_from_form
 
 KINDS = ("BOX", "CAPSULE", "PLANE")
 SIZE_MM_MAX = 10_000.0

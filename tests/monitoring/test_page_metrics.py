@@ -12,10 +12,10 @@ from pendant.eventlog import EventLog
 from pendant.monitoring import PendantMetrics
 from pendant.program import ProgramRunner, ProgramStore, ProgramWorkspace, RunState
 from pendant.sim import FakeClock, Fault, SimController
-from pendant.ui.activity import ActivityLog
 from pendant.ui.app import PendantUI
-from pendant.ui.roles import ControlDesk
-from pendant.ui.snapshot import Snapshot
+from pendant.ui.kit.snapshot import Snapshot
+from pendant.ui.page.activity import ActivityLog
+from pendant.ui.page.roles import ControlDesk
 from tests.api.server import free_port
 from tests.program.conftest import POLL_S, POSE_A_DEG, settle, teach
 from tests.ui.doubles import OPERATOR, VIEWER, FakeBrowser

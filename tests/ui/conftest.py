@@ -8,7 +8,7 @@ import pytest
 
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.session import ClientSession
+from pendant.ui.page.session import ClientSession
 from tests.api.server import free_port
 
 from .doubles import OPERATOR, VIEWER

@@ -19,7 +19,7 @@ from pendant.controller import MotionStatus, PreconditionFailed
 from pendant.jog import JogFrame, JogRequest
 from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.session import ClientSession
+from pendant.ui.page.session import ClientSession
 from tests.api.server import free_port
 from tests.remote.uvicorn_thread import serve_in_thread
 

@@ -16,7 +16,7 @@ from pendant.controller.system_types import SystemState
 from pendant.remote import RemoteController
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.session import ClientSession
+from pendant.ui.page.session import ClientSession
 from tests.api.server import free_port
 from tests.remote.uvicorn_thread import serve_in_thread
 

@@ -17,7 +17,7 @@ import websockets
 
 from pendant.sim import MonotonicClock, SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.session import ClientSession
+from pendant.ui.page.session import ClientSession
 from tests.api.server import free_port
 from tests.ui.headless_viewer import CAMERA_HELLO
 
