@@ -7,15 +7,12 @@ for the operator to confirm (a row of buttons in the folder, so every browser an
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
 import viser
 
 from pendant.program.files import MAX_FILE_BYTES
 from pendant.ui.kit.upload_limit import limit_uploads
-
-if TYPE_CHECKING:
-    from pendant.ui.program.panel import ProgramPanel
+from pendant.ui.program.host import ProgramHost
 
 NO_FILE = "(no saved programs)"
 FILE_OPTIONS = ("New", "Save", "Save as", "Load", "Delete file")
@@ -23,7 +20,7 @@ CONFIRM_OPTIONS = ("Yes", "Cancel")
 
 
 class FileSection:
-    def __init__(self, host: ProgramPanel) -> None:
+    def __init__(self, host: ProgramHost) -> None:
         self._host = host
         self._pending: tuple[str, Callable[[], object]] | None = None  # (label, action) awaiting Yes
         gui = host.target.gui

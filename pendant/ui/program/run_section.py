@@ -3,20 +3,16 @@ Stop, Retry a failed step (the run continues from there), the loop count and the
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import viser
 
 from pendant.program import RunState
 from pendant.ui.kit.commands import notify_refusal
+from pendant.ui.program.host import ProgramHost
 from pendant.ui.program.refusals import USER_ERRORS
-
-if TYPE_CHECKING:
-    from pendant.ui.program.panel import ProgramPanel
 
 
 class RunSection:
-    def __init__(self, host: ProgramPanel) -> None:
+    def __init__(self, host: ProgramHost) -> None:
         self._host = host
         self.locked = False  # a viewer's panel: Run and Step stay disabled whatever the run state
         gui = host.target.gui

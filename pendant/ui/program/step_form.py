@@ -3,8 +3,6 @@ one edit whenever the operator changes one of them."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import viser
 
 from pendant.controller import MotionType, SignalLevel
@@ -37,9 +35,7 @@ from pendant.program.models import (
     WaypointAction,
 )
 from pendant.teach.path_step import resimplified
-
-if TYPE_CHECKING:
-    from pendant.ui.program.panel import ProgramPanel
+from pendant.ui.program.host import ProgramHost
 
 NO_ACTION = "nothing"
 ARRIVAL_OPTIONS = (
@@ -68,7 +64,7 @@ def _arrival_actions(option: str) -> tuple[WaypointAction, ...]:
 
 
 class StepForm:
-    def __init__(self, host: ProgramPanel) -> None:
+    def __init__(self, host: ProgramHost) -> None:
         self._host = host
         gui = host.target.gui
         with gui.add_folder("Selected step"):

@@ -3,18 +3,14 @@ all of them, Rename keeps them pointing at it; Go to drives the arm there; a gho
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 import viser
 from viser.extras import ViserUrdf
 
 from pendant.controller import Controller, MotionParams, MotionType
+from pendant.kinematics import ArmModel
 from pendant.program import EditError, MoveStep, Step, Waypoint
-
-if TYPE_CHECKING:
-    from pendant.kinematics import ArmModel
-    from pendant.ui.program.panel import ProgramPanel
+from pendant.ui.program.host import ProgramHost
 
 GHOST_RGBA = (0.2, 0.75, 0.35, 0.35)
 GO_TO_SPEED_PERCENT = 20.0
@@ -22,7 +18,7 @@ NO_WAYPOINT = "(no waypoints yet)"
 
 
 class WaypointSection:
-    def __init__(self, host: ProgramPanel, arm: ArmModel | None) -> None:
+    def __init__(self, host: ProgramHost, arm: ArmModel | None) -> None:
         self._host = host
         gui = host.target.gui
         with gui.add_folder("Waypoints"):

@@ -2,31 +2,14 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import viser
 from pydantic import ValidationError
 
-from pendant.controller import Point, Position, Rotation, Tool
+from pendant.cell.forms import position_from_form
+from pendant.controller import Position, Tool
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.kit.gui_target import GuiTarget
-
-MM_LIMIT = 2000.0  # an offset beyond 2 m is a typing error, not a tool
-
-
-def position_from_form(
-    xyz_mm: tuple[float, float, float], rpy_deg: tuple[float, float, float], *, limit_mm: float = MM_LIMIT
-) -> Position:
-    """A Position from millimetres and degrees; raises ValueError with a message the operator can act on."""
-    values = (*xyz_mm, *rpy_deg)
-    if not all(math.isfinite(v) for v in values):
-        raise ValueError("every field must be a finite number")
-    if max(abs(v) for v in xyz_mm) > limit_mm:
-        raise ValueError(f"offsets must be within ±{limit_mm:.0f} mm")
-    x, y, z = (v / 1000.0 for v in xyz_mm)
-    roll, pitch, yaw = (math.radians(v) for v in rpy_deg)
-    return Position(point=Point(x=x, y=y, z=z), rotation=Rotation(roll=roll, pitch=pitch, yaw=yaw))
 
 
 class SettingsPanel:
