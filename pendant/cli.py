@@ -237,7 +237,8 @@ def make_api_app(
     from pendant.remote import health_router
 
     access = access if access is not None else access_rules(settings, events)
-    store = events.store if events is not None else None
+    # The log's store is the SQLite one made in main(); the events API reads it directly.
+    store = events.store if events is not None and isinstance(events.store, EventStore) else None
     if settings.robot_url is not None:
         from pendant.remote import RemoteController, create_proxy_app
 
@@ -322,7 +323,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     started_at = time.monotonic()
     controller = make_controller(settings)
     # One log for the page and the API (who sent what), kept on disk; one set of metrics for both.
-    events = EventLog(store=EventStore(resolve_data_dir(settings)))
+    store = EventStore(resolve_data_dir(settings))
+    events = EventLog(store=store)
     metrics = PendantMetrics(
         controller,
         mode="robot" if settings.robot_url else "sim",
@@ -343,8 +345,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             ui.stop()
         if watch is not None:
             watch.stop()
-        if events.store is not None:
-            events.store.close()
+        store.close()
     return 0
 
 

@@ -50,6 +50,10 @@ class EventStore(Protocol):
 
     def search(self, query: EventQuery, cap: int = ...) -> list[StoredEvent]: ...
 
+    def flush(self, timeout: float = ...) -> bool:
+        """Wait until what was put is on disk (True) or `timeout` s passed (False)."""
+        ...
+
 
 class EventLog:
     """A thread-safe ring of the last `capacity` events; `seq` tells readers whether anything is new."""

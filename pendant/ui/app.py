@@ -329,11 +329,13 @@ class PendantUI:
         "Access token" field remains the way in.
         """
         try:
-            connection = self.server._websock_server._live_connections.get(client.client_id)  # type: ignore[attr-defined]
+            connection = self.server._websock_server._live_connections.get(client.client_id)
             if connection is None:
                 return None, None
             remote = connection.remote_address
             address = str(remote[0]) if remote else None
+            if connection.request is None:
+                return address, None
             query = parse_qs(urlsplit(connection.request.path).query)
             tokens = query.get(TOKEN_QUERY)
             return address, tokens[0] if tokens else None

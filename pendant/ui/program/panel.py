@@ -107,7 +107,7 @@ class ProgramPanel:
         return self.run_section.run
 
     @property
-    def progress(self) -> viser.GuiProgressBarHandle:
+    def progress(self) -> viser.GuiProgressBarHandle:  # type: ignore[name-defined]  # viser 1.1.1 does not export it
         return self.run_section.progress
 
     @property
