@@ -8,7 +8,7 @@ STAMP := $(VENV)/.installed
 SDK_VENV := .venv-sdk
 SDK_STAMP := $(SDK_VENV)/.installed
 
-.PHONY: run test lint format bench models fleet clean
+.PHONY: run test typecheck layers lint format bench models fleet clean
 
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -25,7 +25,7 @@ run: $(STAMP)
 
 # Two workers for everything but the browser tests (a 2-core machine); those measure what a user feels
 # (jog stop times, degrees per second), so they run after, on their own.
-test: $(STAMP) $(SDK_STAMP)
+test: $(STAMP) $(SDK_STAMP) layers typecheck
 	@$(BIN)/pytest -q -n 2 --ignore=tests/browser $(PYTEST_ARGS)
 	@$(BIN)/pytest -q tests/browser $(PYTEST_ARGS)
 
@@ -33,6 +33,13 @@ test: $(STAMP) $(SDK_STAMP)
 N ?= 3
 fleet: $(STAMP)
 	@$(BIN)/python -m pendant.monitoring.fleet --pendants $(N)
+
+# The import layers and the no-circle rule (pyproject.toml's [tool.importlinter]), then the types.
+layers: $(STAMP)
+	@$(BIN)/lint-imports
+
+typecheck: $(STAMP)
+	@$(BIN)/mypy
 
 lint: $(STAMP)
 	@$(BIN)/ruff check . && $(BIN)/ruff format --check .

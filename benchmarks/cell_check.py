@@ -19,7 +19,7 @@ from pendant.controller.cell_types import BoxObstacle, SimplifiedCapsuleObstacle
 from pendant.kinematics.cell_shapes import obstacle_shape
 from pendant.kinematics.obstacles import Capsule, CellGeometry
 from pendant.sim import SimController
-from pendant.ui.target_check import check_joint_target
+from pendant.ui.target.check import check_joint_target
 
 RUNS = 200
 

@@ -24,7 +24,7 @@ from pendant.program import MoveStep, Program, WaitStep
 from pendant.program.diff import diff_programs
 from pendant.program.files import ProgramStore
 from pendant.program.versions import VersionedStore
-from pendant.ui.program_history_panel import SHOWN_VERSIONS
+from pendant.ui.program.history_section import SHOWN_VERSIONS
 from tests.program.history_support import waypoint
 
 STEPS = 40

@@ -381,8 +381,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             ui.stop()
         if watch is not None:
             watch.stop()
-        if events.store is not None:
-            events.store.close()
+        if store is not None:
+            store.close()
     return 0
 
 

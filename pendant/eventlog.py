@@ -14,12 +14,9 @@ from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from enum import StrEnum
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from pendant.eventquery import EventQuery, StoredEvent, fold_states
-
-if TYPE_CHECKING:
-    from pendant.monitoring.eventstore import EventStore
 
 log = logging.getLogger(__name__)
 
@@ -41,6 +38,23 @@ class Event:
     kind: EventKind
     source: str  # who: "browser #3 (10.0.0.7)", "API 10.0.0.9 (python-requests/2.31)", "controller"
     message: str
+
+
+class EventStore(Protocol):
+    """Where the log keeps its events on disk (monitoring.eventstore's SQLite store is the one there is)."""
+
+    last_id: int  # the newest event stored when the log opened it: numbers go on from there
+    written_id: int  # the newest event on disk
+    dropped: int  # events that never reached the disk
+    write_problem: str | None  # the last write failure in words, until a write succeeds
+
+    def put(self, event_id: int, wall_time: float, kind: str, source: str, message: str) -> None: ...
+
+    def search(self, query: EventQuery, cap: int = ...) -> list[StoredEvent]: ...
+
+    def flush(self, timeout: float = ...) -> bool:
+        """Wait until what was put is on disk (True) or `timeout` s passed (False)."""
+        ...
 
 
 class EventLog:

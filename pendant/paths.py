@@ -1,12 +1,16 @@
-"""Where the model files live: next to the package in a checkout, or under <prefix>/share in a wheel."""
+"""Where the pendant's files live: the model files (next to the package in a checkout, or under
+<prefix>/share in a wheel) and the programs folder."""
 
 from __future__ import annotations
 
+import os
 import site
 import sys
 from pathlib import Path
 
 _HERE = Path(__file__).resolve()
+DEFAULT_PROGRAMS_DIR = Path("programs")  # relative to the pendant's working directory
+PROGRAMS_DIR_ENV = "PENDANT_PROGRAMS_DIR"
 _CHECKOUT_ROOT = _HERE.parent.parent
 
 
@@ -53,3 +57,8 @@ def urdf_path(model: str) -> Path:
     if not path.is_file():
         raise FileNotFoundError(f"unknown arm model {model!r}: expected one of {MODEL_NAMES} or a URDF path")
     return path
+
+
+def programs_dir() -> Path:
+    """Where programs are kept: $PENDANT_PROGRAMS_DIR, else ./programs."""
+    return Path(os.environ.get(PROGRAMS_DIR_ENV) or DEFAULT_PROGRAMS_DIR)

@@ -14,7 +14,7 @@ from pendant.access import ui_url
 from pendant.banner import announce, interface_addresses, qr_lines
 from pendant.cli import parse_settings, with_access_token
 from pendant.sim import SimController
-from pendant.ui.join_qr import qr_html
+from pendant.ui.dashboard.join_qr import qr_html
 from tests.support.pages import new_page
 
 UI_PORT, API_PORT = 9001, 9002

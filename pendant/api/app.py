@@ -128,14 +128,14 @@ def create_app(
     if sim_type is not None and isinstance(controller, sim_type):
         from pendant.api.routers.sim import sim_router
 
-        routers.append(sim_router(controller))
+        routers.append(sim_router(controller))  # type: ignore[arg-type]  # a SimController: checked above
     for router in routers:
         app.include_router(router)
 
     install_error_handlers(app)
     app.add_middleware(DirectDispatch, table=direct_endpoints(routers))
     if sim_type is not None and isinstance(controller, sim_type):
-        app.add_middleware(UnavailableFirst, check_alive=controller.check_alive)
+        app.add_middleware(UnavailableFirst, check_alive=controller.check_alive)  # type: ignore[attr-defined]  # as above
     if stops is not None:
         app.add_middleware(StopNotice, stops=stops)
     app.add_middleware(BodySizeLimit)  # before any body is read

@@ -35,7 +35,7 @@ def direct_endpoints(routers: Iterable[APIRouter]) -> dict[tuple[str, str], Endp
         endpoint = route.endpoint
         if inspect.signature(endpoint).parameters or not inspect.iscoroutinefunction(endpoint):
             continue
-        for method in route.methods:
+        for method in route.methods or ():
             table[(method, route.path)] = endpoint
     return table
 

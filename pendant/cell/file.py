@@ -13,7 +13,7 @@ from pendant.controller import Controller, ControllerError
 from pendant.controller.cell_types import MAX_OBSTACLES, Obstacle, ToolShape
 from pendant.program.files import ProgramFileError, atomic_write, sanitize_name
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION: Literal[1] = 1
 SUFFIX = ".cell.json"
 CELLS_DIR_ENV = "PENDANT_CELLS_DIR"
 DEFAULT_CELLS_DIR = Path("cells")  # relative to the pendant's working directory

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from pydantic import TypeAdapter, ValidationError
 
-from pendant.controller import Point
+from pendant.controller import Point, Position, Rotation
 from pendant.controller.cell_types import (
     BoxObstacle,
     CapsuleObstacle,
@@ -21,12 +21,28 @@ from pendant.controller.cell_types import (
     ToolShape,
 )
 from pendant.kinematics.transforms import matrix_to_position, position_to_matrix
-from pendant.ui.settings_panel import position_from_form
 
 KINDS = ("BOX", "CAPSULE", "PLANE")
 SIZE_MM_MAX = 10_000.0
 Vec3 = tuple[float, float, float]
 _OBSTACLE: TypeAdapter[Obstacle] = TypeAdapter(Obstacle)
+
+
+MM_LIMIT = 2000.0  # a tool or base offset beyond 2 m is a typing error
+
+
+def position_from_form(
+    xyz_mm: tuple[float, float, float], rpy_deg: tuple[float, float, float], *, limit_mm: float = MM_LIMIT
+) -> Position:
+    """A Position from millimetres and degrees; raises ValueError with a message the operator can act on."""
+    values = (*xyz_mm, *rpy_deg)
+    if not all(math.isfinite(v) for v in values):
+        raise ValueError("every field must be a finite number")
+    if max(abs(v) for v in xyz_mm) > limit_mm:
+        raise ValueError(f"offsets must be within ±{limit_mm:.0f} mm")
+    x, y, z = (v / 1000.0 for v in xyz_mm)
+    roll, pitch, yaw = (math.radians(v) for v in rpy_deg)
+    return Position(point=Point(x=x, y=y, z=z), rotation=Rotation(roll=roll, pitch=pitch, yaw=yaw))
 
 
 @dataclass(frozen=True)

@@ -29,7 +29,7 @@ def check_ur_geometry(table: DHTable) -> None:
         raise ValueError(f"DH table {table.name!r} is not of the UR type (three parallel middle axes)")
 
 
-def fk_flat(table: DHTable, q: Sequence[float]) -> tuple[float, ...]:
+def fk_flat(table: DHTable, q: Sequence[float] | np.ndarray) -> tuple[float, ...]:
     """T_base_tcp as 12 floats, row-major rotation then position: (r00..r22, x, y, z). No checks."""
     d1, _, _, d4, d5, d6 = table.d
     a2 = table.a[1]
@@ -76,7 +76,7 @@ def fk_flat(table: DHTable, q: Sequence[float]) -> tuple[float, ...]:
     )
 
 
-def fk(table: DHTable, q: Sequence[float]) -> np.ndarray:
+def fk(table: DHTable, q: Sequence[float] | np.ndarray) -> np.ndarray:
     """T_base_tcp (4, 4) for joint angles q (6,) in radians."""
     r00, r01, r02, r10, r11, r12, r20, r21, r22, x, y, z = fk_flat(table, q)
     return np.array(
@@ -84,7 +84,7 @@ def fk(table: DHTable, q: Sequence[float]) -> np.ndarray:
     )
 
 
-def dh_link_frames(table: DHTable, q: Sequence[float]) -> np.ndarray:
+def dh_link_frames(table: DHTable, q: Sequence[float] | np.ndarray) -> np.ndarray:
     """T_base_i for the DH frames 0..6 and the TCP, shape (8, 4, 4), by the generic DH product.
 
     Slower than `fk` but independent of its algebra, so tests use it as a reference; the simulator can use

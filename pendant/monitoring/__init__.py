@@ -11,6 +11,7 @@ from pendant.eventquery import EventQuery, StoredEvent
 from pendant.monitoring.events_api import EVENTS_PATH, EventSource, events_router
 from pendant.monitoring.eventstore import EventStore, open_event_store
 from pendant.monitoring.metrics import METRICS_PATH, CommandMetrics, PendantMetrics, metrics_router
+from pendant.paths import programs_dir
 
 DATA_DIR_ENV = "PENDANT_DATA_DIR"
 DATA_DIR_NAME = "pendant-data"
@@ -23,8 +24,6 @@ def data_dir(flag: str | None, programs: str | None = None) -> Path:
         return Path(flag)
     if os.environ.get(DATA_DIR_ENV):
         return Path(os.environ[DATA_DIR_ENV])
-    from pendant.program import programs_dir  # the program package is not needed by the API alone
-
     folder = Path(programs) if programs else programs_dir()
     return folder.resolve().parent / DATA_DIR_NAME
 

@@ -140,7 +140,8 @@ class EventStore:
     def search(self, query: EventQuery, cap: int = MAX_LIMIT) -> list[StoredEvent]:
         """Newest first, at most `cap` rows whatever the query's limit (a download asks for more)."""
         limit = max(1, min(query.limit, cap))
-        where, args = ["1=1"], []
+        where: list[str] = ["1=1"]
+        args: list[object] = []
         if query.since is not None:
             where.append("time >= ?")
             args.append(query.since)
@@ -199,7 +200,7 @@ def _folded(db: sqlite3.Connection, condition: str, args: list[object], limit: i
                     " AND id > ? AND id <= ?",
                     (*args, FOLDED_KIND, lower, newest[0]),
                 ).fetchone()
-                out.append(StoredEvent(*newest, count, first_time if count > 1 else None))
+                out.append(StoredEvent(*newest, count, first_time if count > 1 else None))  # type: ignore[call-arg]  # a row of the five columns
         if event is not None:
             out.append(event)
     return fold_states(out, limit)

@@ -185,7 +185,8 @@ def running_fleet(
 
         # Prometheus starts once every pendant answers, or its first scrapes would page "pendant down".
         for api, process in zip(site.pendant_apis, processes, strict=False):
-            _wait(lambda api=api: _answers(f"{api}/metrics"), f"the pendant at {api}", process)
+            metrics = f"{api}/metrics"
+            _wait(lambda metrics=metrics: _answers(metrics), f"the pendant at {api}", process)  # type: ignore[misc]  # mypy cannot type a lambda's default argument
         (root / "alertmanager.yml").write_text(yaml.safe_dump(alertmanager_config(site.webhook, timings)))
         alertmanager = [_binary("prometheus-alertmanager"), f"--config.file={root / 'alertmanager.yml'}"]
         alertmanager += [f"--storage.path={root / 'alertmanager-data'}", "--cluster.listen-address="]

@@ -1,17 +1,15 @@
 """Teach and play back: a waypoint table and a step tree (pydantic), versioned JSON files, the runner (one
 interpreter for the page and `pendant run`), Python export."""
 
+from pendant.paths import DEFAULT_PROGRAMS_DIR, PROGRAMS_DIR_ENV, programs_dir
 from pendant.program.describe import describe_step
 from pendant.program.editing import EditError
 from pendant.program.export import export_script, program_operations
 from pendant.program.files import (
-    DEFAULT_PROGRAMS_DIR,
-    PROGRAMS_DIR_ENV,
     ProgramFileError,
     ProgramStore,
     atomic_write,
     parse_program,
-    programs_dir,
     sanitize_name,
 )
 from pendant.program.models import (

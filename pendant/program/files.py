@@ -17,11 +17,10 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
+from pendant.paths import programs_dir
 from pendant.program.migrate import migrate
 from pendant.program.models import PROGRAM_NAME_MAX, SCHEMA_VERSION, Program, describe_problems
 
-DEFAULT_PROGRAMS_DIR = Path("programs")  # relative to the pendant's working directory
-PROGRAMS_DIR_ENV = "PENDANT_PROGRAMS_DIR"
 SUFFIX = ".json"
 AUTOSAVE_FILE = ".autosave.json"  # a dot file: never listed as a program
 AUTOSAVE_REFUSED_PREFIX = ".autosave.refused."  # + UTC time + ".json": every refused autosave is kept
@@ -30,11 +29,6 @@ _NAME_OK = re.compile(r"[A-Za-z0-9 _.\-]+")
 MAX_FILE_BYTES = 5_000_000  # a program of thousands of steps is ~1 MB; anything bigger is not a program
 
 log = logging.getLogger(__name__)
-
-
-def programs_dir() -> Path:
-    """Where programs are kept: $PENDANT_PROGRAMS_DIR, else ./programs."""
-    return Path(os.environ.get(PROGRAMS_DIR_ENV) or DEFAULT_PROGRAMS_DIR)
 
 
 class ProgramFileError(Exception):

@@ -19,7 +19,7 @@ from pendant.controller.errors import (
 
 # SDK 1.8.4's operations beyond the reference guide: a 404 to one of these is a working controller with older
 # firmware (the page greys that feature out), not a server that is no PULSE controller at all.
-SDK18_PATHS = (
+SDK18_PATHS: tuple[str, ...] = (
     "/status/failure",
     "/robot/info",
     "/version",

@@ -13,7 +13,6 @@ from __future__ import annotations
 import math
 import threading
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -26,6 +25,7 @@ from pendant.controller.errors import (
 )
 from pendant.controller.types import MotionParams, MotionType, Pose, Position
 from pendant.sim.clock import paused
+from pendant.sim.host import SimHost
 from pendant.sim.io import GRIPPER_CLOSED, GRIPPER_OPEN
 from pendant.sim.moves import (
     Start,
@@ -39,9 +39,6 @@ from pendant.sim.moves import (
 )
 from pendant.sim.planner import Plan, check_params
 from pendant.sim.states import Mode, check_can_move
-
-if TYPE_CHECKING:
-    from pendant.sim.controller import SimController
 
 # Transportation pose for PUT /pack: upper arm up, forearm folded down beside it, tool pointing down.
 PACK_POSE_DEG = (0.0, -90.0, 150.0, -150.0, -90.0, 0.0)
@@ -63,7 +60,7 @@ class MotionCommands:
 
     _lock: threading.RLock
 
-    def _start(self: SimController) -> Start:
+    def _start(self: SimHost) -> Start:
         _, q0, _ = self._motions.end(self._now())
         frames = self._frames
         return Start(
@@ -75,7 +72,7 @@ class MotionCommands:
             self._environment.geometry,
         )
 
-    def _starts_at(self: SimController, start: Start) -> bool:
+    def _starts_at(self: SimHost, start: Start) -> bool:
         """The queue still ends where `start` was read, with the same tool and zero point."""
         _, q0, _ = self._motions.end(self._now())
         frames = self._frames
@@ -87,7 +84,7 @@ class MotionCommands:
         )
 
     def _plan_and_enqueue(
-        self: SimController, make_plan: Callable[[Start], list[Step] | None], jog: bool = False
+        self: SimHost, make_plan: Callable[[Start], list[Step] | None], jog: bool = False
     ) -> Position:
         """Plan outside the lock, queue under it; returns the TCP position when the command was accepted.
 
@@ -98,7 +95,7 @@ class MotionCommands:
             return self._plan_and_enqueue_now(make_plan, jog)
 
     def _plan_and_enqueue_now(
-        self: SimController, make_plan: Callable[[Start], list[Step] | None], jog: bool
+        self: SimHost, make_plan: Callable[[Start], list[Step] | None], jog: bool
     ) -> Position:
         for _ in range(MAX_PLAN_ATTEMPTS):
             with self._lock:
@@ -131,22 +128,20 @@ class MotionCommands:
 
     # Planning runs without the lock (see the module doc): these methods take it only to read and to queue.
 
-    def set_position(self: SimController, position: Position, params: MotionParams) -> Position:
+    def set_position(self: SimHost, position: Position, params: MotionParams) -> Position:
         """Queue a stop-at-target move to a TCP position; returns where the arm is when it is accepted."""
         return self._move_to_positions([position], params)
 
-    def run_positions(self: SimController, positions: list[Position], params: MotionParams) -> None:
+    def run_positions(self: SimHost, positions: list[Position], params: MotionParams) -> None:
         self._move_to_positions(positions, params)
 
-    def set_pose(self: SimController, pose: Pose, params: MotionParams) -> None:
+    def set_pose(self: SimHost, pose: Pose, params: MotionParams) -> None:
         self._move_to_poses([pose], params)
 
-    def run_poses(self: SimController, poses: list[Pose], params: MotionParams) -> None:
+    def run_poses(self: SimHost, poses: list[Pose], params: MotionParams) -> None:
         self._move_to_poses(poses, params)
 
-    def _check_move(
-        self: SimController, params: MotionParams, waypoints: list[Pose] | list[Position]
-    ) -> None:
+    def _check_move(self: SimHost, params: MotionParams, waypoints: list[Pose] | list[Position]) -> None:
         with self._lock:
             check_can_move(self._mode)
             if not self._gripper_enabled and any(
@@ -156,7 +151,7 @@ class MotionCommands:
         check_params(params)
         check_waypoint_count(len(waypoints))
 
-    def _move_to_poses(self: SimController, poses: list[Pose], params: MotionParams) -> None:
+    def _move_to_poses(self: SimHost, poses: list[Pose], params: MotionParams) -> None:
         """Through poses; each may carry a blend (degrees of joint travel) and actions."""
         self._check_move(params, poses)
         targets = [np.radians(pose.angles) for pose in poses]
@@ -170,7 +165,7 @@ class MotionCommands:
 
         self._plan_and_enqueue(lambda start: plan_run(plan_one, len(targets), params, start, actions))
 
-    def _move_to_positions(self: SimController, positions: list[Position], params: MotionParams) -> Position:
+    def _move_to_positions(self: SimHost, positions: list[Position], params: MotionParams) -> Position:
         """Through positions; each may carry a blend (metres at the TCP) and actions."""
         self._check_move(params, positions)
         joint = params.motion_type is MotionType.JOINT
@@ -185,15 +180,15 @@ class MotionCommands:
             lambda start: plan_run(plan_one, len(positions), params, start, actions)
         )
 
-    def open_gripper(self: SimController, timeout_ms: int) -> None:
+    def open_gripper(self: SimHost, timeout_ms: int) -> None:
         with self._lock:
             self._gripper(GRIPPER_OPEN, timeout_ms)
 
-    def close_gripper(self: SimController, timeout_ms: int) -> None:
+    def close_gripper(self: SimHost, timeout_ms: int) -> None:
         with self._lock:
             self._gripper(GRIPPER_CLOSED, timeout_ms)
 
-    def _gripper(self: SimController, target: float, timeout_ms: float) -> None:
+    def _gripper(self: SimHost, target: float, timeout_ms: float) -> None:
         check_can_move(self._mode)
         if not self._gripper_enabled:
             raise PreconditionFailed(MSG_GRIPPER_DISABLED)
@@ -206,7 +201,7 @@ class MotionCommands:
         self._mode = Mode.ACTIVE
         self._motions.append_gripper(target, timeout_ms / 1000.0, now)
 
-    def pack(self: SimController) -> None:
+    def pack(self: SimHost) -> None:
         """Queue a JOINT move to the transportation pose PACK_POSE_DEG at PACK_SPEED_PERCENT, through the
         upright pose when the straight way is blocked. The reference lists no 412 for PUT /pack: with no
         clear way the command is accepted and fails when its turn comes (MOTION_FAILED, queue dropped)."""
@@ -222,7 +217,7 @@ class MotionCommands:
 
         self._plan_and_enqueue(plan)
 
-    def busy_until(self: SimController) -> float:
+    def busy_until(self: SimHost) -> float:
         """The clock time at which everything queued will be done (now, at rest)."""
         with self._lock:
             return self._motions.end(self._now())[0]

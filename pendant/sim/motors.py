@@ -102,7 +102,7 @@ class ServoModel:
 
     def heat_along(
         self, state_at: Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]], t_end: float
-    ):
+    ) -> None:
         """Advance to t_end through a motion, sampling its current at the middle of each step."""
         span = t_end - self.t
         if span <= 0.0:

@@ -8,7 +8,6 @@ free drive, the protective stop and its input bindings, gripper power, untwistin
 from __future__ import annotations
 
 import threading
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -38,12 +37,10 @@ from pendant.controller.system_types import (
 from pendant.controller.types import INPUT_PORTS, MotionParams, MotionType, SignalLevel, Tool
 from pendant.kinematics.transforms import inverse, rotvec_to_matrix
 from pendant.sim import identity
+from pendant.sim.host import SimHost
 from pendant.sim.io import check_port
 from pendant.sim.moves import Start, Step
 from pendant.sim.states import Mode, check_alive, check_can_move, system_state
-
-if TYPE_CHECKING:
-    from pendant.sim.controller import SimController
 
 MSG_JOG_WHILE_MOVING = "The arm is moving: jogging starts from rest (PUT /freeze first)"
 # Jogging: full strength (1.0) moves the TCP at 250 mm/s (ISO 10218-1 reduced speed) and turns it at
@@ -66,46 +63,46 @@ class Pulse18Operations:
 
     # --- state and identity --------------------------------------------------------------------------------
 
-    def clock_time(self: SimController) -> float:
+    def clock_time(self: SimHost) -> float:
         """The Unix time of the simulator clock's present: readings are stamped in the simulator's own time
         (a fake or scaled clock included)."""
         now = self._clock.now()
         return self._epoch + now if self._epoch is not None else self._clock.unix_time(now)
 
-    def get_system_state(self: SimController) -> SystemState:
+    def get_system_state(self: SimHost) -> SystemState:
         with self._lock:
             if self._mode is Mode.NO_RESPONSE:
                 raise NotResponding()
             now = self._now()
             return system_state(self._mode, self._motions.running(now), self._motions.jogging(now))
 
-    def get_failures(self: SimController) -> list[Failure]:
+    def get_failures(self: SimHost) -> list[Failure]:
         with self._lock:
             if self._mode is Mode.NO_RESPONSE:
                 raise NotResponding()
             return self._failures.recent()
 
-    def get_robot_info(self: SimController) -> RobotInfo:
+    def get_robot_info(self: SimHost) -> RobotInfo:
         with self._lock:
             check_alive(self._mode)
             return identity.robot_info(self.model)
 
-    def get_hardware_version(self: SimController) -> Version:
+    def get_hardware_version(self: SimHost) -> Version:
         with self._lock:
             check_alive(self._mode)
             return identity.hardware_version(self.model)
 
-    def get_software_version(self: SimController) -> Version:
+    def get_software_version(self: SimHost) -> Version:
         with self._lock:
             check_alive(self._mode)
             return identity.software_version(self.model)
 
-    def get_robot_software_version(self: SimController) -> str:
+    def get_robot_software_version(self: SimHost) -> str:
         with self._lock:
             check_alive(self._mode)
             return identity.ROBOT_SOFTWARE_VERSION
 
-    def read_motors_log(self: SimController) -> int:
+    def read_motors_log(self: SimHost) -> int:
         """Reads the motors' logs: the number read (one per motor)."""
         with self._lock:
             check_alive(self._mode)
@@ -113,13 +110,13 @@ class Pulse18Operations:
 
     # --- the tool's two views and its shape ----------------------------------------------------------------
 
-    def get_tool_info(self: SimController) -> ToolInfo:
+    def get_tool_info(self: SimHost) -> ToolInfo:
         with self._lock:
             check_alive(self._mode)
             tool = self._frames.tool
             return ToolInfo(name=tool.name, tcp=tool.position)
 
-    def set_tool_info(self: SimController, info: ToolInfo) -> ToolInfo:
+    def set_tool_info(self: SimHost, info: ToolInfo) -> ToolInfo:
         """The same tool as POST /tool, keeping its radius: name and TCP."""
         with self._lock:
             radius = self._frames.tool.radius
@@ -127,12 +124,12 @@ class Pulse18Operations:
             self.set_tool(tool)
             return ToolInfo(name=tool.name, tcp=tool.position)
 
-    def get_tool_shape(self: SimController) -> ToolShape:
+    def get_tool_shape(self: SimHost) -> ToolShape:
         with self._lock:
             check_alive(self._mode)
             return self._environment.tool_shape
 
-    def set_tool_shape(self: SimController, shape: ToolShape) -> ToolShape:
+    def set_tool_shape(self: SimHost, shape: ToolShape) -> ToolShape:
         """Capsules on the flange, checked against obstacles and the floor in every motion from now on;
         refused (412) when they would touch one where the arm is or where its queue ends."""
         with self._lock:
@@ -144,29 +141,29 @@ class Pulse18Operations:
 
     # --- environment ---------------------------------------------------------------------------------------
 
-    def add_obstacle(self: SimController, obstacle: Obstacle) -> str:
+    def add_obstacle(self: SimHost, obstacle: Obstacle) -> str:
         with self._lock:
             check_alive(self._mode)
             self._environment.add(obstacle, self._configurations())
             return f"Obstacle {obstacle.name!r} added"
 
-    def get_obstacles(self: SimController) -> list[Obstacle]:
+    def get_obstacles(self: SimHost) -> list[Obstacle]:
         with self._lock:
             check_alive(self._mode)
             return list(self._environment.obstacles.values())
 
-    def get_obstacle(self: SimController, name: str) -> Obstacle:
+    def get_obstacle(self: SimHost, name: str) -> Obstacle:
         with self._lock:
             check_alive(self._mode)
             return self._environment.get(name)
 
-    def remove_obstacles(self: SimController) -> str:
+    def remove_obstacles(self: SimHost) -> str:
         with self._lock:
             check_alive(self._mode)
             self._environment.clear()
             return "All obstacles removed"
 
-    def remove_obstacle(self: SimController, name: str) -> str:
+    def remove_obstacle(self: SimHost, name: str) -> str:
         with self._lock:
             check_alive(self._mode)
             self._environment.remove(name)
@@ -174,30 +171,30 @@ class Pulse18Operations:
 
     # --- gripper power, free drive, protective stop, untwisting --------------------------------------------
 
-    def enable_gripper(self: SimController) -> str:
+    def enable_gripper(self: SimHost) -> str:
         with self._lock:
             check_alive(self._mode)
             self._gripper_enabled = True
             return "Gripper enabled"
 
-    def disable_gripper(self: SimController) -> str:
+    def disable_gripper(self: SimHost) -> str:
         with self._lock:
             check_alive(self._mode)
             self._gripper_enabled = False
             return "Gripper disabled: it may be unplugged"
 
-    def zg_on(self: SimController) -> str:
+    def zg_on(self: SimHost) -> str:
         self.relax()
         return "Zero gravity on: the arm can be moved by hand"
 
-    def zg_off(self: SimController) -> str:
+    def zg_off(self: SimHost) -> str:
         with self._lock:
             check_alive(self._mode)
             if self._mode is Mode.ZERO_GRAVITY:
                 self._mode = Mode.ACTIVE
             return "Zero gravity off"
 
-    def stop(self: SimController) -> str:
+    def stop(self: SimHost) -> str:
         """Protective stop: the arm stops where it is, holds, and refuses motion until PUT /recover."""
         with self._lock:
             check_alive(self._mode)
@@ -205,25 +202,25 @@ class Pulse18Operations:
                 self._protective_stop("Protective stop (POST /stop)")
             return MSG_PROTECTIVE_STOP
 
-    def _protective_stop(self: SimController, reason: str) -> None:
+    def _protective_stop(self: SimHost, reason: str) -> None:
         self._freezes += 1  # cancels what is being planned, as a freeze does
         self._motions.stop(self._now())
         self._mode = Mode.STOPPED
         self._failures.record(FailureType.STOP_2, FailureLevel.WARN, reason)
 
-    def bind_stop(self: SimController, port: int, level: SignalLevel) -> str:
+    def bind_stop(self: SimHost, port: int, level: SignalLevel) -> str:
         with self._lock:
             check_alive(self._mode)
             self._stop_bindings[check_port(port, INPUT_PORTS, "input")] = SignalLevel(level)
             return f"Stop bound to digital input {port} going {SignalLevel(level).value}"
 
-    def unbind_stop(self: SimController) -> str:
+    def unbind_stop(self: SimHost) -> str:
         with self._lock:
             check_alive(self._mode)
             self._stop_bindings.clear()
             return "Stop unbound from the inputs"
 
-    def finish_untwisting(self: SimController) -> str:
+    def finish_untwisting(self: SimHost) -> str:
         with self._lock:
             check_alive(self._mode)
             if self._mode is not Mode.TWISTED:
@@ -235,30 +232,28 @@ class Pulse18Operations:
     # --- /run/* --------------------------------------------------------------------------------------------
 
     def run_linear_positions(
-        self: SimController, positions: list[PositionWaypoint], params: LinearMotionParameters
+        self: SimHost, positions: list[PositionWaypoint], params: LinearMotionParameters
     ) -> str:
         self.run_positions(list(positions), _linear(params))
         return "Motion accepted"
 
-    def run_linear_poses(
-        self: SimController, poses: list[PoseWaypoint], params: LinearMotionParameters
-    ) -> str:
+    def run_linear_poses(self: SimHost, poses: list[PoseWaypoint], params: LinearMotionParameters) -> str:
         self.run_poses(list(poses), _linear(params))
         return "Motion accepted"
 
     def run_joint_positions(
-        self: SimController, positions: list[PositionWaypoint], params: JointMotionParameters
+        self: SimHost, positions: list[PositionWaypoint], params: JointMotionParameters
     ) -> str:
         self.run_positions(list(positions), _joint(params))
         return "Motion accepted"
 
-    def run_joint_poses(self: SimController, poses: list[PoseWaypoint], params: JointMotionParameters) -> str:
+    def run_joint_poses(self: SimHost, poses: list[PoseWaypoint], params: JointMotionParameters) -> str:
         self.run_poses(list(poses), _joint(params))
         return "Motion accepted"
 
     # --- jogging -------------------------------------------------------------------------------------------
 
-    def jog(self: SimController, vector: JoggingVector) -> str:
+    def jog(self: SimHost, vector: JoggingVector) -> str:
         """Move the TCP along (and turn it about) base-frame axes until an all-zero vector, a freeze, a stop,
         a limit or an obstacle; a new vector while jogging changes the direction."""
         linear = np.array([vector.x, vector.y, vector.z]) * JOG_MAX_SPEED_M_S
@@ -288,7 +283,7 @@ class Pulse18Operations:
         return "Jogging"
 
     def _plan_jog(
-        self: SimController, start: Start, linear: np.ndarray, turn: np.ndarray, params: MotionParams
+        self: SimHost, start: Start, linear: np.ndarray, turn: np.ndarray, params: MotionParams
     ) -> list[Step]:
         T0 = self.arm.fk(start.q) @ start.T_flange_tool
         T_tool_flange = inverse(start.T_flange_tool)

@@ -270,20 +270,20 @@ class ScriptedSim(SimController):
         self.script = script
 
     def set_pose(self, pose: Pose, params: MotionParams) -> None:
-        parent = super()
-        self._watched(lambda: parent.set_pose(pose, params), [pose], joint_space=True)
+        self._watched(lambda: SimController.set_pose(self, pose, params), [pose], joint_space=True)
 
     def run_poses(self, poses: list[Pose], params: MotionParams) -> None:
-        parent = super()
-        self._watched(lambda: parent.run_poses(poses, params), poses, joint_space=True)
+        self._watched(lambda: SimController.run_poses(self, poses, params), poses, joint_space=True)
 
     def set_position(self, position: Position, params: MotionParams) -> Position:
-        parent = super()
-        return self._watched(lambda: parent.set_position(position, params), [position], joint_space=False)
+        return self._watched(
+            lambda: SimController.set_position(self, position, params), [position], joint_space=False
+        )
 
     def run_positions(self, positions: list[Position], params: MotionParams) -> None:
-        parent = super()
-        self._watched(lambda: parent.run_positions(positions, params), positions, joint_space=False)
+        self._watched(
+            lambda: SimController.run_positions(self, positions, params), positions, joint_space=False
+        )
 
     def _watched(
         self, command: Callable[[], T], waypoints: Sequence[Pose | Position], joint_space: bool

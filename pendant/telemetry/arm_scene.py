@@ -47,6 +47,9 @@ def link_meshes(urdf_path: Path) -> tuple[LinkMesh, ...]:
     return tuple(meshes)
 
 
-def arm_drawing(arm: ArmModel) -> ArmDrawing:
-    """The arm's meshes from its URDF and its links' poses from the pendant's kinematics."""
+def arm_drawing(arm: ArmModel) -> ArmDrawing | None:
+    """The arm's meshes from its URDF (None for an arm built without one) and its links' poses from the
+    pendant's kinematics."""
+    if arm.urdf_path is None:
+        return None
     return ArmDrawing(urdf=arm.urdf_path, meshes=link_meshes(arm.urdf_path), link_poses=arm.fk_all_links)

@@ -103,28 +103,36 @@ def cell(time_ns: int, obstacles: Sequence[Obstacle]) -> SceneUpdate:
     stamp = timestamp(time_ns)
     entities = []
     for obstacle in obstacles:
-        entity = {
-            "timestamp": stamp,
-            "frame_id": BASE_FRAME,
-            "id": f"cell/{obstacle.name}",
-            "frame_locked": True,
-        }
+        cubes: list[CubePrimitive] = []
+        cylinders: list[CylinderPrimitive] = []
+        spheres: list[SpherePrimitive] = []
+        triangles: list[TriangleListPrimitive] = []
         if isinstance(obstacle, BoxObstacle):
             s = obstacle.sides
-            cube = CubePrimitive(
-                pose=pose(position_to_matrix(obstacle.centerPosition)),
-                size=Vector3(x=s.x, y=s.y, z=s.z),
-                color=OBSTACLE_COLOR,
-            )
-            entities.append(SceneEntity(**entity, cubes=[cube]))
+            T = position_to_matrix(obstacle.centerPosition)
+            cubes.append(CubePrimitive(pose=pose(T), size=Vector3(x=s.x, y=s.y, z=s.z), color=OBSTACLE_COLOR))
         elif isinstance(obstacle, CapsuleObstacle):
-            entities.append(SceneEntity(**entity, **_capsule(obstacle)))
+            cylinder, ends = _capsule(obstacle)
+            cylinders.append(cylinder)
+            spheres.extend(ends)
         elif isinstance(obstacle, PlaneObstacle):
-            entities.append(SceneEntity(**entity, triangles=[_plane(obstacle)]))
+            triangles.append(_plane(obstacle))
+        entities.append(
+            SceneEntity(
+                timestamp=stamp,
+                frame_id=BASE_FRAME,
+                id=f"cell/{obstacle.name}",
+                frame_locked=True,
+                cubes=cubes,
+                cylinders=cylinders,
+                spheres=spheres,
+                triangles=triangles,
+            )
+        )
     return SceneUpdate(entities=entities)
 
 
-def _capsule(obstacle: CapsuleObstacle) -> dict[str, list[object]]:
+def _capsule(obstacle: CapsuleObstacle) -> tuple[CylinderPrimitive, list[SpherePrimitive]]:
     a = np.array([obstacle.begin.x, obstacle.begin.y, obstacle.begin.z])
     b = np.array([obstacle.finish.x, obstacle.finish.y, obstacle.finish.z])
     d = 2.0 * obstacle.radius
@@ -140,7 +148,7 @@ def _capsule(obstacle: CapsuleObstacle) -> dict[str, list[object]]:
         T_end[:3, 3] = end
         ends.append(SpherePrimitive(pose=pose(T_end), size=Vector3(x=d, y=d, z=d), color=OBSTACLE_COLOR))
     cylinder = CylinderPrimitive(pose=pose(T), size=Vector3(x=d, y=d, z=length), color=OBSTACLE_COLOR)
-    return {"cylinders": [cylinder], "spheres": ends}
+    return cylinder, ends
 
 
 def _plane(obstacle: PlaneObstacle) -> TriangleListPrimitive:

@@ -37,22 +37,22 @@ from pendant.program import ProgramWorkspace
 from pendant.program.runner import RunState
 from pendant.teach.recording import PathRecorder
 from pendant.telemetry import ArmState, Telemetry, recordings_dir
-from pendant.ui.activity import ActivityLog, LoggedJogger
-from pendant.ui.cell_scene import ObstacleDrawing, ToolShapeDrawing
-from pendant.ui.cell_state import CellState, read_cell_state
-from pendant.ui.client_page import page_first
-from pendant.ui.commands import CommandRunner
-from pendant.ui.dashboard_events import render_events
-from pendant.ui.dashboard_panel import render_motor_table
-from pendant.ui.dashboard_plots import PlotData, plot_data
-from pendant.ui.gui_target import GuiTarget
-from pendant.ui.join_qr import join_urls
-from pendant.ui.roles import ControlDesk
-from pendant.ui.safety_panel import read_identity
-from pendant.ui.scene import ArmScene
-from pendant.ui.session import ClientSession
-from pendant.ui.snapshot import Snapshot, read_snapshot
-from pendant.ui.ws_guard import guarded_viser_server
+from pendant.ui.dashboard.events import render_events
+from pendant.ui.dashboard.join_qr import join_urls
+from pendant.ui.dashboard.panel import render_motor_table
+from pendant.ui.dashboard.plots import PlotData, plot_data
+from pendant.ui.kit.cell_state import CellState, read_cell_state
+from pendant.ui.kit.commands import CommandRunner
+from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.snapshot import Snapshot, read_snapshot
+from pendant.ui.page.activity import ActivityLog, LoggedJogger
+from pendant.ui.page.client_page import page_first
+from pendant.ui.page.roles import ControlDesk
+from pendant.ui.page.session import ClientSession
+from pendant.ui.page.ws_guard import guarded_viser_server
+from pendant.ui.robot.safety_panel import read_identity
+from pendant.ui.scene.arm import ArmScene
+from pendant.ui.scene.cell import ObstacleDrawing, ToolShapeDrawing
 
 log = logging.getLogger(__name__)
 
@@ -341,11 +341,13 @@ class PendantUI:
         "Access token" field remains the way in.
         """
         try:
-            connection = self.server._websock_server._live_connections.get(client.client_id)  # type: ignore[attr-defined]
+            connection = self.server._websock_server._live_connections.get(client.client_id)
             if connection is None:
                 return None, None
             remote = connection.remote_address
             address = str(remote[0]) if remote else None
+            if connection.request is None:
+                return address, None
             query = parse_qs(urlsplit(connection.request.path).query)
             tokens = query.get(TOKEN_QUERY)
             return address, tokens[0] if tokens else None

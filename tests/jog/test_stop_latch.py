@@ -20,8 +20,8 @@ from pendant.jog import DEADMAN_TIMEOUT_S, JogFrame, Jogger, JogRequest
 from pendant.jog.latch import MSG_STOPPED_OUTSIDE, SEND_SETTLE_S
 from pendant.jog.targets import JOG_HORIZON_S
 from pendant.sim import FakeClock, SimController
-from pendant.ui.activity import LoggedJogger
-from pendant.ui.roles import ControlDesk
+from pendant.ui.page.activity import LoggedJogger
+from pendant.ui.page.roles import ControlDesk
 
 CONFIRM_PERIOD_S = 0.05  # the page confirms at 20 Hz while the button is held
 STILL_TOL_DEG = 1e-6  # the simulator is exact: a stopped arm does not move at all

@@ -12,9 +12,9 @@ from pendant.eventlog import EventLog
 from pendant.monitoring import PendantMetrics
 from pendant.program import ProgramRunner, ProgramStore, ProgramWorkspace, RunState
 from pendant.sim import FakeClock, Fault, SimController
-from pendant.ui.activity import ActivityLog
-from pendant.ui.roles import ControlDesk
-from pendant.ui.snapshot import Snapshot
+from pendant.ui.kit.snapshot import Snapshot
+from pendant.ui.page.activity import ActivityLog
+from pendant.ui.page.roles import ControlDesk
 from tests.program.conftest import POLL_S, POSE_A_DEG, settle, teach
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser
 from tests.support.pages import headless_session, new_page

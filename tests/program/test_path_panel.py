@@ -16,9 +16,9 @@ from pendant.program.blended import FALLBACK_NOTE
 from pendant.remote import RemoteController
 from pendant.sim import FakeClock, SimController
 from pendant.teach.path_step import path_step
-from pendant.ui.commands import CommandRunner
-from pendant.ui.program_panel import ProgramPanel
-from pendant.ui.program_scene import ROOT
+from pendant.ui.kit.commands import CommandRunner
+from pendant.ui.program.panel import ProgramPanel
+from pendant.ui.program.scene import ROOT
 from tests.program.test_path_step import WithoutRunOperations, hand_drawn_s
 from tests.program.test_program_panel import FakeClient, fire, server, setup  # noqa: F401  (fixtures)
 

@@ -24,8 +24,8 @@ from pendant.program import (
     RunState,
 )
 from pendant.sim import FakeClock, SimController
-from pendant.ui.commands import CommandRunner
-from pendant.ui.program_panel import ProgramPanel
+from pendant.ui.kit.commands import CommandRunner
+from pendant.ui.program.panel import ProgramPanel
 from tests.support.ports import free_port
 
 from .conftest import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, teach

@@ -13,7 +13,7 @@ from pendant.controller import Controller
 from pendant.remote import RemoteController
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.session import ClientSession
+from pendant.ui.page.session import ClientSession
 
 from .doubles import OPERATOR, VIEWER
 from .launchers import Launcher

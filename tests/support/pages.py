@@ -10,7 +10,7 @@ from typing import Any
 from pendant.controller import Controller
 from pendant.kinematics import ArmModel
 from pendant.ui.app import PendantUI
-from pendant.ui.session import ClientSession
+from pendant.ui.page.session import ClientSession
 
 from .ports import LOOPBACK, free_port
 

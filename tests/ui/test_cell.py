@@ -15,7 +15,7 @@ from pendant.controller.cell_types import BoxObstacle, CapsuleObstacle, Simplifi
 from pendant.jog import JogFrame, JogRequest
 from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.session import ClientSession
+from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 
 WAIT_S = 10.0

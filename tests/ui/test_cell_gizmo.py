@@ -18,8 +18,8 @@ from pendant.controller.cell_types import BoxObstacle, CapsuleObstacle, Obstacle
 from pendant.controller.types import Point
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.obstacle_gizmo import ObstacleGizmo
-from pendant.ui.session import ClientSession
+from pendant.ui.cell.gizmo import ObstacleGizmo
+from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 
 from .test_cell import box

@@ -16,8 +16,8 @@ from pendant.eventlog import EventKind
 from pendant.sim import FakeClock, SimController
 from pendant.telemetry import CSV_FIELDS, csv_header
 from pendant.ui.app import PendantUI
-from pendant.ui.dashboard_panel import EVENTS_SHOWN, PLOTS
-from pendant.ui.session import ClientSession
+from pendant.ui.dashboard.panel import EVENTS_SHOWN, PLOTS
+from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser, fire
 
 SAMPLE_PERIOD_S = 0.1  # the refresh loop samples the motors at 10 Hz

@@ -20,8 +20,8 @@ from pendant.eventlog import EventKind, EventLog
 from pendant.monitoring import EventStore
 from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.dashboard_plots import MAX_POINTS, PLOT_HEIGHT_PX, UNITS
-from pendant.ui.session import ClientSession
+from pendant.ui.dashboard.plots import MAX_POINTS, PLOT_HEIGHT_PX, UNITS
+from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 from tests.support.pages import headless_session, new_page
 

@@ -13,7 +13,7 @@ from pendant.program import describe_step
 from pendant.program.models import PathStep
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.session import ClientSession
+from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser
 
 from .test_cell import box

@@ -14,7 +14,7 @@ from pendant.controller import MotionStatus
 from pendant.jog import JogFrame, JogRefused, JogRequest
 from pendant.jog.targets import MAX_STEP_M, MAX_STEP_RAD
 from pendant.sim import FakeClock, SimController
-from pendant.ui.session import ClientSession
+from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser, fire
 
 from .test_panels import button, confirm_hold, finish_motion, pose_deg

@@ -14,7 +14,7 @@ from pendant.jog import JogFrame, JogRequest
 from pendant.program import RunState
 from pendant.sim import FakeClock, Fault, SimController
 from pendant.ui.app import PROGRAM_RUNNING, PendantUI
-from pendant.ui.session import ClientSession
+from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser, fire
 
 from .test_panels import button, confirm_hold, pose_deg

@@ -21,9 +21,9 @@ from pendant.jog import JOG_TCP_MAX_VELOCITY_M_S
 from pendant.sim import FakeClock, Fault, SimController
 from pendant.sim.controller import PACK_POSE_DEG
 from pendant.ui.app import PendantUI
-from pendant.ui.commands import HOME_POSE_DEG
-from pendant.ui.jog_panel import CONTINUOUS, DEFAULT_SPEED_PERCENT, HOLD_CONFIRM_HZ
-from pendant.ui.session import ClientSession
+from pendant.ui.jog.panel import CONTINUOUS, DEFAULT_SPEED_PERCENT, HOLD_CONFIRM_HZ
+from pendant.ui.kit.commands import HOME_POSE_DEG
+from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, event, fire
 
 ANGLE_TOL_DEG = 1e-6

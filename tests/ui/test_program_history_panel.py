@@ -8,11 +8,10 @@ import pytest
 
 from pendant.program import MoveStep
 from pendant.ui.app import PendantUI
-from pendant.ui.program_history_panel import AFTER_RGB, BEFORE_RGB, UNSAVED
-from pendant.ui.session import ClientSession
+from pendant.ui.page.session import ClientSession
+from pendant.ui.program.history_section import AFTER_RGB, BEFORE_RGB, UNSAVED
 from tests.program.history_support import git, pick_program, waypoint
-
-from .doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 
 POSITION_TOL_M = 1e-9
 

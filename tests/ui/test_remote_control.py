@@ -19,7 +19,7 @@ from pendant.controller import MotionStatus, PreconditionFailed
 from pendant.jog import JogFrame, JogRequest
 from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.session import ClientSession
+from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 from tests.support.pages import new_page
 from tests.support.threads import serve_in_thread

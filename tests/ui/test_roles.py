@@ -14,8 +14,8 @@ from pendant.jog import JogFrame, JogRequest
 from pendant.program import RunState
 from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.commands import CommandRefused
-from pendant.ui.roles import MSG_NO_TOKEN, MSG_WRONG_TOKEN
+from pendant.ui.kit.commands import CommandRefused
+from pendant.ui.page.roles import MSG_NO_TOKEN, MSG_WRONG_TOKEN
 from tests.support.doubles import FakeBrowser, fire
 from tests.support.pages import new_page
 

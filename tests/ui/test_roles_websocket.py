@@ -17,7 +17,7 @@ from pendant.controller import MotionStatus
 from pendant.jog import JogFrame, JogRequest
 from pendant.sim import MonotonicClock, SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.roles import MSG_NO_TOKEN
+from pendant.ui.page.roles import MSG_NO_TOKEN
 from tests.support.headless_viewer import CAMERA_HELLO
 from tests.support.pages import new_page
 from tests.support.ports import free_port

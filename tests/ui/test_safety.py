@@ -16,7 +16,7 @@ from pendant.controller.system_types import SystemState
 from pendant.remote import RemoteController
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.session import ClientSession
+from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 from tests.support.pages import new_page
 from tests.support.threads import serve_in_thread

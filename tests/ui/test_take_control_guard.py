@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from pendant.access.throttle import FailedAttempts
 from pendant.eventlog import EventLog
-from pendant.ui.roles import MSG_TOO_MANY, MSG_WRONG_TOKEN, ControlDesk
+from pendant.ui.page.roles import MSG_TOO_MANY, MSG_WRONG_TOKEN, ControlDesk
 
 TOKEN = "a-long-enough-token-for-the-page"
 

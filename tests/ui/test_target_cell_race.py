@@ -13,7 +13,7 @@ from pendant.cell.geometry import CellModel
 from pendant.controller.cell_types import ToolShape
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.target_panel import TargetPanel
+from pendant.ui.target.panel import TargetPanel
 
 from .test_cell import box, home_q
 

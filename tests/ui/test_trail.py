@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import viser
 
-from pendant.ui.trail import MIN_STEP_M, TRAIL_SECONDS, TcpTrail
+from pendant.ui.scene.trail import MIN_STEP_M, TRAIL_SECONDS, TcpTrail
 from tests.support.ports import free_port
 
 

@@ -16,9 +16,9 @@ from pendant.controller.types import MotionType, Point, Rotation, Tool
 from pendant.kinematics.transforms import position_to_matrix
 from pendant.sim import FakeClock, Fault, SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.session import ClientSession
-from pendant.ui.snapshot import Snapshot
-from pendant.ui.status_panel import render_status
+from pendant.ui.kit.snapshot import Snapshot
+from pendant.ui.page.session import ClientSession
+from pendant.ui.page.status_panel import render_status
 from tests.support.pages import pendant_page
 
 TOOL_LENGTH_M = 0.12

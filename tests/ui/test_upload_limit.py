@@ -17,7 +17,7 @@ import websockets
 
 from pendant.sim import MonotonicClock, SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.session import ClientSession
+from pendant.ui.page.session import ClientSession
 from tests.support.headless_viewer import CAMERA_HELLO
 from tests.support.pages import new_page
 from tests.support.ports import free_port

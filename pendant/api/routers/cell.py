@@ -5,6 +5,7 @@ Obstacle names travel in the path (URL-quoted by the SDK); an unknown name is 41
 
 from __future__ import annotations
 
+from enum import Enum
 from typing import Annotated
 
 from fastapi import APIRouter, Path, Request
@@ -55,7 +56,7 @@ NamePath = Annotated[str, Path(max_length=NAME_MAX_CHARS, description="The obsta
 
 def cell_router(controller: Controller) -> APIRouter:
     router = APIRouter()
-    tool_tags: list[str | object] = ["Tool"]
+    tool_tags: list[str | Enum] = ["Tool"]
 
     @router.get(
         "/tool/info",
@@ -118,7 +119,7 @@ def cell_router(controller: Controller) -> APIRouter:
         shape = await read_body(request, TOOL_SHAPE)
         return model_result(await run_in_threadpool(controller.set_tool_shape, shape))
 
-    env: list[str | object] = [docs.TAG_ENVIRONMENT]
+    env: list[str | Enum] = [docs.TAG_ENVIRONMENT]
 
     @router.put(
         "/environment",

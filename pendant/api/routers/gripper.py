@@ -29,7 +29,7 @@ def gripper_router(controller: Controller) -> APIRouter:
         responses=responses,
     )
     async def open_gripper(timeout: TimeoutQuery = DEFAULT_GRIPPER_TIMEOUT_MS) -> TextResponse:
-        controller.open_gripper(timeout)
+        controller.open_gripper(timeout)  # type: ignore[arg-type]  # whole ms by the query's bounds, as sent
         return empty_result()
 
     @router.put(
@@ -40,7 +40,7 @@ def gripper_router(controller: Controller) -> APIRouter:
         responses=responses,
     )
     async def close_gripper(timeout: TimeoutQuery = DEFAULT_GRIPPER_TIMEOUT_MS) -> TextResponse:
-        controller.close_gripper(timeout)
+        controller.close_gripper(timeout)  # type: ignore[arg-type]  # whole ms by the query's bounds, as sent
         return empty_result()
 
     @router.post(

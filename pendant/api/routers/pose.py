@@ -73,7 +73,8 @@ def pose_router(controller: Controller) -> APIRouter:
     )
     async def run_poses(request: Request, params: Params) -> TextResponse:
         waypoints = await read_body(request, POSES)
-        await run_in_threadpool(controller.run_poses, waypoints, params)
+        # A PoseWaypoint is a Pose with a blend; the list is only read.
+        await run_in_threadpool(controller.run_poses, waypoints, params)  # type: ignore[arg-type]
         return empty_result()
 
     return router

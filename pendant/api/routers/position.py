@@ -91,7 +91,8 @@ def position_router(controller: Controller) -> APIRouter:
     )
     async def run_positions(request: Request, params: Params) -> TextResponse:
         waypoints = await read_body(request, POSITIONS)
-        await run_in_threadpool(controller.run_positions, waypoints, params)
+        # A PositionWaypoint is a Position with a blend; the list is only read.
+        await run_in_threadpool(controller.run_positions, waypoints, params)  # type: ignore[arg-type]
         return empty_result()
 
     return router

@@ -1,0 +1,300 @@
+"""The Cell tab: add, edit, rename and delete the controller's obstacles, place the selected one with a
+transform gizmo in the 3D view, save and load cell files.
+
+Every change goes to the controller (`/environment`); the scene, this list and the selected obstacle's fields
+show what it then reports, so the picture and the controller's collision checks never disagree.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from concurrent.futures import Future
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import viser
+
+from pendant.cell.file import CellFileError, apply_cell, list_cells, load_cell, read_cell, save_cell
+from pendant.cell.forms import KINDS, ObstacleForm, form_from_obstacle, obstacle_from_form
+from pendant.cell.placement import gizmo_pose, moved_form
+from pendant.controller import Controller
+from pendant.controller.cell_types import Obstacle
+from pendant.ui.cell.gizmo import ObstacleGizmo
+from pendant.ui.kit.cell_state import CellState
+from pendant.ui.kit.commands import CommandRunner, notify_refusal
+from pendant.ui.kit.gui_target import GuiTarget
+
+NEW = "(new obstacle)"
+NO_FILES = "(no cell files)"
+DEFAULT_FORMS = {
+    "BOX": ObstacleForm(kind="BOX", name="box", at_mm=(400.0, 0.0, 100.0), size_mm=(200.0, 200.0, 200.0)),
+    "CAPSULE": ObstacleForm(
+        kind="CAPSULE", name="post", at_mm=(400.0, 300.0, 0.0), end_mm=(400.0, 300.0, 500.0), radius_mm=40.0
+    ),
+    "PLANE": ObstacleForm(kind="PLANE", name="wall", at_mm=(0.0, -500.0, 0.0), rpy_deg=(90.0, 0.0, 0.0)),
+}
+
+
+class CellPanel:
+    def __init__(
+        self, target: GuiTarget, runner: CommandRunner, folder: Path, state: Callable[[], CellState]
+    ) -> None:
+        self._runner = runner
+        self._folder = folder
+        self._state = state
+        self._names: tuple[str, ...] = ()
+        self._syncing = False
+        self._pending_select: str | None = None  # an added obstacle to select once the controller lists it
+        self._unsupported: str | None = None
+        self._committed: Obstacle | None = None  # the selected obstacle as the controller holds it
+        self._resting = DEFAULT_FORMS["BOX"]  # the fields where the gizmo rests (before a drag)
+        self.locked = False  # a viewer's page
+        self.gizmo = ObstacleGizmo(target.scene, self._dragged, self._released)
+        gui = target.gui
+        self.note = gui.add_markdown("Obstacles the controller checks every motion against.")
+        self.selected = gui.add_dropdown("Obstacle", options=[NEW], initial_value=NEW)
+        self.kind = gui.add_dropdown("Kind", options=list(KINDS), initial_value="BOX")
+        self.name = gui.add_text("Name", initial_value="box")
+        self.at = gui.add_vector3("Position mm", initial_value=(400.0, 0.0, 100.0), step=1.0)
+        self.rpy = gui.add_vector3("Rotation °", initial_value=(0.0, 0.0, 0.0), step=1.0)
+        self.size = gui.add_vector3("Size mm", initial_value=(200.0, 200.0, 200.0), step=1.0)
+        self.end = gui.add_vector3("End mm", initial_value=(0.0, 0.0, 100.0), step=1.0)
+        self.radius = gui.add_number("Radius mm", initial_value=50.0, min=0.0, step=1.0)
+        self.apply = gui.add_button("Add / update obstacle", icon=viser.Icon.CUBE_PLUS)
+        self.delete = gui.add_button("Delete obstacle", icon=viser.Icon.TRASH)
+        self.clear = gui.add_button("Delete all obstacles", color="red")
+        with gui.add_folder("Cell file", expand_by_default=False):
+            self.file_name = gui.add_text("File name", initial_value="cell")
+            self.save = gui.add_button("Save cell", icon=viser.Icon.DEVICE_FLOPPY)
+            self.files = gui.add_dropdown("Cell files", options=[NO_FILES], initial_value=NO_FILES)
+            self.load = gui.add_button("Load and apply cell", icon=viser.Icon.FOLDER_OPEN)
+        self.refresh_files()
+        self._show_fields("BOX")
+
+        self.selected.on_update(lambda _: None if self._syncing else self._pick(self.selected.value))
+        self.kind.on_update(lambda _: None if self._syncing else self._new_kind(self.kind.value))
+        self.apply.on_click(lambda e: self.submit(e.client))
+        self.delete.on_click(lambda e: self.remove(e.client))
+        self.clear.on_click(lambda e: self._runner.submit("Delete all obstacles", _clear, e.client))
+        self.save.on_click(lambda e: self.save_file(e.client))
+        self.load.on_click(lambda e: self.load_file(self.files.value, e.client))
+
+    @property
+    def controls(self) -> tuple[viser.GuiInputHandle, ...]:
+        """The fields only the operator may use (the commands: see `set_locked`)."""
+        return (self.selected, self.kind, self.name, self.at, self.rpy, self.size, self.end, self.radius)
+
+    @property
+    def commands(self) -> tuple[viser.GuiButtonHandle, ...]:
+        return (self.apply, self.delete, self.clear, self.save, self.load)
+
+    def set_locked(self, locked: bool) -> None:
+        """A viewer's page, or a controller without /environment: the commands are greyed out."""
+        self.locked = locked
+        disabled = locked or self._unsupported is not None
+        for handle in self.commands:
+            if handle.disabled != disabled:
+                handle.disabled = disabled
+        self._place_gizmo()
+
+    # --- the form -----------------------------------------------------------------------------------
+    def form(self) -> ObstacleForm:
+        return ObstacleForm(
+            kind=str(self.kind.value),
+            name=str(self.name.value),
+            at_mm=tuple(float(v) for v in self.at.value),  # type: ignore[arg-type]
+            rpy_deg=tuple(float(v) for v in self.rpy.value),  # type: ignore[arg-type]
+            size_mm=tuple(float(v) for v in self.size.value),  # type: ignore[arg-type]
+            end_mm=tuple(float(v) for v in self.end.value),  # type: ignore[arg-type]
+            radius_mm=float(self.radius.value),
+        )
+
+    def fill(self, form: ObstacleForm, *, resend: bool = False) -> None:
+        """Show `form` in the fields; `resend`: even those the pendant believes the browser shows already
+        (an edit the browser never sent leaves it showing another value: see `_resend`)."""
+        self._syncing = True
+        try:
+            self.kind.value = form.kind
+            self.name.value = form.name
+            for handle, value in (
+                (self.at, form.at_mm),
+                (self.rpy, form.rpy_deg),
+                (self.size, form.size_mm),
+                (self.end, form.end_mm),
+            ):
+                if resend and handle.value == value:
+                    handle.value = _nudged(value)
+                handle.value = value
+            if resend and self.radius.value == form.radius_mm:
+                self.radius.value = form.radius_mm + 1.0
+            self.radius.value = form.radius_mm
+        finally:
+            self._syncing = False
+        self._show_fields(form.kind)
+
+    def _show_fields(self, kind: str) -> None:
+        """Only the fields that kind uses."""
+        used = {"BOX": (self.rpy, self.size), "CAPSULE": (self.end, self.radius), "PLANE": (self.rpy,)}[kind]
+        for handle in (self.rpy, self.size, self.end, self.radius):
+            visible = handle in used
+            if handle.visible != visible:
+                handle.visible = visible
+
+    def _pick(self, name: str) -> None:
+        obstacle = self._find(name)
+        self._committed = obstacle
+        if obstacle is not None:
+            self._load(obstacle)
+        elif name == NEW:
+            self.fill(DEFAULT_FORMS[str(self.kind.value)])
+            self._place_gizmo()
+
+    def _load(self, obstacle: Obstacle, *, resend: bool = False) -> None:
+        """The selected obstacle as the controller holds it: in the fields and under the gizmo."""
+        form = form_from_obstacle(obstacle)
+        self.fill(form, resend=resend)
+        self._resting = form
+        self._place_gizmo()
+
+    # --- the gizmo ----------------------------------------------------------------------------------
+    def _place_gizmo(self) -> None:
+        """On the selected obstacle, for the operator of a controller that has /environment; else hidden."""
+        shown = self._committed is not None and not self.locked and self._unsupported is None
+        self.gizmo.place(gizmo_pose(self._resting) if shown else None)
+
+    def _dragged(self, T_from: np.ndarray, T_to: np.ndarray) -> None:
+        """The gizmo moved: the fields follow (the controller hears of it on release)."""
+        self.fill(replace(moved_form(self._resting, T_from, T_to), name=str(self.name.value)))
+
+    def _released(self, T_from: np.ndarray, T_to: np.ndarray, client: viser.ClientHandle | None) -> None:
+        """Send the placed obstacle; refused (it would touch the arm: 412), the gizmo and the fields go
+        back to where the controller keeps it, and the notification says why."""
+        self._resting = moved_form(self._resting, T_from, T_to)
+        future = self.submit(client)
+        if future is None:
+            self._snap_back()
+            return
+        future.add_done_callback(lambda f: self._snap_back() if f.exception() is not None else None)
+
+    def _snap_back(self) -> None:
+        committed = self._committed
+        if committed is not None:
+            self._load(committed, resend=True)
+
+    def _new_kind(self, kind: str) -> None:
+        self._show_fields(kind)
+        if self.selected.value == NEW:
+            self.fill(DEFAULT_FORMS[kind])
+
+    def _find(self, name: str) -> Obstacle | None:
+        return next((o for o in self._state().obstacles if o.name == name), None)
+
+    # --- commands -----------------------------------------------------------------------------------
+    def submit(self, client: viser.ClientHandle | None = None) -> Future[object] | None:
+        """Add the obstacle in the fields, or update the selected one (renaming it when the name changed)."""
+        try:
+            obstacle = obstacle_from_form(self.form())
+        except ValueError as error:
+            notify_refusal(client, "Obstacle not added", str(error))
+            return None
+        old = self.selected.value if self.selected.value != NEW else None
+
+        def change(c: Controller) -> object:
+            c.add_obstacle(obstacle)  # by name: an update replaces it
+            if old is not None and old != obstacle.name:
+                c.remove_obstacle(old)
+            return obstacle.name
+
+        verb = "Update" if old is not None else "Add"
+        future = self._runner.submit(f"{verb} obstacle {obstacle.name!r}", change, client)
+        future.add_done_callback(lambda f: self._select_when_done(f, obstacle.name))
+        return future
+
+    def remove(self, client: viser.ClientHandle | None = None) -> Future[object] | None:
+        name = self.selected.value
+        if name == NEW:
+            notify_refusal(client, "Nothing deleted", "pick an obstacle first")
+            return None
+        return self._runner.submit(f"Delete obstacle {name!r}", lambda c: c.remove_obstacle(name), client)
+
+    def save_file(self, client: viser.ClientHandle | None = None) -> Future[object]:
+        name = str(self.file_name.value)
+
+        def save(c: Controller) -> object:
+            try:
+                path = save_cell(self._folder, name, read_cell(c))
+            except (CellFileError, OSError) as error:
+                notify_refusal(client, "Cell not saved", str(error))
+                raise
+            self.refresh_files(select=path.name.removesuffix(".cell.json"))
+            return path
+
+        return self._runner.submit(f"Save cell {name!r}", save, client)
+
+    def load_file(self, name: str, client: viser.ClientHandle | None = None) -> Future[object] | None:
+        try:
+            cell = load_cell(self._folder, name)
+        except CellFileError as error:
+            notify_refusal(client, "Cell not loaded", str(error))
+            return None
+        return self._runner.submit(f"Apply cell {name!r}", lambda c: apply_cell(c, cell), client)
+
+    def refresh_files(self, select: str | None = None) -> None:
+        names = list_cells(self._folder) or [NO_FILES]
+        if list(self.files.options) != names:
+            self.files.options = names
+        if select is not None and select in names:
+            self.files.value = select
+
+    def _select_when_done(self, future: Future[object], name: str) -> None:
+        if future.exception() is None:
+            self._pending_select = name
+
+    # --- what the controller reports ----------------------------------------------------------------
+    def show(self, state: CellState) -> None:
+        names = tuple(o.name for o in state.obstacles)
+        if names != self._names:
+            self._names = names
+            self._syncing = True
+            try:
+                self.selected.options = [NEW, *names]
+                pending = self._pending_select
+                if pending is not None and pending in names:
+                    self.selected.value = pending
+                    self._pending_select = None
+                elif self.selected.value not in (NEW, *names):
+                    self.selected.value = NEW
+            finally:
+                self._syncing = False
+        selected = self.selected.value
+        obstacle = next((o for o in state.obstacles if o.name == selected), None)
+        if obstacle is not None and obstacle != self._committed and not self.gizmo.dragging:
+            # Added, updated, placed or changed by a script: the fields show what the controller applied
+            # (even an edit the browser never sent shows up, rather than a value the controller never had).
+            self._committed = obstacle
+            self._load(obstacle, resend=True)
+        elif obstacle is None and self._committed is not None:  # deleted
+            self._committed = None
+            self._place_gizmo()
+        unsupported = state.unsupported.get("environment")
+        text = (
+            f"**Cell unavailable:** {unsupported}"
+            if unsupported
+            else f"{len(names)} obstacle(s); the controller checks every motion against them."
+        )
+        if self.note.content != text:
+            self.note.content = text
+        if unsupported != self._unsupported:
+            self._unsupported = unsupported
+            self.set_locked(self.locked)
+
+
+def _clear(c: Controller) -> object:
+    return c.remove_obstacles()
+
+
+def _nudged(value: tuple[float, float, float]) -> tuple[float, float, float]:
+    """Another value, so that setting the real one after it reaches the browser (viser sends a value only
+    when it differs from the one it believes the browser shows)."""
+    return (value[0] + 1.0, value[1], value[2])

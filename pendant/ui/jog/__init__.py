@@ -1,0 +1,1 @@
+"""The Jog tab: the hold-to-run pad and the path recording."""

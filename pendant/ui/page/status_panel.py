@@ -1,0 +1,164 @@
+"""The status readout: mode, connection, system state, motion state (coloured), joints, TCP, tool, gripper
+and IO; under it one button: a protective Stop, or Recover when the arm is stopped in error."""
+
+from __future__ import annotations
+
+import html
+import math
+
+import viser
+
+from pendant.controller import MotionStatus, SignalLevel
+from pendant.controller.system_types import FailureType
+from pendant.ui.kit.cell_state import CellState
+from pendant.ui.kit.commands import CommandRunner
+from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.html import inset
+from pendant.ui.kit.snapshot import Snapshot
+from pendant.ui.robot.safety_panel import PROTECTIVE_STOP_HINT, render_system_state
+
+STATE_COLOURS: dict[MotionStatus | None, str] = {
+    MotionStatus.IDLE: "#2b8a3e",
+    MotionStatus.RUNNING: "#1971c2",
+    MotionStatus.ZERO_GRAVITY: "#9c36b5",
+    MotionStatus.MOTION_FAILED: "#e8590c",
+    MotionStatus.ERROR: "#e03131",
+    MotionStatus.EMERGENCY: "#c92a2a",
+    None: "#868e96",
+}
+_ALARM_STATES = {MotionStatus.ERROR, MotionStatus.EMERGENCY, MotionStatus.MOTION_FAILED}
+
+
+def _led(level: SignalLevel | None, label: str) -> str:
+    on = level is SignalLevel.HIGH
+    colour = "#40c057" if on else "#dee2e6"
+    return (
+        f'<span style="display:inline-block;margin-right:8px"><span style="display:inline-block;width:10px;'
+        f'height:10px;border-radius:5px;background:{colour};margin-right:3px"></span>{label}</span>'
+    )
+
+
+MSG_PROTECTIVE_STOP_SHOWN = "Protective stop - Recover to continue"
+
+
+def in_protective_stop(snapshot: Snapshot, state: CellState) -> bool:
+    """Stopped in error, and the controller's newest failure is its protective stop (STOP_2): only Recover
+    leaves it (Freeze does not)."""
+    return (
+        snapshot.motion_status is MotionStatus.ERROR
+        and bool(state.failures)
+        and state.failures[-1].type is FailureType.STOP_2
+    )
+
+
+def render_status(snapshot: Snapshot, mode_line: str, system: str = "", protective: bool = False) -> str:
+    """The status block as HTML; ERROR and EMERGENCY fill a red banner that cannot be missed. `system`: the
+    system state's fragment (safety_panel.render_system_state), on the first line. `protective`: the
+    banner says it is a protective stop, which only Recover leaves."""
+    state = snapshot.motion_status
+    if state is not None:
+        label, colour = state.value, STATE_COLOURS[state]
+    elif snapshot.online:  # it answered, but with an error (500 "Robot does not respond")
+        label, colour = "NO RESPONSE", STATE_COLOURS[MotionStatus.ERROR]
+    else:
+        label, colour = "OFFLINE", STATE_COLOURS[None]
+    big = "font-size:1.4em;padding:10px" if state in _ALARM_STATES or state is None else "padding:6px"
+    link = "online" if snapshot.online else "offline"
+    if snapshot.online and snapshot.latency_s is not None and snapshot.latency_s >= 0.001:
+        link += (
+            f" · {snapshot.latency_s * 1000:.0f} ms"  # sub-millisecond (in-process) is not worth a flicker
+        )
+    system = f" · {system}" if system else ""
+    parts = [
+        f'<div style="font-size:0.85em;color:#495057">{html.escape(mode_line)} · {link}{system}</div>',
+        f'<div id="motion-state" style="background:{colour};color:white;font-weight:bold;'
+        f'text-align:center;border-radius:6px;margin:6px 0;{big}">{label}</div>',
+    ]
+    if protective:
+        parts.append(
+            '<div id="protective-stop" style="color:#e03131;font-weight:bold">'
+            f"{MSG_PROTECTIVE_STOP_SHOWN}</div>"
+        )
+    if snapshot.error:
+        parts.append(f'<div style="color:#e03131">{html.escape(snapshot.error)}</div>')
+    if snapshot.q is not None:
+        cells = "".join(
+            f'<td style="text-align:right;padding:0 4px">J{i + 1}<br><b>{math.degrees(v):.1f}°</b></td>'
+            for i, v in enumerate(snapshot.q)
+        )
+        parts.append(f'<table style="width:100%;font-size:0.85em"><tr>{cells}</tr></table>')
+    if snapshot.position is not None:
+        p, r = snapshot.position.point, snapshot.position.rotation
+        parts.append(
+            '<div style="font-size:0.85em;font-family:monospace">'
+            f"X {p.x * 1000:.1f} Y {p.y * 1000:.1f} Z {p.z * 1000:.1f} mm<br>"
+            f"R {math.degrees(r.roll):.1f} P {math.degrees(r.pitch):.1f} "
+            f"Y {math.degrees(r.yaw):.1f} °</div>"
+        )
+    opening = snapshot.gripper_opening
+    gripper = "unknown" if opening is None else "open" if opening > 0.5 else "closed"
+    parts.append(
+        f'<div style="font-size:0.85em">Tool <b>{html.escape(snapshot.tool_name)}</b> · '
+        f"gripper <b>{gripper}</b> · id {html.escape(snapshot.robot_id)}</div>"
+    )
+    if snapshot.outputs or snapshot.inputs:
+        leds = "".join(_led(level, f"DO{p}") for p, level in snapshot.outputs.items())
+        leds += "".join(_led(level, f"DI{p}") for p, level in snapshot.inputs.items())
+        parts.append(f'<div style="font-size:0.85em">{leds}</div>')
+    return inset("".join(parts))
+
+
+# States Recover clears: in them the button under the banner is Recover, otherwise the protective Stop.
+RECOVERABLE = {MotionStatus.ERROR, MotionStatus.MOTION_FAILED}
+
+
+class StatusPanel:
+    """The status, then one row: Protective stop (any browser may stop, like Freeze) or, once the arm is
+    stopped in error, Recover (the operator's), in the same place: the one Recover of the page."""
+
+    def __init__(self, target: GuiTarget, mode_line: str, runner: CommandRunner) -> None:
+        self._mode_line = mode_line
+        self._html = target.gui.add_html(render_status(Snapshot(taken_at=0.0), mode_line))
+        self.stop = target.gui.add_button(
+            "Protective stop", color="orange", icon=viser.Icon.HAND_OFF, hint=PROTECTIVE_STOP_HINT
+        )
+        self.recover = target.gui.add_button(
+            "Recover", color="red", icon=viser.Icon.REFRESH, visible=False, hint="Clear the error and go on"
+        )
+        self.stop.on_click(
+            lambda event: runner.submit("Protective stop", lambda c: c.stop(), event.client, urgent=True)
+        )
+        self.recover.on_click(lambda event: runner.submit("Recover", lambda c: c.recover(), event.client))
+        self._snapshot = Snapshot(taken_at=0.0)
+        self._system = render_system_state(CellState())
+        self._cell_state = CellState()
+        self._last = ""
+
+    @property
+    def content(self) -> str:
+        return self._last
+
+    def show(self, snapshot: Snapshot) -> None:
+        self._snapshot = snapshot
+        recoverable = snapshot.motion_status in RECOVERABLE
+        if self.recover.visible != recoverable:
+            self.recover.visible = recoverable
+        if self.stop.visible == recoverable:
+            self.stop.visible = not recoverable
+        self._render()
+
+    def show_system(self, state: CellState) -> None:
+        """The controller's system state (`/status`); without it (older firmware) the Stop is greyed out."""
+        self._system = render_system_state(state)
+        self._cell_state = state
+        unsupported = "status" in state.unsupported
+        if self.stop.disabled != unsupported:
+            self.stop.disabled = unsupported
+        self._render()
+
+    def _render(self) -> None:
+        protective = in_protective_stop(self._snapshot, self._cell_state)
+        content = render_status(self._snapshot, self._mode_line, self._system, protective)
+        if content != self._last:
+            self._html.content = content
+            self._last = content

@@ -1,0 +1,355 @@
+"""The Program tab: the step list (record, add, reorder, nest, undo/redo), and the sections for the selected
+step, the waypoint table, run control and the files (one module each).
+
+One ProgramPanel per browser: it is a view of the shared ProgramWorkspace (the program, its file, the run)
+and redraws when the workspace says something changed. What is selected is this browser's own: a line of
+the step list (lines number the step tree depth first, as it is listed).
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Iterator
+from concurrent.futures import Future
+
+import viser
+
+from pendant.controller import Controller, SignalLevel
+from pendant.controller.types import INPUT_PORTS, OUTPUT_PORTS
+from pendant.kinematics import ArmModel
+from pendant.program import (
+    CallStep,
+    Change,
+    CommentStep,
+    EditError,
+    GripperAction,
+    GripperStep,
+    IfStep,
+    LoopMode,
+    LoopStep,
+    MoveStep,
+    Offset,
+    OutputStep,
+    PalletStep,
+    ProgramWorkspace,
+    Step,
+    WaitInputStep,
+    WaitStep,
+    describe_step,
+)
+from pendant.program.models import DEFAULT_INPUT_TIMEOUT_MS
+from pendant.program.tree import Line
+from pendant.ui.kit.commands import CommandRunner, notify_refusal
+from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.program.file_section import FileSection
+from pendant.ui.program.history_section import HistorySection
+from pendant.ui.program.refusals import USER_ERRORS
+from pendant.ui.program.run_section import RunSection
+from pendant.ui.program.scene import ProgramScene
+from pendant.ui.program.step_form import StepForm
+from pendant.ui.program.waypoint_section import WaypointSection
+
+log = logging.getLogger(__name__)
+
+NO_STEP = "(no steps yet: press Record)"
+ADD_OPTIONS = ("Gripper open", "Gripper close", "Set DO", "Wait DI", "Wait", "Comment")
+STRUCTURE_OPTIONS = ("Loop", "If DI", "Pallet", "Call", "Move to waypoint", "Relative move")
+EDIT_OPTIONS = ("Up", "Down", "Indent", "Outdent", "Duplicate", "Delete step")
+DEFAULT_WAIT_MS = 500
+INDENT = "\u2003"  # an em space: Markdown keeps it, so nesting shows
+
+
+class ProgramPanel:
+    """Build inside `with tabs.add_tab("Program", ...)`; `arm` (optional) draws the ghost and the 3D path."""
+
+    def __init__(
+        self,
+        target: GuiTarget,
+        shared: ProgramWorkspace,
+        runner: CommandRunner,
+        *,
+        arm: ArmModel | None = None,
+    ) -> None:
+        self.target = target
+        self.shared = shared
+        self.commands = runner
+        self.selected: int | None = None
+        self.pending: Future[object] | None = None  # the last Record / Re-teach (tests wait on it)
+        self.syncing = False  # set while redrawing: viser calls back for values we set
+        gui = target.gui
+
+        # --- the step list --------------------------------------------------------------------------
+        self.title = gui.add_markdown("")
+        self.steps_view = gui.add_markdown("")
+        self.select = gui.add_dropdown("Step", options=[NO_STEP], initial_value=NO_STEP)
+        self.record = gui.add_button(
+            "Record", icon=viser.Icon.PLUS, hint="Add a move to a new waypoint where the arm is now"
+        )
+        self.add = gui.add_button_group("Add", options=ADD_OPTIONS)
+        self.add_structure = gui.add_button_group("Add ", options=STRUCTURE_OPTIONS)
+        self.order = gui.add_button_group("Edit", options=EDIT_OPTIONS)
+        self.history = gui.add_button_group("History", options=("Undo", "Redo"))
+
+        self.run_section = RunSection(self)
+        self.form = StepForm(self)
+        self.waypoints = WaypointSection(self, arm)
+        self.file_section = FileSection(self)
+        self.history_section = HistorySection(self)
+        self.scene = ProgramScene(target, arm)
+        self._wire()
+        self._listener = self._on_change
+        shared.on_change(self._listener)
+        self.redraw_program()
+        self.file_section.redraw()
+        self.run_section.redraw()
+
+    # The run and file sections' controls, under the names the tab has always had.
+    @property
+    def run(self) -> viser.GuiButtonHandle:
+        return self.run_section.run
+
+    @property
+    def progress(self) -> viser.GuiProgressBarHandle:  # type: ignore[name-defined]  # viser 1.1.1 does not export it
+        return self.run_section.progress
+
+    @property
+    def run_status(self) -> viser.GuiMarkdownHandle:
+        return self.run_section.status
+
+    @property
+    def locked(self) -> bool:
+        return self.run_section.locked
+
+    @locked.setter
+    def locked(self, locked: bool) -> None:
+        self.run_section.locked = locked
+        self.run_section.redraw()
+
+    def commanding_handles(self) -> Iterator[viser.GuiInputHandle]:
+        """The controls only the operator may use (the session disables them, or hides button groups, for
+        a viewer). Run, Step and Retry follow `locked`; the Yes/Cancel row shows only with a question."""
+        yield from (self.record, self.add, self.add_structure, self.order, self.history)
+        w = self.waypoints
+        yield from (w.name, w.rename, w.reteach, w.go_to, w.teach_new, w.delete)
+        yield from self.form.fields
+        f = self.file_section
+        yield from (self.run_section.loops, f.file_name, f.files, f.upload, self.history_section.restore)
+
+    def close(self) -> None:
+        """Stop following the workspace (the browser left)."""
+        self.shared.remove_listener(self._listener)
+        self.scene.close()
+        self.history_section.close()
+
+    # --- shared by the sections ----------------------------------------------------------------------
+    def allowed(self, client: viser.ClientHandle | None, label: str) -> bool:
+        return self.commands.refusal(client, label) is None
+
+    def edit(self, label: str, client: viser.ClientHandle | None, action: Callable[[], object]) -> None:
+        """A change to the shared program or files: refused for viewers; errors go to that browser."""
+        if not self.allowed(client, label):
+            return
+        try:
+            action()
+        except USER_ERRORS as error:
+            notify_refusal(client, f"{label} refused", str(error))
+        else:
+            self.commands.record(f"Program: {label}", client)
+
+    def with_controller(
+        self, label: str, client: viser.ClientHandle | None, action: Callable[[Controller], object]
+    ) -> Future[object]:
+        """An edit that reads the arm (Record, Re-teach): off the UI thread, like every controller call."""
+
+        def guarded(controller: Controller) -> object:
+            try:
+                return action(controller)
+            except USER_ERRORS as error:
+                notify_refusal(client, f"{label} refused", str(error))
+                return None
+
+        self.pending = self.commands.submit(label, guarded, client)
+        return self.pending
+
+    def selected_line(self) -> Line | None:
+        listed = self.shared.lines()
+        if self.selected is None or not 0 <= self.selected < len(listed):
+            return None
+        return listed[self.selected]
+
+    def select_line(self, index: int | None) -> None:
+        self.selected = index
+        self.redraw_program()
+
+    def need_selection(self) -> int:
+        if self.selected is None:
+            raise EditError("Select a step first")
+        return self.selected
+
+    # --- wiring -------------------------------------------------------------------------------------
+    def _wire(self) -> None:
+        self.select.on_update(self._on_select)
+        self.record.on_click(lambda e: self.with_controller("Record", e.client, self._record))
+        self.add.on_click(lambda e: self.edit("Add step", e.client, lambda: self._add(str(self.add.value))))
+        self.add_structure.on_click(
+            lambda e: self.edit("Add step", e.client, lambda: self._add(str(self.add_structure.value)))
+        )
+        self.order.on_click(
+            lambda e: self.edit(str(self.order.value), e.client, lambda: self._order(str(self.order.value)))
+        )
+        self.history.on_click(
+            lambda e: self.edit(
+                str(self.history.value), e.client, lambda: self._history(str(self.history.value))
+            )
+        )
+
+    # --- editing ------------------------------------------------------------------------------------
+    def _record(self, controller: Controller) -> None:
+        self.select_line(self.shared.record_from(controller, after=self.selected))
+
+    def _new_step(self, option: str) -> Step:
+        line = self.selected_line()
+        waypoint = self._waypoint_here(line)
+        match option:
+            case "Gripper open" | "Gripper close":
+                return GripperStep(
+                    action=GripperAction.OPEN if option == "Gripper open" else GripperAction.CLOSE
+                )
+            case "Set DO":
+                return OutputStep(port=OUTPUT_PORTS[0], level=SignalLevel.HIGH)
+            case "Wait DI":
+                return WaitInputStep(
+                    port=INPUT_PORTS[0], level=SignalLevel.HIGH, timeout_ms=DEFAULT_INPUT_TIMEOUT_MS
+                )
+            case "Wait":
+                return WaitStep(ms=DEFAULT_WAIT_MS)
+            case "Comment":
+                return CommentStep(text="")
+            case "Loop":
+                return LoopStep(mode=LoopMode.TIMES, times=2)
+            case "If DI":
+                return IfStep(port=INPUT_PORTS[0], level=SignalLevel.HIGH)
+            case "Call":
+                names = [n for n in self.shared.saved_programs() if n != self.shared.file_name]
+                if not names:
+                    raise EditError("Call runs a saved program: save another program first")
+                return CallStep(program=names[0])
+            case "Pallet":
+                names = self.shared.program.waypoint_names()
+                if len(names) < 3:
+                    raise EditError("A pallet needs three taught corners: teach three waypoints first")
+                return PalletStep(corners=(names[-3], names[-2], names[-1]))
+            case "Move to waypoint" | "Relative move":
+                if waypoint is None:
+                    raise EditError("Teach a waypoint first (Record, or Waypoints > Add waypoint here)")
+                offset = Offset(z=50.0) if option == "Relative move" else None
+                return MoveStep(waypoint=waypoint, offset=offset)
+        raise EditError(f"Unknown step {option!r}")
+
+    def _waypoint_here(self, line: Line | None) -> str | None:
+        """The waypoint a new move goes to: the selected move's, else the one chosen in the table."""
+        if line is not None and isinstance(line.step, MoveStep):
+            return line.step.waypoint
+        return self.waypoints.chosen()
+
+    def _add(self, option: str) -> None:
+        step = self._new_step(option)
+        self.select_line(self.shared.insert_step(step, after=self.selected))
+
+    def _order(self, option: str) -> None:
+        index = self.need_selection()
+        match option:
+            case "Up":
+                self.select_line(self.shared.move_step(index, -1))
+            case "Down":
+                self.select_line(self.shared.move_step(index, +1))
+            case "Indent":
+                self.select_line(self.shared.indent(index))
+            case "Outdent":
+                self.select_line(self.shared.outdent(index))
+            case "Duplicate":
+                self.select_line(self.shared.duplicate_step(index))
+            case "Delete step":
+                self.shared.delete_step(index)
+                count = len(self.shared.lines())
+                self.select_line(min(index, count - 1) if count else None)
+
+    def _history(self, option: str) -> None:
+        if option == "Undo":
+            self.shared.undo()
+        else:
+            self.shared.redo()
+
+    # --- display ------------------------------------------------------------------------------------
+    def _on_change(self, change: Change) -> None:
+        if change is Change.PROGRAM:
+            self.redraw_program()
+        elif change is Change.FILES:
+            self.file_section.redraw()
+            self._redraw_title()
+        elif change is Change.RUN:
+            self.run_section.redraw()
+            self._redraw_steps_view()
+
+    def _on_select(self, event: viser.GuiEvent) -> None:
+        if self.syncing or event.client is None:
+            return  # viser also calls back (later, on its pool) for values we set: only a browser selects
+        value = str(self.select.value)
+        self.selected = int(value.split(".", 1)[0]) - 1 if value != NO_STEP else None
+        self.redraw_program()
+
+    def redraw_program(self) -> None:
+        listed = self.shared.lines()
+        if self.selected is not None and not 0 <= self.selected < len(listed):
+            self.selected = len(listed) - 1 if listed else None
+        if self.selected is None and listed:
+            self.selected = 0
+        self.syncing = True
+        try:
+            options = [f"{i + 1}. {INDENT * line.depth}{_label(line)}" for i, line in enumerate(listed)] or [
+                NO_STEP
+            ]
+            if list(self.select.options) != options:
+                self.select.options = options
+            wanted = options[self.selected] if self.selected is not None else options[0]
+            if self.select.value != wanted:
+                self.select.value = wanted
+            line = self.selected_line()
+            self.form.show(line.step if line is not None else None)
+            self.waypoints.redraw(line.step if line is not None else None)
+        finally:
+            self.syncing = False
+        self._redraw_steps_view()
+        self._redraw_title()
+        self.run_section.redraw()
+
+    def _redraw_title(self) -> None:
+        shared = self.shared
+        where = f"`{shared.file_name}.json`" if shared.file_name else "not saved yet"
+        state = " · unsaved changes (autosaved)" if shared.dirty else ""
+        self.title.content = f"**{shared.program.name}** — {where}{state}"
+
+    def _redraw_steps_view(self) -> None:
+        progress = self.shared.progress
+        current = progress.step_index if progress.active else None
+        rows = []
+        for i, line in enumerate(self.shared.lines()):
+            mark = (
+                "✖"
+                if i == progress.failed_step
+                else "▶"
+                if i == current
+                else "●"
+                if i == self.selected
+                else ""
+            )
+            # "4\." is not a Markdown list item: the list can never renumber itself around a bold line.
+            text = f"{mark} {i + 1}\\. {'&emsp;' * line.depth}{_label(line)}"
+            rows.append(f"**{text}**" if mark else text)
+        self.steps_view.content = "  \n".join(rows) if rows else "_No steps: jog the arm and press Record._"
+        self.scene.show(self.shared.program, self.selected, current)
+
+
+def _label(line: Line) -> str:
+    prefix = "Else: " if line.branch == "otherwise" else ""
+    return prefix + describe_step(line.step)

@@ -1,0 +1,86 @@
+"""The Program tab's "Run" folder: Run (or Resume a paused run), Run from the selected step, Step, Pause,
+Stop, Retry a failed step (the run continues from there), the loop count and the progress."""
+
+from __future__ import annotations
+
+import viser
+
+from pendant.program import RunState
+from pendant.ui.kit.commands import notify_refusal
+from pendant.ui.program.host import ProgramHost
+from pendant.ui.program.refusals import USER_ERRORS
+
+
+class RunSection:
+    def __init__(self, host: ProgramHost) -> None:
+        self._host = host
+        self.locked = False  # a viewer's panel: Run and Step stay disabled whatever the run state
+        gui = host.target.gui
+        with gui.add_folder("Run"):
+            self.loops = gui.add_number(
+                "Loops", initial_value=1, min=0, max=100_000, step=1, hint="0: until Stop"
+            )
+            self.run = gui.add_button("Run", color="green", icon=viser.Icon.PLAYER_PLAY)
+            self.run_from = gui.add_button(
+                "Run from selected step",
+                icon=viser.Icon.PLAYER_SKIP_FORWARD,
+                hint="Start at the selected line",
+            )
+            self.retry = gui.add_button(
+                "Retry failed step",
+                icon=viser.Icon.REPEAT,
+                hint="Continue the failed run at the step that failed, once its cause is fixed",
+            )
+            self.step = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
+            self.pause = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
+            self.stop = gui.add_button("Stop", color="red", icon=viser.Icon.PLAYER_STOP)
+            self.progress = gui.add_progress_bar(0.0, animated=False)
+            self.status = gui.add_markdown("Ready")
+        commands = host.commands
+        self.run.on_click(lambda e: self._start("Run", e.client))
+        self.run_from.on_click(lambda e: self._start("Run from", e.client))
+        self.retry.on_click(lambda e: self._start("Retry", e.client))
+        self.step.on_click(lambda e: self._start("Step", e.client))
+        self.pause.on_click(
+            lambda e: commands.submit("Pause", lambda _: host.shared.pause(), e.client, urgent=True)
+        )
+        # Stopping is always allowed (no gate) and runs on the urgent thread, like Freeze.
+        self.stop.on_click(
+            lambda e: commands.submit("Stop", lambda _: host.shared.stop(), e.client, urgent=True)
+        )
+
+    def _start(self, label: str, client: viser.ClientHandle | None) -> None:
+        host = self._host
+        if not host.allowed(client, label):
+            return
+        shared = host.shared
+        state = shared.progress.state
+        try:
+            if label == "Step":
+                shared.start_step()
+            elif label == "Retry" or (label == "Run" and state is RunState.PAUSED):
+                shared.start_resume()
+            elif label == "Run from":
+                shared.start_run(loops=int(self.loops.value), start_line=host.need_selection())
+            else:
+                shared.start_run(loops=int(self.loops.value))
+        except USER_ERRORS as error:
+            notify_refusal(client, f"{label} refused", str(error))
+        else:
+            host.commands.record(f"Program: {label} {shared.program.name!r}", client)
+
+    def redraw(self) -> None:
+        progress = self._host.shared.progress
+        self.progress.value = round(100.0 * progress.progress, 1)
+        self.progress.color = {"failed": "red", "paused": "orange", "finished": "green"}.get(
+            progress.state.value
+        )
+        text = progress.message
+        text = f"**{text}**" if progress.state is RunState.FAILED else text
+        self.status.content = f"{text}\n\n{progress.notice}" if progress.notice else text
+        self.run.label = "Resume" if progress.state is RunState.PAUSED else "Run"
+        running = progress.state is RunState.RUNNING
+        self.run.disabled = self.step.disabled = self.run_from.disabled = running or self.locked
+        self.retry.visible = self._host.shared.runner.can_resume and progress.state is RunState.FAILED
+        self.retry.disabled = self.locked
+        self.pause.disabled = not running

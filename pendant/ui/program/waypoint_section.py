@@ -1,0 +1,139 @@
+"""The Program tab's "Waypoints" folder: the waypoint table. Many moves may go to one waypoint: Re-teach moves
+all of them, Rename keeps them pointing at it; Go to drives the arm there; a ghost arm previews it."""
+
+from __future__ import annotations
+
+import numpy as np
+import viser
+from viser.extras import ViserUrdf
+
+from pendant.controller import Controller, MotionParams, MotionType
+from pendant.kinematics import ArmModel
+from pendant.program import EditError, MoveStep, Step, Waypoint
+from pendant.ui.program.host import ProgramHost
+
+GHOST_RGBA = (0.2, 0.75, 0.35, 0.35)
+GO_TO_SPEED_PERCENT = 20.0
+NO_WAYPOINT = "(no waypoints yet)"
+
+
+class WaypointSection:
+    def __init__(self, host: ProgramHost, arm: ArmModel | None) -> None:
+        self._host = host
+        gui = host.target.gui
+        with gui.add_folder("Waypoints"):
+            self.table = gui.add_markdown("")
+            self.chooser = gui.add_dropdown("Waypoint", options=[NO_WAYPOINT], initial_value=NO_WAYPOINT)
+            self.name = gui.add_text("Name", initial_value="")
+            self.rename = gui.add_button("Rename", icon=viser.Icon.PENCIL, hint="Every step using it follows")
+            self.reteach = gui.add_button(
+                "Re-teach", icon=viser.Icon.REFRESH, hint="Overwrite with where the arm is: every move to it"
+            )
+            self.go_to = gui.add_button("Go to", icon=viser.Icon.ARROW_RIGHT, hint="Move the arm to it")
+            self.teach_new = gui.add_button(
+                "Add waypoint here",
+                icon=viser.Icon.MAP_PIN,
+                hint="Teach a waypoint without a move (pallet corners)",
+            )
+            self.delete = gui.add_button(
+                "Delete waypoint", icon=viser.Icon.TRASH, hint="Only when no step uses it"
+            )
+            self.preview = gui.add_checkbox("Preview (ghost)", initial_value=True)
+        self._ghost = (
+            ViserUrdf(
+                host.target, arm.urdf_path, root_node_name="/program_ghost", mesh_color_override=GHOST_RGBA
+            )
+            if arm is not None and arm.urdf_path is not None
+            else None
+        )
+        self.chooser.on_update(self._on_choose)
+        self.rename.on_click(lambda e: host.edit("Rename", e.client, self._rename))
+        self.reteach.on_click(lambda e: host.with_controller("Re-teach", e.client, self._reteach))
+        self.teach_new.on_click(lambda e: host.with_controller("Add waypoint", e.client, self._teach_new))
+        self.delete.on_click(lambda e: host.edit("Delete waypoint", e.client, self._delete))
+        self.go_to.on_click(lambda e: self._go_to(e.client))
+        self.preview.on_update(lambda _: self._show_ghost())
+
+    def chosen(self) -> str | None:
+        value = str(self.chooser.value)
+        return value if value in self._host.shared.program.waypoint_names() else None
+
+    def _waypoint(self) -> Waypoint:
+        name = self.chosen()
+        if name is None:
+            raise EditError("Choose a waypoint first")
+        return self._host.shared.program.waypoint(name)
+
+    def _on_choose(self, event: viser.GuiEvent) -> None:
+        if self._host.syncing or event.client is None:
+            return
+        self._show(self.chosen())
+
+    # --- actions ------------------------------------------------------------------------------------
+    def _rename(self) -> None:
+        self._host.shared.rename_waypoint(self._waypoint().name, str(self.name.value))
+
+    def _reteach(self, controller: Controller) -> None:
+        name = self._waypoint().name
+        self._host.shared.reteach_waypoint(name, controller.get_pose(), controller.get_position())
+
+    def _teach_new(self, controller: Controller) -> None:
+        name = self._host.shared.add_waypoint(controller.get_pose(), controller.get_position())
+        self._show(name)
+
+    def _delete(self) -> None:
+        self._host.shared.delete_waypoint(self._waypoint().name)
+
+    def _go_to(self, client: viser.ClientHandle | None) -> None:
+        try:
+            waypoint = self._waypoint()
+        except EditError:
+            return
+        line = self._host.selected_line()
+        motion = (
+            line.step.motion if line is not None and isinstance(line.step, MoveStep) else MotionType.JOINT
+        )
+        params = MotionParams(speed=GO_TO_SPEED_PERCENT, motion_type=motion)
+        label = f"Go to {waypoint.name}"
+        if motion is MotionType.JOINT:
+            self._host.commands.submit(
+                label, lambda c: c.set_pose(waypoint.pose, params), client, motion=True
+            )
+        else:
+            self._host.commands.submit(
+                label, lambda c: c.set_position(waypoint.position, params), client, motion=True
+            )
+
+    # --- display ------------------------------------------------------------------------------------
+    def redraw(self, selected: Step | None) -> None:
+        """The table, and the waypoint of the selected move chosen (called while the host is syncing)."""
+        program = self._host.shared.program
+        rows = [f"{w.name} ({program.uses_of(w.name)} uses)" for w in program.waypoints]
+        self.table.content = "  \n".join(rows) if rows else "_No waypoints: jog the arm and press Record._"
+        names = program.waypoint_names() or [NO_WAYPOINT]
+        if list(self.chooser.options) != names:
+            self.chooser.options = names
+        if isinstance(selected, MoveStep):
+            self._show(selected.waypoint)
+        elif self.chooser.value not in names:
+            self._show(names[0])
+        else:
+            self._show(str(self.chooser.value))
+
+    def _show(self, name: str | None) -> None:
+        if name is not None and self.chooser.value != name:
+            self.chooser.value = name
+        if name is not None and name in self._host.shared.program.waypoint_names():
+            self.name.value = name
+        self._show_ghost()
+
+    def _show_ghost(self) -> None:
+        if self._ghost is None:
+            return
+        name = self.chosen()
+        visible = name is not None and bool(self.preview.value)
+        self._ghost.show_visual = visible
+        if visible and name is not None:
+            cfg = np.zeros(len(self._ghost.get_actuated_joint_names()))
+            cfg[:6] = np.radians(self._host.shared.program.waypoint(name).pose.angles)
+            self._ghost.update_cfg(cfg)

@@ -1,0 +1,270 @@
+"""Drag to target: a gizmo at the TCP and joint sliders pose a ghost arm; Move J / Move L run it."""
+
+from __future__ import annotations
+
+import math
+import threading
+from collections.abc import Callable
+from concurrent.futures import Future
+
+import numpy as np
+import viser
+import viser.transforms as vtf
+from viser.extras import ViserUrdf
+
+from pendant.cell.geometry import CellModel
+from pendant.controller import Controller, MotionParams, MotionType, Pose, Position
+from pendant.kinematics import ArmModel
+from pendant.kinematics.transforms import inverse, matrix_to_position, position_to_matrix
+from pendant.ui.kit.commands import CommandRunner
+from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.scene.cell import ObstacleDrawing
+from pendant.ui.target.check import TargetCheck, check_flange_target, check_joint_target
+from pendant.ui.target.hand_guide import HandGuide
+
+GHOST_OK_RGBA = (0.25, 0.55, 1.0, 0.35)
+GHOST_BAD_RGBA = (0.95, 0.15, 0.15, 0.45)
+GIZMO_SCALE = 0.18
+DEFAULT_MOVE_SPEED_PERCENT = 20.0
+
+
+class TargetPanel:
+    """The target the operator is preparing; never moves the arm until Move J or Move L is pressed.
+
+    Until the operator sets a target (drags the gizmo, moves a slider), the target follows the arm: no ghost,
+    nothing to run, and no stale target left behind where the arm was when the page opened.
+    """
+
+    def __init__(
+        self,
+        target: GuiTarget,
+        arm: ArmModel,
+        runner: CommandRunner,
+        current_q: Callable[[], np.ndarray | None],
+        current_tool: Callable[[], np.ndarray],
+        current_cell: Callable[[], CellModel | None] = lambda: None,
+    ) -> None:
+        self._arm = arm
+        self._current_cell = current_cell  # the controller's obstacles and tool shape, as last read
+        self.hand: HandGuide | None = None  # simulator: in free drive, a target moves the arm by hand
+        self._runner = runner
+        self._current_q = current_q
+        self._current_tool = current_tool  # T_flange_tcp: the gizmo holds the tool's TCP, as /position does
+        self._ghosts = {
+            ok: ViserUrdf(
+                target,
+                arm.urdf_path,
+                root_node_name=f"/ghost_{'ok' if ok else 'bad'}",
+                mesh_color_override=GHOST_OK_RGBA if ok else GHOST_BAD_RGBA,
+            )
+            for ok in (True, False)
+        }
+        self._hits = ObstacleDrawing(target.scene, "/ghost_hits", only_touching=True)
+        self._gizmo = target.scene.add_transform_controls("/target", scale=GIZMO_SCALE, visible=False)
+        self._syncing = False
+        # The operator's edits (viser's thread pool) and the refresh's rechecks (a new cell) take turns: a
+        # check made against the old cell must not land after the recheck against the new one.
+        self._checking = threading.RLock()
+        self.locked = False  # a viewer's page: Move J / Move L stay disabled whatever the target
+        self.check = TargetCheck(None, "No target yet")
+        self.following = True  # the target is where the arm is (see the class doc)
+        self._ghost_q: np.ndarray | None = None  # where the ghost stands: the last target IK could solve
+        self.ghost_shown: bool | None = None  # True: the blue (executable) ghost, False: the red one
+
+        self.reason = target.gui.add_markdown("Drag the gizmo or the sliders to set a target.")
+        self.sliders = [
+            target.gui.add_slider(
+                f"J{i + 1} °",
+                min=math.degrees(arm.lower[i]),
+                max=math.degrees(arm.upper[i]),
+                step=0.1,
+                initial_value=0.0,
+            )
+            for i in range(6)
+        ]
+        self.speed = target.gui.add_slider(
+            "Move speed %", min=1.0, max=100.0, step=1.0, initial_value=DEFAULT_MOVE_SPEED_PERCENT
+        )
+        self.from_current = target.gui.add_button("Target = current", icon=viser.Icon.TARGET)
+        self.move_j = target.gui.add_button("Move J", disabled=True)
+        self.move_l = target.gui.add_button("Move L", disabled=True)
+        self._show_ghost(self.check)
+
+        @self._gizmo.on_update
+        def _(event: viser.TransformControlsEvent) -> None:
+            if self._syncing:
+                return
+            T_base_tcp = vtf.SE3.from_rotation_and_translation(
+                vtf.SO3(np.asarray(self._gizmo.wxyz)), np.asarray(self._gizmo.position)
+            ).as_matrix()
+            self.set_tcp_target(T_base_tcp, event.client)
+
+        for slider in self.sliders:
+            slider.on_update(
+                lambda event: None if self._syncing else self.set_joint_target(self._slider_q(), event.client)
+            )
+        self.from_current.on_click(lambda _: self.reset_to_current())
+        self.move_j.on_click(lambda event: self.run(MotionType.JOINT, event.client))
+        self.move_l.on_click(lambda event: self.run(MotionType.LINEAR, event.client))
+
+    # --- setting the target -------------------------------------------------------------------------
+    @property
+    def executable(self) -> bool:
+        """A target the operator set, and that can be run."""
+        return self.check.ok and not self.following
+
+    def reset_to_current(self) -> None:
+        """Drop the operator's target: the target follows the arm again."""
+        with self._checking:
+            self.following = True
+            q = self._current_q()
+            if q is not None:
+                self._target_joints(q)
+
+    def follow(self, q: np.ndarray | None, *, moving: bool) -> None:
+        """The arm is at `q` now: the target moves with it unless the operator has set one. While the arm
+        moves the gizmo is hidden rather than chased (six sliders and a gizmo to every browser, 5 times a
+        second); it comes back at the TCP when the arm stops."""
+        if not self.following or q is None:
+            return
+        if moving:
+            if self._gizmo.visible:
+                self._gizmo.visible = False
+        elif self.check.q is None or not np.array_equal(self.check.q, q) or not self._gizmo.visible:
+            with self._checking:
+                if self.following:  # still: the operator may have set a target meanwhile
+                    self._target_joints(q)
+
+    def set_flange_target(
+        self, T_base_flange: np.ndarray, client: viser.ClientHandle | None = None
+    ) -> TargetCheck:
+        with self._checking:
+            self.following = False
+            near = self.check.q if self.check.q is not None else self._current_q()
+            near = near if near is not None else 0.5 * (self._arm.lower + self._arm.upper)
+            self.check = check_flange_target(
+                self._arm, T_base_flange, near, self._current_cell(), self._current_q()
+            )
+            self._show(move_gizmo=False)
+            self._guide(client)
+            return self.check
+
+    def set_tcp_target(self, T_base_tcp: np.ndarray, client: viser.ClientHandle | None = None) -> TargetCheck:
+        """Where the gizmo was dragged: the tool's TCP (the flange when no tool is set)."""
+        return self.set_flange_target(T_base_tcp @ inverse(self._current_tool()), client)
+
+    def set_joint_target(self, q: np.ndarray, client: viser.ClientHandle | None = None) -> TargetCheck:
+        with self._checking:
+            self.following = False
+            check = self._target_joints(q)
+            self._guide(client)
+            return check
+
+    def _guide(self, client: viser.ClientHandle | None) -> None:
+        """In free drive the target is where the hand pulls the arm: an executable one moves it there, and
+        the target follows the arm again (no ghost, nothing to run)."""
+        if self.hand is None or not self.hand.active or not self.check.ok or self.check.q is None:
+            return
+        self.hand.move(self.check.q, client)
+        self.following = True
+        self._show_ghost(self.check)
+
+    def _target_joints(self, q: np.ndarray) -> TargetCheck:
+        cell = None if self.following else self._current_cell()  # the arm where it is: nothing to check
+        self.check = check_joint_target(self._arm, np.asarray(q, dtype=float), cell, self._current_q())
+        self._show(move_gizmo=True)
+        return self.check
+
+    def recheck(self) -> None:
+        """The cell changed: check the operator's target against it again."""
+        with self._checking:
+            if not self.following and self.check.q is not None:
+                self._target_joints(self.check.q)
+
+    @property
+    def obstacles_hit(self) -> dict[str, bool]:
+        """The obstacles drawn red in this browser because the ghost (or its path) hits them."""
+        return self._hits.shown
+
+    # --- running it ---------------------------------------------------------------------------------
+    def run(self, motion: MotionType, client: viser.ClientHandle | None = None) -> Future[object] | None:
+        """Send the target as a Move J or Move L; None when the target cannot be executed."""
+        check = self.check
+        if not self.executable or check.q is None:
+            return None
+        params = MotionParams(speed=float(self.speed.value), motion_type=motion)
+        q_target = check.q.copy()
+        if motion is MotionType.JOINT:
+            pose = Pose(angles=[float(v) for v in np.degrees(q_target)])
+            return self._runner.submit("Move J", lambda c: c.set_pose(pose, params), client, motion=True)
+        return self._runner.submit(
+            "Move L",
+            lambda c: c.set_position(self._zero_tool_target(c, q_target), params),
+            client,
+            motion=True,
+        )
+
+    def _zero_tool_target(self, controller: Controller, q: np.ndarray) -> Position:
+        """PUT /position speaks in the zero point frame and of the tool's TCP."""
+        T_base_zero = position_to_matrix(controller.get_base())
+        T_flange_tool = position_to_matrix(controller.get_tool().position)
+        return matrix_to_position(inverse(T_base_zero) @ self._arm.fk(q) @ T_flange_tool)
+
+    # --- display ------------------------------------------------------------------------------------
+    def _show(self, *, move_gizmo: bool) -> None:
+        check = self.check
+        self._show_ghost(check)
+        if self.following:
+            text = "Drag the gizmo or move a slider to set a target."
+        elif check.ok:
+            text = "**Target ready** — Move J or Move L runs it."
+        else:
+            text = f"**Cannot execute:** {check.reason}"
+        if self.reason.content != text:
+            self.reason.content = text
+        self.move_j.disabled = not self.executable or self.locked
+        self.move_l.disabled = not self.executable or self.locked
+        if check.q is None:
+            return
+        self._syncing = True
+        try:
+            for slider, value in zip(self.sliders, np.degrees(check.q), strict=True):
+                slider.value = float(np.clip(value, slider.min, slider.max))
+            if move_gizmo:
+                T = self._arm.fk(check.q) @ self._current_tool()
+                self._gizmo.position = T[:3, 3]
+                self._gizmo.wxyz = vtf.SO3.from_matrix(T[:3, :3]).wxyz
+            self._gizmo.visible = True
+        finally:
+            self._syncing = False
+
+    def _show_ghost(self, check: TargetCheck) -> None:
+        """Blue at an executable target; red otherwise, at the target or, when IK has no solution (out of
+        reach), where the last solvable one was, so the operator sees which drag went too far. The
+        obstacles it would hit are drawn red over the shared scene, in this browser only."""
+        cell = self._current_cell()
+        touching = () if self.following else check.touching
+        self._hits.show(cell.obstacles if cell is not None else [], touching)
+        if check.q is not None:
+            self._ghost_q = check.q
+        q = self._ghost_q
+        self.ghost_shown = None if q is None or self.following else check.ok
+        for ok, ghost in self._ghosts.items():
+            visible = self.ghost_shown == ok
+            ghost.show_visual = visible
+            if visible and q is not None:
+                cfg = np.zeros(len(ghost.get_actuated_joint_names()))
+                cfg[:6] = q
+                ghost.update_cfg(cfg)
+
+    @property
+    def gizmo_shown(self) -> bool:
+        return bool(self._gizmo.visible)
+
+    @property
+    def gizmo_position(self) -> np.ndarray:
+        """Where the gizmo stands (base frame, metres): the target's TCP."""
+        return np.asarray(self._gizmo.position, dtype=float)
+
+    def _slider_q(self) -> np.ndarray:
+        return np.radians([float(s.value) for s in self.sliders])
