@@ -24,8 +24,9 @@ TOKEN_BYTES = 24  # 32 URL-safe characters
 # treated as a command that can change the robot.
 SAFE_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
 # Stopping is open to every client, as every browser may press Freeze: these need no token and are never
-# refused for who sent them (the Host and Origin rules still apply).
-STOP_PATHS = frozenset({"/freeze", "/stop"})
+# refused for who sent them nor for their form (the Host and Origin rules still apply). By method and path:
+# DELETE /stop unbinds the stop from the inputs, which is no stop.
+STOPS = frozenset({("PUT", "/freeze"), ("POST", "/stop")})
 # A token shorter than this, or of fewer distinct characters, is guessable: warned about at start-up.
 STRONG_TOKEN_CHARS = 16
 STRONG_TOKEN_DISTINCT = 8
@@ -47,8 +48,9 @@ def changes_robot(method: str) -> bool:
     return method.upper() not in SAFE_METHODS
 
 
-def is_stop(path: str) -> bool:
-    return path.rstrip("/") in STOP_PATHS
+def is_stop(method: str, path: str) -> bool:
+    """`PUT /freeze` and `POST /stop`: the requests that only ever stop the arm."""
+    return (method.upper(), path.rstrip("/")) in STOPS
 
 
 def tokens_match(given: str | None, expected: str) -> bool:
@@ -76,7 +78,7 @@ def token_refusal(
     Reads and stops are always allowed; any other request needs the token when there is one: 401 without it,
     403 with a wrong one.
     """
-    if expected is None or not changes_robot(method) or is_stop(path):
+    if expected is None or not changes_robot(method) or is_stop(method, path):
         return None
     if not given or not given.strip():
         return UNAUTHORIZED, MSG_TOKEN_MISSING

@@ -70,9 +70,10 @@ protective stop, free drive, jogging, gripper power, untwisting, the motors' log
 Access: a pendant exposed beyond loopback (`pendant --host 0.0.0.0`) has an access token (printed at
 start-up, or `--token`). Every request that changes the robot (any method but GET, HEAD and OPTIONS) must
 then carry it in the `X-Pendant-Token` header: without it the answer is 401, with a wrong one 403 (429 after
-many wrong ones). Reads and stops (`PUT /freeze`) need no token. A command from a web page of another origin,
-one naming a `Host` the pendant does not answer to, or a body sent as `text/plain` or a form is refused (403,
-415). While the operator has Remote control off in the pendant's page, commands answer 403 naming who has
+many wrong ones). Reads and stops (`PUT /freeze`, `POST /stop`) need no token, and a stop is never refused for
+its form (any content type, any body or none). A command from a web page of another origin, or one naming a
+`Host` the pendant does not answer to, is refused (403); a page's command with its body sent as `text/plain`
+or a form too (415). Scripts (no `Origin`, no `Sec-Fetch-*` header) may label a JSON body as they like. While the operator has Remote control off in the pendant's page, commands answer 403 naming who has
 control; while a jog is held there, 409.
 """
 

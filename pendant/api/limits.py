@@ -7,6 +7,10 @@ checked before the first byte is read; a chunked body (no length) is counted as 
 moment it passes the limit. So no client can make the pendant hold or parse megabytes, which is what used
 to delay PUT /freeze by seconds (issue #16).
 
+A stop (`PUT /freeze`, `POST /stop`) is never refused for its body: its body is not read at all (the app
+sees an empty one, the proxy forwards none) and, when one too large was announced, the connection is closed
+after the answer so the rest of it is dropped.
+
 The same middleware sits in front of the simulator's API and of the proxy to a real controller.
 """
 
@@ -16,6 +20,7 @@ from dataclasses import dataclass
 
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
+from pendant.access.token import is_stop
 from pendant.api.wire import TEXT, text_literal
 from pendant.controller.errors import ControllerError
 
@@ -86,6 +91,10 @@ class BodySizeLimit:
             return
         stream = _Stream(body_limit(scope["method"], scope["path"]))
         declared = _content_length(scope)
+        if is_stop(scope["method"], scope["path"]):
+            answer = _closing(send) if (declared or 0) > stream.limit else send
+            await self.app(scope, _without_body(receive), answer)
+            return
         if declared is not None and declared > stream.limit:
             await _send_too_large(send, stream.limit)
             return
@@ -102,7 +111,8 @@ class BodySizeLimit:
             if message["type"] == "http.response.start":
                 stream.answered = True
                 if message["status"] == PayloadTooLarge.status_code:  # the app's own 413: stop the upload
-                    message = {**message, "headers": [*message.get("headers", []), (b"connection", b"close")]}
+                    await _closing(send)(message)
+                    return
             await send(message)
 
         try:
@@ -110,6 +120,35 @@ class BodySizeLimit:
         except PayloadTooLarge:
             if not stream.answered:  # an app without the API's error handlers (the proxy)
                 await _send_too_large(send, stream.limit)
+
+
+def _without_body(receive: Receive) -> Receive:
+    """`receive` as a stop's handler sees it: an empty body at once (whatever was sent is never kept), then
+    only the client's disconnection."""
+    delivered = False
+
+    async def receive_nothing() -> Message:
+        nonlocal delivered
+        if not delivered:
+            delivered = True
+            return {"type": "http.request", "body": b"", "more_body": False}
+        while True:
+            message = await receive()
+            if message["type"] != "http.request":
+                return message
+
+    return receive_nothing
+
+
+def _closing(send: Send) -> Send:
+    """`send` with `connection: close` on the answer: the server then drops the unread body."""
+
+    async def send_closing(message: Message) -> None:
+        if message["type"] == "http.response.start":
+            message = {**message, "headers": [*message.get("headers", []), (b"connection", b"close")]}
+        await send(message)
+
+    return send_closing
 
 
 def _content_length(scope: Scope) -> int | None:
