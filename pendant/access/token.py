@@ -17,16 +17,16 @@ import secrets
 import socket
 from urllib.parse import quote, unquote_to_bytes
 
+# Stopping is open to every client, as every browser may press Freeze: the operations table's stops need no
+# token and are never refused for who sent them nor for their form (the Host and Origin rules still apply).
+from pendant.controller.operations import is_stop
+
 TOKEN_HEADER = "X-Pendant-Token"
 TOKEN_QUERY = "token"
 TOKEN_BYTES = 24  # 32 URL-safe characters
 # GET, HEAD and OPTIONS only read; every other method (PUT, POST, PATCH, DELETE, PROPFIND, MOVE, ...) is
 # treated as a command that can change the robot.
 SAFE_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
-# Stopping is open to every client, as every browser may press Freeze: these need no token and are never
-# refused for who sent them nor for their form (the Host and Origin rules still apply). By method and path:
-# DELETE /stop unbinds the stop from the inputs, which is no stop.
-STOPS = frozenset({("PUT", "/freeze"), ("POST", "/stop")})
 # A token shorter than this, or of fewer distinct characters, is guessable: warned about at start-up.
 STRONG_TOKEN_CHARS = 16
 STRONG_TOKEN_DISTINCT = 8
@@ -46,11 +46,6 @@ def new_token() -> str:
 def changes_robot(method: str) -> bool:
     """Every method but GET, HEAD and OPTIONS counts as a command."""
     return method.upper() not in SAFE_METHODS
-
-
-def is_stop(method: str, path: str) -> bool:
-    """`PUT /freeze` and `POST /stop`: the requests that only ever stop the arm."""
-    return (method.upper(), path.rstrip("/")) in STOPS
 
 
 def tokens_match(given: str | None, expected: str) -> bool:

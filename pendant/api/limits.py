@@ -20,36 +20,18 @@ from dataclasses import dataclass
 
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-from pendant.access.token import is_stop
 from pendant.api.wire import TEXT, text_literal
 from pendant.controller.errors import ControllerError
+from pendant.controller.operations import (
+    BODY_LIMITS,
+    DEFAULT_BODY_LIMIT,
+    DOCUMENT_BODY_LIMIT,
+    RUN_BODY_LIMIT,
+    is_stop,
+)
 
-KIB = 1024
-# One pose, position, tool or base: a few hundred bytes; 8 KiB leaves room for pretty-printed JSON.
-DOCUMENT_BODY_LIMIT = 8 * KIB
-# A run: at most 100 waypoints (the controller's own limit), about 300 bytes each when pretty-printed.
-RUN_BODY_LIMIT = 128 * KIB
-# Anything else (reads and commands without a body, unknown paths): nothing is expected.
-DEFAULT_BODY_LIMIT = 1 * KIB
-
-BODY_LIMITS: dict[tuple[str, str], int] = {
-    ("PUT", "/position"): DOCUMENT_BODY_LIMIT,
-    ("PUT", "/pose"): DOCUMENT_BODY_LIMIT,
-    ("PUT", "/positions/run"): RUN_BODY_LIMIT,
-    ("PUT", "/poses/run"): RUN_BODY_LIMIT,
-    ("POST", "/tool"): DOCUMENT_BODY_LIMIT,
-    ("POST", "/base"): DOCUMENT_BODY_LIMIT,
-    ("PUT", "/sim/pose"): DOCUMENT_BODY_LIMIT,
-    # SDK 1.8.4: a tool (16 capsules at most), one obstacle (a plane of 16 points at most), a jog, and runs.
-    ("POST", "/tool/info"): DOCUMENT_BODY_LIMIT,
-    ("POST", "/tool/shape"): DOCUMENT_BODY_LIMIT,
-    ("PUT", "/environment"): DOCUMENT_BODY_LIMIT,
-    ("PUT", "/jogging"): DOCUMENT_BODY_LIMIT,
-    ("PUT", "/run/linear/positions"): RUN_BODY_LIMIT,
-    ("PUT", "/run/linear/poses"): RUN_BODY_LIMIT,
-    ("PUT", "/run/joint/positions"): RUN_BODY_LIMIT,
-    ("PUT", "/run/joint/poses"): RUN_BODY_LIMIT,
-}
+# Each operation's limit comes from the operations table (a document 8 KiB, a run 128 KiB, else 1 KiB).
+__all__ = ["BODY_LIMITS", "DEFAULT_BODY_LIMIT", "DOCUMENT_BODY_LIMIT", "RUN_BODY_LIMIT", "BodySizeLimit"]
 
 
 def body_limit(method: str, path: str) -> int:
