@@ -26,7 +26,7 @@ import argparse
 import math
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -327,12 +327,13 @@ def api_url(settings: Settings) -> str:
     return f"http://{settings.host}:{settings.api_port}"
 
 
-def serve_api(settings: Settings, app: ASGIApp) -> None:
+def serve_api(settings: Settings, app: ASGIApp, on_quit: Callable[[str], None] | None = None) -> None:
     """Serve the API app until interrupted (blocks): uvicorn with the connection guards of
-    pendant.api.serving (idle and slow connections closed, a cap that always leaves room for a stop)."""
+    pendant.api.serving (idle and slow connections closed, a cap that always leaves room for a stop);
+    `on_quit` first when told to quit (SIGTERM, SIGINT, shutdown)."""
     from pendant.api.serving import serve
 
-    serve(app, settings.host, settings.api_port)
+    serve(app, settings.host, settings.api_port, on_quit)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -374,8 +375,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     # Without the page's refresh loop, a thread of its own logs the arm's state changes.
     watch = StateWatch(controller, events, metrics).start() if ui is None else None
     announce(settings)
+    from pendant.api.quitting import freeze_on_quit
+
     try:
-        serve_api(settings, api_app)
+        serve_api(settings, api_app, freeze_on_quit(controller.freeze, events))  # quitting stops the arm
     finally:
         if ui is not None:
             ui.stop()

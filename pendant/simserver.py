@@ -18,6 +18,7 @@ from starlette.types import ASGIApp, Receive, Scope, Send
 
 from pendant.api import create_app
 from pendant.api.availability import NOT_THE_CONTROLLERS
+from pendant.api.quitting import QuitAwareServer, freeze_on_quit
 from pendant.sim.clock import ScaledClock, paused
 from pendant.sim.script import Script, ScriptedSim
 
@@ -76,7 +77,7 @@ class SimServer:
         self.url = f"http://{LOOPBACK}:{self.port}"
         counted = CommandCounter(self.app, self.script, self.clock, self.begin)
         config = uvicorn.Config(counted, log_level="warning", access_log=False, lifespan="off")
-        self._server = uvicorn.Server(config)
+        self._server = QuitAwareServer(config, freeze_on_quit(self.sim.freeze))  # stopping freezes the arm
         self._origin_hold: float | None = None
         self._thread = threading.Thread(
             target=self._server.run, kwargs={"sockets": [self._socket]}, name="pendant-sim-api", daemon=True

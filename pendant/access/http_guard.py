@@ -1,9 +1,10 @@
 """The API port's guard: one ASGI middleware in front of the simulator's PULSE API and of the proxy alike.
 
 In order, for every HTTP request:
-1. `Host` and, for commands, `Origin` and content type (origin.OriginPolicy): 403 / 415.
+1. `Host` and, for commands, `Origin` and, for a page's commands other than stops, the content type
+   (origin.OriginPolicy): 403 / 415. A request with neither `Origin` nor `Sec-Fetch-*` is no page's.
 2. Reads (GET, HEAD, OPTIONS) go on. Every other method is a command (PROPFIND and MOVE too).
-3. Stops (`PUT /freeze`, `/stop`) go on: stopping is open to every client.
+3. Stops (`PUT /freeze`, `POST /stop`) go on: stopping is open to every client, in any form.
 4. The access token, when the pendant has one: 401 without it, 403 wrong; wrong guesses are slowed per
    client address (throttle.FailedAttempts: 429 when its turn is too far away).
 5. The Remote control switch (remote.RemoteControl): 403 while the operator has it off, 409 while a jog is
@@ -28,6 +29,8 @@ from pendant.access.token import FORBIDDEN, TOKEN_HEADER, changes_robot, is_stop
 from pendant.eventlog import EventKind, EventLog
 
 _TOKEN_HEADER_BYTES = TOKEN_HEADER.lower().encode()
+# Fetch metadata: every browser in use sends these (and `Origin` with a command); curl and urllib never do.
+_FETCH_METADATA_PREFIX = b"sec-fetch-"
 USER_AGENT_MAX_CHARS = 60
 TOO_MANY_REQUESTS = 429
 
@@ -64,6 +67,11 @@ def _headers(scope: Scope) -> dict[bytes, bytes]:
     return {key: value for key, value in scope["headers"] if key in wanted}
 
 
+def sent_by_page(scope: Scope) -> bool:
+    """True when a browser sent the request for a page: it carries `Origin` or a `Sec-Fetch-*` header."""
+    return any(key == b"origin" or key.startswith(_FETCH_METADATA_PREFIX) for key, _ in scope["headers"])
+
+
 def _address(scope: Scope) -> str:
     client = scope.get("client")
     return client[0] if client else "unknown"
@@ -87,6 +95,7 @@ class AccessGuard:
         rules = self.rules
         method: str = scope["method"]
         changes = changes_robot(method)
+        stop = is_stop(method, scope["path"])
         headers = _headers(scope) if changes or rules.origins is not None else {}
         if rules.origins is not None:
             refusal = rules.origins.request_refusal(
@@ -94,6 +103,8 @@ class AccessGuard:
                 _text(headers.get(b"origin")),
                 _text(headers.get(b"content-type")),
                 changes=changes,
+                from_page=changes and sent_by_page(scope),
+                stop=stop,
             )
             if refusal is not None:
                 await self._refuse(scope, receive, send, headers, refusal)
@@ -101,7 +112,7 @@ class AccessGuard:
         if not changes:
             await self.app(scope, receive, send)  # reads: no check, no log
             return
-        if not is_stop(scope["path"]):
+        if not stop:
             refusal = await self._token_refusal(scope, headers)
             if refusal is None and rules.remote is not None:
                 refusal = rules.remote.begin_api_command()

@@ -8,10 +8,13 @@ The same rules as Jupyter's and Vite's dev servers, for both of the pendant's po
 - A request carrying an `Origin` (every browser sends one with a POST, PUT or websocket, even in `no-cors`
   mode) must come from the pendant's own origin (scheme, host and port of the `Host` it asked for; the
   loopback names count as one). A page from elsewhere gets 403 before anything reaches the arm.
-- A command's body in a type a page may send without CORS (`text/plain`, form types) is refused with 415:
-  JSON goes as `application/json`.
+- A command from a page with its body in a type a page may send without CORS (`text/plain`, form types) is
+  refused with 415: a page sends JSON as `application/json`. A stop is never refused for its form.
 
-Requests without `Origin` (curl, httpx, Rozum's SDK, the exported scripts) are untouched by the Origin rule.
+A request with neither `Origin` nor any `Sec-Fetch-*` header was not sent by a page (every browser in use
+adds one or the other to a command): curl, urllib, httpx, Rozum's SDK, the exported scripts. The Origin and
+content-type rules do not apply to it (`curl -d` and urllib send form encoding by default; the body is read as
+JSON whatever its type), only the Host rule.
 """
 
 from __future__ import annotations
@@ -128,17 +131,25 @@ class OriginPolicy:
         )
 
     def request_refusal(
-        self, host_header: str | None, origin: str | None, content_type: str | None, *, changes: bool
+        self,
+        host_header: str | None,
+        origin: str | None,
+        content_type: str | None,
+        *,
+        changes: bool,
+        from_page: bool = True,
+        stop: bool = False,
     ) -> tuple[int, str] | None:
         """(status, message) for an HTTP request that must be refused, None when it may go on.
 
-        Every request has its Host checked; one that `changes` something also its Origin and content type.
+        Every request has its Host checked; one that `changes` something also its Origin and, when it comes
+        `from_page` and is no `stop`, its content type.
         """
         refusal = self.host_refusal(host_header)
         if refusal is not None or not changes:
             return refusal
         refusal = self.origin_refusal(origin, host_header)
-        if refusal is not None:
+        if refusal is not None or stop or not from_page:
             return refusal
         media_type = (content_type or "").split(";", 1)[0].strip().lower()
         if media_type in SIMPLE_CONTENT_TYPES:

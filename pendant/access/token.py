@@ -17,15 +17,16 @@ import secrets
 import socket
 from urllib.parse import quote, unquote_to_bytes
 
+# Stopping is open to every client, as every browser may press Freeze: the operations table's stops need no
+# token and are never refused for who sent them nor for their form (the Host and Origin rules still apply).
+from pendant.controller.operations import is_stop
+
 TOKEN_HEADER = "X-Pendant-Token"
 TOKEN_QUERY = "token"
 TOKEN_BYTES = 24  # 32 URL-safe characters
 # GET, HEAD and OPTIONS only read; every other method (PUT, POST, PATCH, DELETE, PROPFIND, MOVE, ...) is
 # treated as a command that can change the robot.
 SAFE_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
-# Stopping is open to every client, as every browser may press Freeze: these need no token and are never
-# refused for who sent them (the Host and Origin rules still apply).
-STOP_PATHS = frozenset({"/freeze", "/stop"})
 # A token shorter than this, or of fewer distinct characters, is guessable: warned about at start-up.
 STRONG_TOKEN_CHARS = 16
 STRONG_TOKEN_DISTINCT = 8
@@ -45,10 +46,6 @@ def new_token() -> str:
 def changes_robot(method: str) -> bool:
     """Every method but GET, HEAD and OPTIONS counts as a command."""
     return method.upper() not in SAFE_METHODS
-
-
-def is_stop(path: str) -> bool:
-    return path.rstrip("/") in STOP_PATHS
 
 
 def tokens_match(given: str | None, expected: str) -> bool:
@@ -76,7 +73,7 @@ def token_refusal(
     Reads and stops are always allowed; any other request needs the token when there is one: 401 without it,
     403 with a wrong one.
     """
-    if expected is None or not changes_robot(method) or is_stop(path):
+    if expected is None or not changes_robot(method) or is_stop(method, path):
         return None
     if not given or not given.strip():
         return UNAUTHORIZED, MSG_TOKEN_MISSING

@@ -30,6 +30,7 @@ from pendant.api.routers.tool import tool_router
 from pendant.api.routing import DirectDispatch, direct_endpoints
 from pendant.api.stop_notice import StopNotice
 from pendant.controller.cell_types import Obstacle, ToolInfo, ToolShape
+from pendant.controller.operations import find_operation
 from pendant.controller.protocol import Controller
 from pendant.controller.stops import StopBus
 from pendant.controller.system_types import (
@@ -72,10 +73,12 @@ protective stop, free drive, jogging, gripper power, untwisting, the motors' log
 Access: a pendant exposed beyond loopback (`pendant --host 0.0.0.0`) has an access token (printed at
 start-up, or `--token`). Every request that changes the robot (any method but GET, HEAD and OPTIONS) must
 then carry it in the `X-Pendant-Token` header: without it the answer is 401, with a wrong one 403 (429 after
-many wrong ones). Reads and stops (`PUT /freeze`) need no token. A command from a web page of another origin,
-one naming a `Host` the pendant does not answer to, or a body sent as `text/plain` or a form is refused (403,
-415). While the operator has Remote control off in the pendant's page, commands answer 403 naming who has
-control; while a jog is held there, 409.
+many wrong ones). Reads and stops (`PUT /freeze`, `POST /stop`) need no token, and a stop is never refused for
+its form (any content type, any body or none). A command from a web page of another origin, or one naming a
+`Host` the pendant does not answer to, is refused (403); a page's command with its body sent as `text/plain`
+or a form too (415). Scripts (no `Origin`, no `Sec-Fetch-*` header) may label a JSON body as they like.
+While the operator has Remote control off in the pendant's page, commands answer 403 naming who has control;
+while a jog is held there, 409.
 """
 
 
@@ -161,6 +164,10 @@ def _openapi(app: FastAPI) -> dict[str, Any]:
     for path, path_item in schema.get("paths", {}).items():
         for method, operation in path_item.items():
             operation.get("responses", {}).pop("422", None)
+            declared = find_operation(method, path)
+            if declared is not None:  # where it comes from, and whether it is a stop: the operations table's
+                operation["x-pulse-source"] = declared.source.value
+                operation["x-pulse-stop"] = declared.stop
             if (method.upper(), path) in BODY_LIMITS:  # the documented body has a size limit: say so
                 limit = body_limit(method.upper(), path)
                 too_large = docs.error(413, "Request body too large", too_large_message(limit))

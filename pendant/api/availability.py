@@ -10,11 +10,13 @@ from starlette.types import ASGIApp, Receive, Scope, Send
 
 from pendant.api.errors import error_response
 from pendant.controller.errors import ControllerError, Emergency
+from pendant.controller.operations import ANSWER_IN_EMERGENCY
 
-# Served by the pendant, not the controller: they answer whatever state the arm is in.
+# Served by the pendant, not the controller: they answer whatever state the arm is in (the operations
+# table's `controller=False` entries are all under /sim/: tests/api/test_operations.py checks).
 NOT_THE_CONTROLLERS = ("/sim/", "/pendant/", "/metrics", "/docs", "/redoc", "/openapi.json")
-# SDK 1.8.4 asks these after a failure, to learn why: they answer in EMERGENCY too.
-ANSWER_IN_EMERGENCY = frozenset({"/status", "/status/failure"})
+# ANSWER_IN_EMERGENCY (the table's `in_emergency`): SDK 1.8.4 asks these after a failure, to learn why.
+__all__ = ["ANSWER_IN_EMERGENCY", "NOT_THE_CONTROLLERS", "UnavailableFirst"]
 
 
 class UnavailableFirst:

@@ -7,6 +7,10 @@ checked before the first byte is read; a chunked body (no length) is counted as 
 moment it passes the limit. So no client can make the pendant hold or parse megabytes, which is what used
 to delay PUT /freeze by seconds (issue #16).
 
+A stop (`PUT /freeze`, `POST /stop`) is never refused for its body: its body is not read at all (the app
+sees an empty one, the proxy forwards none) and, when one too large was announced, the connection is closed
+after the answer so the rest of it is dropped.
+
 The same middleware sits in front of the simulator's API and of the proxy to a real controller.
 """
 
@@ -18,33 +22,16 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from pendant.api.wire import TEXT, text_literal
 from pendant.controller.errors import ControllerError
+from pendant.controller.operations import (
+    BODY_LIMITS,
+    DEFAULT_BODY_LIMIT,
+    DOCUMENT_BODY_LIMIT,
+    RUN_BODY_LIMIT,
+    is_stop,
+)
 
-KIB = 1024
-# One pose, position, tool or base: a few hundred bytes; 8 KiB leaves room for pretty-printed JSON.
-DOCUMENT_BODY_LIMIT = 8 * KIB
-# A run: at most 100 waypoints (the controller's own limit), about 300 bytes each when pretty-printed.
-RUN_BODY_LIMIT = 128 * KIB
-# Anything else (reads and commands without a body, unknown paths): nothing is expected.
-DEFAULT_BODY_LIMIT = 1 * KIB
-
-BODY_LIMITS: dict[tuple[str, str], int] = {
-    ("PUT", "/position"): DOCUMENT_BODY_LIMIT,
-    ("PUT", "/pose"): DOCUMENT_BODY_LIMIT,
-    ("PUT", "/positions/run"): RUN_BODY_LIMIT,
-    ("PUT", "/poses/run"): RUN_BODY_LIMIT,
-    ("POST", "/tool"): DOCUMENT_BODY_LIMIT,
-    ("POST", "/base"): DOCUMENT_BODY_LIMIT,
-    ("PUT", "/sim/pose"): DOCUMENT_BODY_LIMIT,
-    # SDK 1.8.4: a tool (16 capsules at most), one obstacle (a plane of 16 points at most), a jog, and runs.
-    ("POST", "/tool/info"): DOCUMENT_BODY_LIMIT,
-    ("POST", "/tool/shape"): DOCUMENT_BODY_LIMIT,
-    ("PUT", "/environment"): DOCUMENT_BODY_LIMIT,
-    ("PUT", "/jogging"): DOCUMENT_BODY_LIMIT,
-    ("PUT", "/run/linear/positions"): RUN_BODY_LIMIT,
-    ("PUT", "/run/linear/poses"): RUN_BODY_LIMIT,
-    ("PUT", "/run/joint/positions"): RUN_BODY_LIMIT,
-    ("PUT", "/run/joint/poses"): RUN_BODY_LIMIT,
-}
+# Each operation's limit comes from the operations table (a document 8 KiB, a run 128 KiB, else 1 KiB).
+__all__ = ["BODY_LIMITS", "DEFAULT_BODY_LIMIT", "DOCUMENT_BODY_LIMIT", "RUN_BODY_LIMIT", "BodySizeLimit"]
 
 
 def body_limit(method: str, path: str) -> int:
@@ -86,6 +73,10 @@ class BodySizeLimit:
             return
         stream = _Stream(body_limit(scope["method"], scope["path"]))
         declared = _content_length(scope)
+        if is_stop(scope["method"], scope["path"]):
+            answer = _closing(send) if (declared or 0) > stream.limit else send
+            await self.app(scope, _without_body(receive), answer)
+            return
         if declared is not None and declared > stream.limit:
             await _send_too_large(send, stream.limit)
             return
@@ -102,7 +93,8 @@ class BodySizeLimit:
             if message["type"] == "http.response.start":
                 stream.answered = True
                 if message["status"] == PayloadTooLarge.status_code:  # the app's own 413: stop the upload
-                    message = {**message, "headers": [*message.get("headers", []), (b"connection", b"close")]}
+                    await _closing(send)(message)
+                    return
             await send(message)
 
         try:
@@ -110,6 +102,35 @@ class BodySizeLimit:
         except PayloadTooLarge:
             if not stream.answered:  # an app without the API's error handlers (the proxy)
                 await _send_too_large(send, stream.limit)
+
+
+def _without_body(receive: Receive) -> Receive:
+    """`receive` as a stop's handler sees it: an empty body at once (whatever was sent is never kept), then
+    only the client's disconnection."""
+    delivered = False
+
+    async def receive_nothing() -> Message:
+        nonlocal delivered
+        if not delivered:
+            delivered = True
+            return {"type": "http.request", "body": b"", "more_body": False}
+        while True:
+            message = await receive()
+            if message["type"] != "http.request":
+                return message
+
+    return receive_nothing
+
+
+def _closing(send: Send) -> Send:
+    """`send` with `connection: close` on the answer: the server then drops the unread body."""
+
+    async def send_closing(message: Message) -> None:
+        if message["type"] == "http.response.start":
+            message = {**message, "headers": [*message.get("headers", []), (b"connection", b"close")]}
+        await send(message)
+
+    return send_closing
 
 
 def _content_length(scope: Scope) -> int | None:

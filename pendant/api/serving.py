@@ -27,6 +27,7 @@ from typing import Any, ClassVar
 
 from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
 
+from pendant.api.quitting import QuitAwareServer, QuitHook
 from pendant.api.wire import text_literal
 
 KEEP_ALIVE_TIMEOUT_S = 5.0
@@ -151,12 +152,13 @@ def guarded_protocol(
     return type("GuardedHttpProtocol", (GuardedHttpProtocol,), settings)
 
 
-def serve(app: Any, host: str, port: int) -> None:
-    """Serve `app` with uvicorn until interrupted (blocks), guarded as described above."""
+def serve(app: Any, host: str, port: int, on_quit: QuitHook | None = None) -> None:
+    """Serve `app` with uvicorn until interrupted (blocks), guarded as described above; `on_quit` is called
+    first when it is told to quit (pendant.api.quitting: the arm is frozen)."""
     import uvicorn
 
     sys.setswitchinterval(GIL_SWITCH_INTERVAL_S)
-    uvicorn.run(
+    config = uvicorn.Config(
         app,
         host=host,
         port=port,
@@ -165,3 +167,4 @@ def serve(app: Any, host: str, port: int) -> None:
         access_log=False,  # a log line per request would cost more than the request itself
         log_level="warning",
     )
+    QuitAwareServer(config, on_quit).run()

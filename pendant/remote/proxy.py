@@ -14,6 +14,9 @@ Timeouts (the pendant's own, Settings / `--connect-timeout`, `--read-timeout`, `
   have run": read the arm's state before sending it again.
 Nothing is queued or re-sent later.
 
+A stop (`PUT /freeze`, `POST /stop`) goes up bare: no body, no content type, no page headers (`Origin`,
+`Referer`, `Sec-Fetch-*`), whatever form it came in: the controller cannot refuse it for its form either.
+
 Run alone (`pendant --robot URL` builds the same app):
     python -m pendant.remote.proxy --robot http://192.168.1.50:8081 --port 8081
 
@@ -35,6 +38,7 @@ from starlette.types import ASGIApp, Receive, Scope, Send
 
 from pendant.access.http_guard import AccessGuard, AccessRules
 from pendant.access.origin import OriginPolicy
+from pendant.access.token import is_stop
 from pendant.api.limits import BodySizeLimit
 from pendant.api.stop_notice import StopNotice
 from pendant.config import Settings
@@ -75,6 +79,8 @@ _HOP_BY_HOP = frozenset(
 # `expect: 100-continue` was already answered by the server in front; the controller gets the whole body.
 # The pendant's access token is the pendant's business: the controller never sees it.
 _NOT_FORWARDED_UP = _HOP_BY_HOP | {b"host", b"content-length", b"expect", b"x-pendant-token"}
+# What a stop leaves behind on its way up (its body is already dropped: pendant.api.limits).
+_NOT_FORWARDED_WITH_A_STOP = _NOT_FORWARDED_UP | {b"content-type", b"origin", b"referer"}
 _NOT_FORWARDED_DOWN = _HOP_BY_HOP | {b"content-length", b"date", b"server"}
 _NO_BODY_STATUSES = frozenset({204, 304})
 
@@ -127,7 +133,7 @@ class _Forwarder:
         target = self.prefix + (scope.get("raw_path") or scope["path"].encode())
         if scope["query_string"]:
             target += b"?" + scope["query_string"]
-        headers = [(name, value) for name, value in scope["headers"] if name not in _NOT_FORWARDED_UP]
+        headers = _headers_up(scope)
         answer = await self._exchange(method, target, headers, body, scope["path"])
         if isinstance(answer, Response):
             await answer(scope, receive, send)
@@ -252,12 +258,24 @@ def create_proxy_app(
     return app
 
 
+def _headers_up(scope: Scope) -> list[tuple[bytes, bytes]]:
+    """The request's headers as the controller gets them (a stop's stripped down to the bare command)."""
+    if not is_stop(scope["method"], scope["path"]):
+        return [(name, value) for name, value in scope["headers"] if name not in _NOT_FORWARDED_UP]
+    return [
+        (name, value)
+        for name, value in scope["headers"]
+        if name not in _NOT_FORWARDED_WITH_A_STOP and not name.startswith(b"sec-fetch-")
+    ]
+
+
 def _bad_gateway(message: str) -> Response:
     return PlainTextResponse(message, status_code=BAD_GATEWAY)
 
 
 def main(argv: list[str] | None = None) -> int:
     """`python -m pendant.remote.proxy --robot URL [--host H] [--port N]`: the proxy alone, no UI."""
+    from pendant.api.quitting import freeze_on_quit
     from pendant.api.serving import serve
 
     parser = argparse.ArgumentParser(description="Serve the PULSE API as a proxy to a real controller.")
@@ -278,7 +296,7 @@ def main(argv: list[str] | None = None) -> int:
         command_timeout=args.command_timeout,
     )
     app = create_proxy_app(args.robot, settings=settings, access=AccessRules(origins=OriginPolicy(args.host)))
-    serve(app, args.host, args.port)
+    serve(app, args.host, args.port, freeze_on_quit(app.state.health_probe.freeze))  # quitting stops the arm
     return 0
 
 

@@ -16,20 +16,8 @@ from pendant.controller.errors import (
     Unreachable,
     Unsupported,
 )
+from pendant.controller.operations import Source, find_operation
 
-# SDK 1.8.4's operations beyond the reference guide: a 404 to one of these is a working controller with older
-# firmware (the page greys that feature out), not a server that is no PULSE controller at all.
-SDK18_PATHS: tuple[str, ...] = (
-    "/status/failure",
-    "/robot/info",
-    "/version",
-    "/tool/info",
-    "/tool/shape",
-    "/environment",
-    "/stop",
-    "/zg",
-)
-SDK18_PATHS += ("/gripper/enable", "/gripper/disable", "/jogging", "/run/", "/untwisting", "/motors-log")
 _MAX_QUOTED_BODY = 200  # characters of an unexpected body quoted in an error message
 
 
@@ -74,8 +62,11 @@ def error_for_status(status_code: int, body: bytes, request_line: str) -> Contro
     error_type = ERRORS_BY_STATUS.get(status_code)
     if error_type is not None:
         return error_type(message or None)
-    path = request_line.partition(" ")[2]
-    if status_code == 404 and (path == "/status" or path.startswith(SDK18_PATHS)):
+    # A 404 to one of SDK 1.8.4's operations beyond the reference guide is a working controller with older
+    # firmware (the page greys that feature out), not a server that is no PULSE controller at all.
+    method, _, target = request_line.partition(" ")
+    operation = find_operation(method, target.partition("?")[0])
+    if status_code == 404 and operation is not None and operation.source is Source.SDK_1_8:
         return Unsupported(f"The controller does not support {request_line} (HTTP 404: older firmware)")
     return ControllerOffline(
         f"Unexpected answer from the controller to {request_line}: HTTP {status_code} {quote_body(body)}"

@@ -71,14 +71,26 @@ def test_a_foreign_origin_cannot_move_the_arm_even_with_json(api: httpx.Client) 
     assert api.get("/status/motion").text == '"IDLE"'
 
 
-def test_a_json_body_sent_as_text_plain_is_refused_without_an_origin_too(api: httpx.Client) -> None:
+def test_a_json_body_sent_as_text_plain_by_a_page_is_refused_without_an_origin_too(api: httpx.Client) -> None:
+    """A browser's request carries fetch metadata even where it leaves `Origin` out."""
     before = api.get("/tool").json()
-    answer = api.post("/tool", content=json.dumps(TOOL), headers={"Content-Type": "text/plain"})
+    page = {"Sec-Fetch-Site": "cross-site", "Sec-Fetch-Mode": "no-cors"}
+    answer = api.post("/tool", content=json.dumps(TOOL), headers={**page, "Content-Type": "text/plain"})
     assert answer.status_code == 415
     assert "application/json" in json.loads(answer.text)
-    form = api.post("/tool", content=b"a=1", headers={"Content-Type": "application/x-www-form-urlencoded"})
-    assert form.status_code == 415
+    form_type = {"Content-Type": "application/x-www-form-urlencoded"}
+    assert api.post("/tool", content=b"a=1", headers={**page, **form_type}).status_code == 415
     assert api.get("/tool").json() == before
+
+
+def test_a_script_may_label_its_json_body_as_it_likes(api: httpx.Client) -> None:
+    """No `Origin`, no `Sec-Fetch-*`: no page sent it, and the body is read as JSON whatever its type."""
+    tool = {"name": "script", "radius": 0.01, **TOOL["position"]}  # type: ignore[dict-item]
+    answer = api.post("/tool", content=json.dumps(tool), headers={"Content-Type": "text/plain"})
+    assert answer.status_code == 200, answer.text
+    assert api.get("/tool").json()["name"] == "script"
+    form_type = {"Content-Type": "application/x-www-form-urlencoded"}
+    assert api.post("/tool", content=b"a=1", headers=form_type).status_code == 400  # not JSON: bad format
 
 
 @pytest.mark.parametrize("host", ["evil.example", "evil.example:8081", "rebind.attacker.test"])

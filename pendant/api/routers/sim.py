@@ -15,35 +15,16 @@ from pendant.api.wire import TextResponse, empty_result
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSE
 from pendant.controller.types import SignalLevel
 from pendant.sim.controller import MSG_HAND_INTO_CELL, MSG_HAND_NEEDS_RELAX
+from pendant.sim.fault_kinds import FAULT_KINDS, FAULT_KINDS_BY_NAME, fault_kinds_description
 
 if TYPE_CHECKING:
     from pendant.sim import SimController
 
 
-class FaultName(StrEnum):
-    """The faults the simulator can play, as they appear in the path."""
+# The faults the simulator can play, as they appear in the path: the fault kinds table's names.
+FaultName = StrEnum("FaultName", [(kind.name, kind.name) for kind in FAULT_KINDS])  # type: ignore[misc]
 
-    error = "error"
-    emergency = "emergency"
-    no_response = "no_response"
-    motion_failed = "motion_failed"
-    overheat = "overheat"
-    twisted = "twisted"
-
-
-FaultPath = Annotated[
-    FaultName,
-    Path(
-        description=(
-            "error: the arm stops, frozen, status ERROR (PUT /recover brings it back). emergency: status "
-            "EMERGENCY, every PULSE call answers 503 until /sim/reset. no_response: every PULSE call answers "
-            "500 until /sim/reset. motion_failed: the running motion fails, status MOTION_FAILED. "
-            "overheat: the stator windings jump to 110 °C, then cool as the thermal model says (about 80 s "
-            "above 80 °C). twisted: GET /status says TWISTED, motion answers 412 until PUT "
-            "/untwisting/finish."
-        )
-    ),
-]
+FaultPath = Annotated[FaultName, Path(description=fault_kinds_description())]
 
 
 def sim_router(sim: SimController) -> APIRouter:
@@ -108,12 +89,11 @@ def sim_router(sim: SimController) -> APIRouter:
         responses={**docs.empty_ok(), **docs.precondition(MSG_FAULT)},
     )
     async def inject_fault(fault: FaultPath) -> TextResponse:
-        from pendant.sim import Fault
-
-        if fault is FaultName.overheat:
+        kind = FAULT_KINDS_BY_NAME[fault.value]
+        if kind.fault is None:
             sim.overheat()
         else:
-            sim.inject_fault(Fault[fault.name.upper()])
+            sim.inject_fault(kind.fault)
         return empty_result()
 
     @router.get(

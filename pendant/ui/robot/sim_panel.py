@@ -7,13 +7,13 @@ import viser
 from pendant.controller import SignalLevel
 from pendant.controller.types import INPUT_PORTS
 from pendant.sim import Fault, SimController
+from pendant.sim.fault_kinds import FAULT_KINDS
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.kit.gui_target import GuiTarget
 
-FAULT_LABELS = {
-    Fault.ERROR: "Inject ERROR",
-    Fault.EMERGENCY: "Inject EMERGENCY",
-    Fault.NO_RESPONSE: "Inject no response",
+# The fault kinds table's buttons.
+FAULT_LABELS: dict[Fault, str] = {
+    kind.fault: kind.label for kind in FAULT_KINDS if kind.fault is not None and kind.label is not None
 }
 
 
