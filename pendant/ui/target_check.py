@@ -1,5 +1,6 @@
 """Is a dragged target executable? IK to the branch nearest the current pose, then limits and collision:
-with itself and the floor, and with the cell's obstacles at the target and along the joint path to it."""
+with itself and the floor, and with the cell's obstacles at the target and along the joint path to it (under
+the contact rule, kinematics/contact.py, as the controller checks it)."""
 
 from __future__ import annotations
 
@@ -50,14 +51,22 @@ def check_joint_target(
         return TargetCheck(q, MSG_COLLISION)
     if cell is None:
         return TargetCheck(q)
+    if q_from is not None:  # from where the arm is: out of a contact it may go, deeper in it may not
+        worse = cell.path_worse(q_from, q)
+        if worse is None:
+            return TargetCheck(q)
+        if worse.obstacle is None:
+            return TargetCheck(q, f"{MSG_COLLISION}: the tool would touch the floor")
+        name = worse.obstacle
+        if worse.allowed_m is not None:
+            where = f"the path to the target {worse.describe()}"
+        elif name in cell.touching(q):
+            where = f"the target touches {name!r}"
+        else:
+            where = f"the path to the target passes through {name!r}"
+        return TargetCheck(q, f"{MSG_COLLISION}: {where}", (name,))
     if cell.collides(q):
         hit = cell.touching(q)
         where = f"the target touches {_names(hit)}" if hit else "the tool would touch the floor"
         return TargetCheck(q, f"{MSG_COLLISION}: {where}", tuple(hit))
-    if q_from is not None:
-        hit = cell.path_touching(q_from, q)
-        if hit:
-            return TargetCheck(
-                q, f"{MSG_COLLISION}: the path to the target passes through {_names(hit)}", tuple(hit)
-            )
     return TargetCheck(q)
