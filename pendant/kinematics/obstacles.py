@@ -106,7 +106,9 @@ def collide(a: coal.CollisionGeometry, T_a: np.ndarray, b: coal.CollisionGeometr
     return coal.collide(a, _transform(T_a), b, _transform(T_b), request, result) > 0
 
 
-def penetration(a: coal.CollisionGeometry, T_a: np.ndarray, b: coal.CollisionGeometry, T_b: np.ndarray) -> float:
+def penetration(
+    a: coal.CollisionGeometry, T_a: np.ndarray, b: coal.CollisionGeometry, T_b: np.ndarray
+) -> float:
     """How deep the two shapes overlap (metres; 0 when they only graze): coal's signed distance, negated."""
     request = coal.DistanceRequest()
     result = coal.DistanceResult()
@@ -170,7 +172,9 @@ class CellGeometry:
         for name, obstacle in zip(self.names, self._placed, strict=True):
             depth, touched = 0.0, []
             for link, (shape, T_shape) in zip(links, moving, strict=True):
-                if _apart(shape, T_shape, obstacle) or not collide(shape, T_shape, obstacle.shape, obstacle.T):
+                if _apart(shape, T_shape, obstacle) or not collide(
+                    shape, T_shape, obstacle.shape, obstacle.T
+                ):
                     continue
                 depth = max(depth, penetration(shape, T_shape, obstacle.shape, obstacle.T))
                 if link not in touched:

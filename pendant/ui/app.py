@@ -37,6 +37,7 @@ from pendant.program.runner import RunState
 from pendant.teach.recording import PathRecorder
 from pendant.telemetry import ArmState, Telemetry, recordings_dir
 from pendant.ui.activity import ActivityLog, LoggedJogger
+from pendant.ui.cell_contact import ContactLog, arm_contacts
 from pendant.ui.cell_scene import ObstacleDrawing, ToolShapeDrawing
 from pendant.ui.cell_state import CellState, read_cell_state
 from pendant.ui.client_page import page_first
@@ -141,6 +142,7 @@ class PendantUI:
         self.cell_state = CellState()
         self.identity = ""  # /robot/info and /version/*, read once the controller answers
         self.obstacles = ObstacleDrawing(self.server.scene, "/cell")
+        self.contact_log = ContactLog(self.events)
         self.tool_shape = ToolShapeDrawing(self.server.scene)
         self.recorder = PathRecorder(recordings)  # "Record path": fed every reading below, kept there
         self.programs.path_recordings = recordings  # a Path step simplified again reads its recording there
@@ -255,9 +257,12 @@ class PendantUI:
         if changed:
             self.cell_model_tool = self._tool
             self.cell_model = CellModel(self.arm, state.obstacles, state.tool_shape, self._tool)
-        self.cell_state = state
         q = self.latest.q
         touching = self.cell_model.touching(q) if q is not None and self.cell_model is not None else []
+        if touching and q is not None and self.cell_model is not None:  # depths and links only then
+            state = replace(state, arm_contacts=arm_contacts(self.cell_model.contacts(q)))
+        self.cell_state = state
+        self.contact_log.note([o.name for o in state.obstacles], state.arm_contacts)
         self.obstacles.show(state.obstacles, touching)
         if not self.identity and self.latest.online:
             self.identity = read_identity(self.controller)
