@@ -65,7 +65,8 @@ def test_a_wall_touching_the_arm_at_rest_is_taken_and_the_arm_backs_out_of_it(
     sim: SimController, clock: FakeClock
 ) -> None:
     assert sim.get_pose().angles == HOME
-    assert sim.add_obstacle(README_WALL) == "Obstacle 'wall' added touching the arm (link5, link6, gripper_body)"
+    added = sim.add_obstacle(README_WALL)
+    assert added == "Obstacle 'wall' added touching the arm (link5, link6, gripper_body)"
     depth = wall_contacts(sim)["wall"]
     assert 0.005 < depth < 0.03  # the wrist is a centimetre or two into it
 
@@ -78,7 +79,7 @@ def test_a_wall_touching_the_arm_at_rest_is_taken_and_the_arm_backs_out_of_it(
     assert sim.get_pose().angles == pytest.approx(OUT, abs=DEG_TOL)
     assert wall_contacts(sim) == {}  # out of contact
 
-    with pytest.raises(Collision, match="^Collision detected: the arm would touch 'wall'$"):
+    with pytest.raises(Collision, match=r"^Collision detected: the arm would touch 'wall'$"):
         sim.set_pose(Pose(angles=HOME), SPEED)  # once out, going back in is a new contact
     assert sim.get_pose().angles == pytest.approx(OUT, abs=DEG_TOL)
 
