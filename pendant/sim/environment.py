@@ -5,7 +5,8 @@ Every change makes a new `CellGeometry`, so a plan made from an older one is sta
 An obstacle that touches the arm where it stands still is taken, as a controller takes it: the contact rule
 (kinematics/contact.py) then lets the arm back out and refuses any motion deeper in. One that touches the arm
 while it moves (where it is, or where its queued moves end) is refused: the queued moves would drive into
-it. A tool shape that would touch something is refused (its capsules ride on every motion).
+it. A tool or tool shape that would touch something more than the arm already does is refused (its capsules
+ride on every motion).
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from pendant.controller.errors import Collision, PreconditionFailed
 from pendant.controller.types import Tool
 from pendant.kinematics import ArmModel
 from pendant.kinematics.cell_shapes import obstacle_shape, tool_capsules
-from pendant.kinematics.contact import ContactGuard, Worse
+from pendant.kinematics.contact import ContactGuard, Worse, worse_contact
 from pendant.kinematics.obstacles import CellGeometry
 
 # Beyond these an obstacle or a tool capsule is a typing error (and overflows the geometry arithmetic).
@@ -105,9 +106,19 @@ class Environment:
         """The geometry with this tool shape and tool, or Collision if it touches anything already."""
         _check_extent(shape, MAX_TOOL_EXTENT_M, MSG_TOOL_SHAPE_TOO_BIG)
         geometry = self._build(self.obstacles, shape, tool)
-        if any(geometry.collides(q) for q in configurations):
-            raise Collision(MSG_SHAPE_TOUCHES)
+        for q in configurations:
+            if geometry.collides(q) and self._tool_touches_more(geometry, q):
+                raise Collision(MSG_SHAPE_TOUCHES)
         return geometry
+
+    def _tool_touches_more(self, geometry: CellGeometry, q: np.ndarray) -> bool:
+        """The new tool makes a contact at q: a new obstacle, a new link on one, or one deeper (an obstacle
+        the arm already touches must not stop the tool from changing)."""
+        before, after = self.geometry.contacts(q), geometry.contacts(q)
+        depths = {name: contact.depth_m for name, contact in before.items()}
+        if worse_contact(depths, {name: contact.depth_m for name, contact in after.items()}) is not None:
+            return True
+        return any(not set(c.links) <= set(before[name].links) for name, c in after.items())
 
     def move_check(self, q_from: np.ndarray, q_to: np.ndarray) -> Worse | None:
         """The contact rule for a jump from q_from to q_to (a hand moving the relaxed arm): None if q_to

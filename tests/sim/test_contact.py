@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from pendant.cell.geometry import CellAwareArm, CellModel
-from pendant.controller.cell_types import PlaneObstacle, ToolShape
+from pendant.controller.cell_types import PlaneObstacle, SimplifiedCapsuleObstacle, ToolShape
 from pendant.controller.errors import Collision, PreconditionFailed
 from pendant.controller.system_types import JoggingVector
 from pendant.controller.types import MotionParams, Point, Pose
@@ -127,3 +127,16 @@ def test_a_hand_may_pull_the_relaxed_arm_out_of_the_wall_not_push_it_in(sim: Sim
         sim.move_by_hand(Pose(angles=DEEPER))
     sim.move_by_hand(Pose(angles=OUT))
     assert wall_contacts(sim) == {}
+
+
+def test_the_tool_may_change_beside_the_wall_but_not_reach_into_it(sim: SimController) -> None:
+    sim.add_obstacle(README_WALL)
+    short = SimplifiedCapsuleObstacle(radius=0.02, begin=Point(x=0, y=0, z=0), finish=Point(x=0, y=0, z=0.05))
+    sim.set_tool_shape(ToolShape(shape=[short]))  # inside the gripper's own reach: nothing new touched
+    assert sim.get_tool_shape().shape == [short]
+    sideways = SimplifiedCapsuleObstacle(  # 20 cm along the flange's -x (the base's -x here): into the wall
+        radius=0.02, begin=Point(x=0, y=0, z=0), finish=Point(x=-0.2, y=0, z=0)
+    )
+    with pytest.raises(Collision, match="tool shape would touch"):
+        sim.set_tool_shape(ToolShape(shape=[sideways]))
+    assert sim.get_tool_shape().shape == [short]
