@@ -15,6 +15,7 @@ from pendant.controller import ControllerError, Point, Rotation, Tool
 from pendant.controller.cell_types import Obstacle, ToolShape
 from pendant.kinematics import ArmModel
 from pendant.kinematics.cell_shapes import obstacle_shape, tool_capsules
+from pendant.kinematics.contact import ContactGuard, Contacts, Worse
 from pendant.kinematics.obstacles import CellGeometry, bounding_sphere, capsule_shape, collide
 
 PATH_STEP_RAD = np.radians(2.0)  # the joint path is checked every 2° of the joint that travels most
@@ -49,6 +50,10 @@ class CellModel:
             radii.append(radius)
         self._centres = np.array(centres).reshape(-1, 3)
         self._radii = np.array(radii)
+        # The simulator's own checker over the same shapes: depths and links for the contact rule.
+        self.geometry = CellGeometry(
+            arm, [(g, T) for _, g, T in self._shapes], capsules, [name for name, _, _ in self._shapes]
+        )
 
     def _hits(self, q: np.ndarray, *, all_of_them: bool) -> list[str]:
         if not self._shapes:
@@ -82,15 +87,22 @@ class CellModel:
         """The names of the obstacles the arm or its tool touches at q."""
         return self._hits(q, all_of_them=True)
 
-    def path_touching(self, q_from: np.ndarray, q_to: np.ndarray) -> list[str]:
-        """The obstacles hit along the joint-interpolated path from q_from to q_to (Move J's path)."""
-        if not self._shapes:
-            return []
+    def contacts(self, q: np.ndarray) -> Contacts:
+        """Each obstacle (and the floor, for the tool) touching the arm or its tool at q: depth and links."""
+        return self.geometry.contacts(q)
+
+    def path_worse(self, q_from: np.ndarray, q_to: np.ndarray) -> Worse | None:
+        """The first contact the joint-interpolated path from q_from to q_to (Move J's path, the target
+        included) would make or deepen (the contact rule, kinematics/contact.py); None if it may go."""
+        if self.geometry.empty:
+            return None
         steps = max(1, int(np.ceil(float(np.max(np.abs(q_to - q_from))) / PATH_STEP_RAD)))
-        hit: list[str] = []
-        for fraction in np.linspace(0.0, 1.0, steps + 1):
-            hit.extend(name for name in self.touching(q_from + fraction * (q_to - q_from)) if name not in hit)
-        return hit
+        guard = ContactGuard(self, q_from)
+        for fraction in np.linspace(0.0, 1.0, steps + 1)[1:]:
+            worse = guard.check(q_from + fraction * (q_to - q_from))
+            if worse is not None:
+                return worse
+        return None
 
 
 _NO_TOOL = Tool(
@@ -114,6 +126,15 @@ class CellAwareArm:
             return True
         cell = self._cell()
         return cell is not None and cell.collides(q)
+
+    def blocked_from(self, q_start: np.ndarray) -> Callable[[np.ndarray], bool]:
+        """The test for the samples of one motion from q_start, in path order: the arm with itself and the
+        floor, and the cell under the contact rule (an arm touching an obstacle may back out of it)."""
+        cell = self._cell()
+        if cell is None:
+            return self._arm.in_collision
+        guard = ContactGuard(cell, q_start)
+        return lambda q: self._arm.in_collision(q) or guard.check(q) is not None
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self._arm, name)

@@ -19,7 +19,9 @@ MAX_PLANE_POINTS = 16
 MSG_NO_OBSTACLE = "No obstacle named {name!r} in the environment"
 MSG_TOO_MANY_OBSTACLES = f"environment must hold at most {MAX_OBSTACLES} obstacles: remove some first"
 MSG_PLANE_ON_A_LINE = "plane points must not lie on one line"
-MSG_OBSTACLE_TOUCHES_ARM = "Collision detected: the obstacle touches the arm or its tool where it is"
+MSG_OBSTACLE_TOUCHES_ARM = (
+    "Collision detected: the obstacle touches the arm or its tool while it moves (freeze it first)"
+)
 MSG_SHAPE_TOUCHES = "Collision detected: the tool shape would touch an obstacle or the floor where the arm is"
 
 Name = Annotated[str, Field(min_length=1, max_length=NAME_MAX_CHARS)]

@@ -2,7 +2,8 @@
 
 A continuous jog is one motion command towards a target a few seconds ahead; the deadman freezes it on
 release. The target stops short of joint limits, collisions and (for Cartesian jogs) the edge of the
-workspace, so the controller accepts it.
+workspace, so the controller accepts it: an obstacle the arm already touches may be backed out of, not
+pushed into (the contact rule, kinematics/contact.py, through `arm.blocked_from`).
 """
 
 from __future__ import annotations
@@ -90,10 +91,11 @@ def joint_jog_target(arm: ArmModel, q: np.ndarray, request: JogRequest, joint_sp
     travel = request.step if request.step is not None else joint_speed * JOG_HORIZON_S
     n = max(1, int(np.ceil(travel / JOINT_SAMPLE_RAD)))
     safe_k = n
+    blocked = arm.blocked_from(q)
     for k in range(1, n + 1):
         sample = q.copy()
         sample[request.axis] += request.direction * travel * k / n
-        if not arm.within_limits(sample) or arm.in_collision(sample):
+        if not arm.within_limits(sample) or blocked(sample):
             safe_k = max(0, k - 1 - SAFETY_BACKOFF_SAMPLES)
             break
     target = q.copy()
@@ -122,10 +124,11 @@ def cartesian_jog_path(
     best = T_zero_tool
     q_prev = q
     safe = []
+    blocked = arm.blocked_from(q)
     for k in range(1, n + 1):
         T = displaced(T_zero_tool, request, request.direction * travel * k / n)
         q_k = arm.ik(T_base_zero @ T @ T_flange_tool_inv, q_prev)
-        if q_k is None or np.max(np.abs(q_k - q_prev)) > MAX_JOINT_JUMP_RAD or arm.in_collision(q_k):
+        if q_k is None or np.max(np.abs(q_k - q_prev)) > MAX_JOINT_JUMP_RAD or blocked(q_k):
             break
         safe.append(T)
         q_prev = q_k

@@ -9,6 +9,7 @@ from __future__ import annotations
 import functools
 import math
 import threading
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -162,6 +163,16 @@ class ArmModel:
         q = _joint_vector(q)
         with self._pin_lock:
             return self._pin.collision.moving_shapes(q)
+
+    def moving_links(self) -> list[str]:
+        """The link name of each shape `moving_shapes` returns, in its order (for contact messages)."""
+        with self._pin_lock:
+            return self._pin.collision.moving_links()
+
+    def blocked_from(self, q_start: np.ndarray) -> Callable[[np.ndarray], bool]:
+        """The collision test for the samples of one motion from q_start (the arm alone: `in_collision`;
+        an arm with a cell adds the contact rule, see pendant.cell.geometry.CellAwareArm)."""
+        return self.in_collision
 
     def colliding_pairs(self, q: np.ndarray) -> list[tuple[str, str]]:
         """The (geometry, geometry) name pairs in contact at q ("floor" for the floor), for messages."""

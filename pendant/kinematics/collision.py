@@ -82,6 +82,15 @@ class ArmCollision:
             if objects[i].parentJoint != UNIVERSE_JOINT
         ]
 
+    def moving_links(self) -> list[str]:
+        """The link of each shape `moving_shapes` returns, in the same order ("link5" of "link5_0")."""
+        objects = self.geometry_model.geometryObjects
+        return [
+            objects[i].name.rsplit("_", 1)[0] if objects[i].name[-1:].isdigit() else objects[i].name
+            for i in range(len(objects))
+            if objects[i].parentJoint != UNIVERSE_JOINT
+        ]
+
     @property
     def pair_count(self) -> int:
         return len(self.geometry_model.collisionPairs)

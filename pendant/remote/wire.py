@@ -54,7 +54,7 @@ def error_for_status(status_code: int, body: bytes, request_line: str) -> Contro
     """
     message = decode_text(body)
     if status_code == 412:
-        if message == MSG_COLLISION:
+        if message == MSG_COLLISION or message.startswith(f"{MSG_COLLISION}: "):  # "...: what it touches"
             return Collision(message)
         if message in (MSG_UNREACHABLE_POSITION, MSG_UNREACHABLE_POSE):
             return Unreachable(message)

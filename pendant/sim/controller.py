@@ -38,6 +38,7 @@ from pendant.controller.types import (
     Tool,
 )
 from pendant.kinematics import ArmModel
+from pendant.kinematics.contact import FLOOR
 from pendant.kinematics.transforms import position_to_matrix
 from pendant.sim.cell import (
     DEFAULT_BASE,
@@ -315,10 +316,11 @@ class SimController(MotionCommands, Pulse18Operations):
                 raise Unreachable(MSG_UNREACHABLE_POSE)
             if self.arm.in_collision(q):
                 raise Collision()
-            touching = self._environment.touching(q)
-            if touching is not None:  # a test hook that silently puts the arm inside the cell is a trap
-                names = ", ".join(repr(name) for name in touching)
-                raise Collision(MSG_HAND_INTO_CELL.format(what=names or "the floor (with its tool)"))
+            # A test hook that silently puts the arm inside the cell is a trap; out of a contact it may go.
+            worse = self._environment.move_check(self._motions.q_now(self._now()), q)
+            if worse is not None:
+                what = "the floor (with its tool)" if worse.obstacle is FLOOR else repr(worse.obstacle)
+                raise Collision(MSG_HAND_INTO_CELL.format(what=what))
             self._motions.place(q, self._now())
 
     def inject_fault(self, fault: Fault) -> None:

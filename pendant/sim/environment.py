@@ -1,7 +1,12 @@
 """The cell's obstacles (by name) and the tool's shape, as SDK 1.8.4 sets them, and their collision geometry.
 
-Every change makes a new `CellGeometry`, so a plan made from an older one is stale (see controller.py). A
-change that would leave the arm already touching something is refused: every later move would fail.
+Every change makes a new `CellGeometry`, so a plan made from an older one is stale (see controller.py).
+
+An obstacle that touches the arm where it stands still is taken, as a controller takes it: the contact rule
+(kinematics/contact.py) then lets the arm back out and refuses any motion deeper in. One that touches the arm
+while it moves (where it is, or where its queued moves end) is refused: the queued moves would drive into
+it. A tool or tool shape that would touch something more than the arm already does is refused (its capsules
+ride on every motion).
 """
 
 from __future__ import annotations
@@ -22,6 +27,7 @@ from pendant.controller.errors import Collision, PreconditionFailed
 from pendant.controller.types import Tool
 from pendant.kinematics import ArmModel
 from pendant.kinematics.cell_shapes import obstacle_shape, tool_capsules
+from pendant.kinematics.contact import ContactGuard, Worse, worse_contact
 from pendant.kinematics.obstacles import CellGeometry
 
 # Beyond these an obstacle or a tool capsule is a typing error (and overflows the geometry arithmetic).
@@ -61,7 +67,10 @@ class Environment:
 
     def _build(self, obstacles: dict[str, Obstacle], shape: ToolShape, tool: Tool) -> CellGeometry:
         return CellGeometry(
-            self.arm, [obstacle_shape(o) for o in obstacles.values()], tool_capsules(shape, tool)
+            self.arm,
+            [obstacle_shape(o) for o in obstacles.values()],
+            tool_capsules(shape, tool),
+            list(obstacles),
         )
 
     def get(self, name: str) -> Obstacle:
@@ -70,16 +79,21 @@ class Environment:
         except KeyError:
             raise PreconditionFailed(MSG_NO_OBSTACLE.format(name=name)) from None
 
-    def add(self, obstacle: Obstacle, configurations: list[np.ndarray]) -> None:
-        """Add (or replace, by name) an obstacle; refused if it touches the arm in any of `configurations`."""
+    def add(self, obstacle: Obstacle, q_now: np.ndarray, q_end: np.ndarray) -> tuple[str, ...]:
+        """Add (or replace, by name) an obstacle; returns the links it touches where the arm stands (none:
+        clear of it). Refused if it touches the arm while the arm moves (now at q_now, its queue ending at
+        q_end)."""
         if obstacle.name not in self.obstacles and len(self.obstacles) >= MAX_OBSTACLES:
             raise PreconditionFailed(MSG_TOO_MANY_OBSTACLES)
         _check_extent(obstacle, MAX_OBSTACLE_EXTENT_M, MSG_OBSTACLE_TOO_FAR)
-        alone = CellGeometry(self.arm, [obstacle_shape(obstacle)], self.geometry.tool)
-        if any(alone.collides(q) for q in configurations):
+        alone = CellGeometry(self.arm, [obstacle_shape(obstacle)], self.geometry.tool, [obstacle.name])
+        contact = alone.contacts(q_now).get(obstacle.name)
+        moving = not np.array_equal(q_now, q_end)
+        if moving and (contact is not None or alone.contacts(q_end).get(obstacle.name) is not None):
             raise Collision(MSG_OBSTACLE_TOUCHES_ARM)
         obstacles = {**self.obstacles, obstacle.name: obstacle}
         self._commit(obstacles, self.tool_shape, self._tool)
+        return contact.links if contact is not None else ()
 
     def remove(self, name: str) -> None:
         self.get(name)
@@ -92,16 +106,24 @@ class Environment:
         """The geometry with this tool shape and tool, or Collision if it touches anything already."""
         _check_extent(shape, MAX_TOOL_EXTENT_M, MSG_TOOL_SHAPE_TOO_BIG)
         geometry = self._build(self.obstacles, shape, tool)
-        if any(geometry.collides(q) for q in configurations):
-            raise Collision(MSG_SHAPE_TOUCHES)
+        for q in configurations:
+            if geometry.collides(q) and self._tool_touches_more(geometry, q):
+                raise Collision(MSG_SHAPE_TOUCHES)
         return geometry
 
-    def touching(self, q: np.ndarray) -> list[str] | None:
-        """What the arm or its tool would touch at q: the obstacles' names ([] for the tool in the floor),
-        or None when it is clear of the cell."""
-        if not self.geometry.collides(q):
-            return None
-        return [name for i, name in enumerate(self.obstacles) if self.geometry.obstacle_collides(i, q)]
+    def _tool_touches_more(self, geometry: CellGeometry, q: np.ndarray) -> bool:
+        """The new tool makes a contact at q: a new obstacle, a new link on one, or one deeper (an obstacle
+        the arm already touches must not stop the tool from changing)."""
+        before, after = self.geometry.contacts(q), geometry.contacts(q)
+        depths = {name: contact.depth_m for name, contact in before.items()}
+        if worse_contact(depths, {name: contact.depth_m for name, contact in after.items()}) is not None:
+            return True
+        return any(not set(c.links) <= set(before[name].links) for name, c in after.items())
+
+    def move_check(self, q_from: np.ndarray, q_to: np.ndarray) -> Worse | None:
+        """The contact rule for a jump from q_from to q_to (a hand moving the relaxed arm): None if q_to
+        touches nothing new and nothing deeper."""
+        return ContactGuard(self.geometry, q_from).check(q_to)
 
     def set_tool(self, shape: ToolShape, tool: Tool, geometry: CellGeometry) -> None:
         self.tool_shape, self._tool, self.geometry = shape, tool, geometry

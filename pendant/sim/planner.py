@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pendant.controller.errors import Collision, PreconditionFailed, Unreachable
+from pendant.controller.errors import MSG_COLLISION, Collision, PreconditionFailed, Unreachable
 from pendant.controller.types import (
     ACCELERATION_MAX,
     SPEED_MAX,
@@ -25,6 +25,7 @@ from pendant.controller.types import (
     MotionParams,
 )
 from pendant.kinematics import ArmModel
+from pendant.kinematics.contact import ContactGuard
 from pendant.kinematics.limits import JOINT_MAX_ACCEL_RAD_S2, JOINT_MAX_SPEED_RAD_S
 from pendant.kinematics.obstacles import CellGeometry
 from pendant.kinematics.transforms import inverse
@@ -277,9 +278,11 @@ class Planner:
         self, qs: np.ndarray, tcp: np.ndarray, tool_radius: float, cell: CellGeometry | None = None
     ) -> None:
         """Collision at the samples that are 2 degrees / 5 mm apart (and always at the last one): the arm
-        with itself and the floor, and with the cell's obstacles and the tool's shape."""
+        with itself and the floor, and with the cell's obstacles and the tool's shape. An obstacle the arm
+        already touches at the start may stay touched, no deeper (the contact rule, kinematics/contact.py)."""
         if np.any(tcp[:, 2] - tool_radius < FLOOR_Z_M):
             raise Collision()
+        guard = ContactGuard(cell, qs[0]) if cell is not None and not cell.empty else None
         last_q, last_p = qs[0], tcp[0]
         n = len(qs)
         for k in range(1, n):
@@ -288,8 +291,11 @@ class Planner:
                 or np.linalg.norm(tcp[k] - last_p) >= CHECK_TCP_STEP_M
             )
             if far or k == n - 1 or k == 1:
-                if self.arm.in_collision(qs[k]) or (cell is not None and cell.collides(qs[k])):
+                if self.arm.in_collision(qs[k]):
                     raise Collision()
+                worse = guard.check(qs[k]) if guard is not None else None
+                if worse is not None:
+                    raise Collision(f"{MSG_COLLISION}: the arm {worse.describe()}")
                 last_q, last_p = qs[k], tcp[k]
 
     def _time_scaling(

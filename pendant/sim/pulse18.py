@@ -35,6 +35,7 @@ from pendant.controller.system_types import (
     Version,
 )
 from pendant.controller.types import INPUT_PORTS, MotionParams, MotionType, SignalLevel, Tool
+from pendant.kinematics.contact import ContactGuard
 from pendant.kinematics.transforms import inverse, rotvec_to_matrix
 from pendant.sim import identity
 from pendant.sim.host import SimHost
@@ -144,8 +145,9 @@ class Pulse18Operations:
     def add_obstacle(self: SimHost, obstacle: Obstacle) -> str:
         with self._lock:
             check_alive(self._mode)
-            self._environment.add(obstacle, self._configurations())
-            return f"Obstacle {obstacle.name!r} added"
+            links = self._environment.add(obstacle, *self._configurations())
+            touching = f" touching the arm ({', '.join(links)})" if links else ""
+            return f"Obstacle {obstacle.name!r} added{touching}"
 
     def get_obstacles(self: SimHost) -> list[Obstacle]:
         with self._lock:
@@ -296,10 +298,11 @@ class Pulse18Operations:
 
         # The farthest point of the horizon reached before IK fails or something is touched.
         reach, q_near = 0.0, start.q
+        guard = ContactGuard(start.cell, start.q) if start.cell is not None else None
         for k in range(1, JOG_SCAN_STEPS + 1):
             fraction = k / JOG_SCAN_STEPS
             q = self.arm.ik(target(fraction) @ T_tool_flange, q_near)
-            if q is None or self.arm.in_collision(q) or (start.cell is not None and start.cell.collides(q)):
+            if q is None or self.arm.in_collision(q) or (guard is not None and guard.check(q) is not None):
                 break
             reach, q_near = fraction, q
         last_error: ControllerError = Unreachable(MSG_JOG_BLOCKED)

@@ -41,6 +41,7 @@ from pendant.ui.dashboard.events import render_events
 from pendant.ui.dashboard.join_qr import join_urls
 from pendant.ui.dashboard.panel import render_motor_table
 from pendant.ui.dashboard.plots import PlotData, plot_data
+from pendant.ui.kit.cell_contact import ContactLog, arm_contacts
 from pendant.ui.kit.cell_state import CellState, read_cell_state
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.kit.gui_target import GuiTarget
@@ -153,6 +154,7 @@ class PendantUI:
         self.cell_state = CellState()
         self.identity = ""  # /robot/info and /version/*, read once the controller answers
         self.obstacles = ObstacleDrawing(self.server.scene, "/cell")
+        self.contact_log = ContactLog(self.events)
         self.tool_shape = ToolShapeDrawing(self.server.scene)
         self.recorder = PathRecorder(recordings)  # "Record path": fed every reading below, kept there
         self.programs.path_recordings = recordings  # a Path step simplified again reads its recording there
@@ -267,9 +269,12 @@ class PendantUI:
         if changed:
             self.cell_model_tool = self._tool
             self.cell_model = CellModel(self.arm, state.obstacles, state.tool_shape, self._tool)
-        self.cell_state = state
         q = self.latest.q
         touching = self.cell_model.touching(q) if q is not None and self.cell_model is not None else []
+        if touching and q is not None and self.cell_model is not None:  # depths and links only then
+            state = replace(state, arm_contacts=arm_contacts(self.cell_model.contacts(q)))
+        self.cell_state = state
+        self.contact_log.note([o.name for o in state.obstacles], state.arm_contacts)
         self.obstacles.show(state.obstacles, touching)
         if not self.identity and self.latest.online:
             self.identity = read_identity(self.controller)

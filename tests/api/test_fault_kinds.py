@@ -4,11 +4,11 @@ kind is served at /sim/fault/{name}, documented there, and does what it says."""
 from __future__ import annotations
 
 from fastapi.testclient import TestClient
-from pendant.ui.sim_panel import FAULT_LABELS
 
 from pendant.api import create_app
 from pendant.sim import FakeClock, Fault, SimController
 from pendant.sim.fault_kinds import FAULT_KINDS
+from pendant.ui.robot.sim_panel import FAULT_LABELS
 
 
 def test_every_simulator_fault_is_a_kind_of_the_table() -> None:

@@ -148,7 +148,8 @@ def test_a_move_through_an_obstacle_is_refused_and_nothing_moves(robot: RobotPul
     before = robot.get_pose().angles
     with pytest.raises(PulseApiException) as refused:
         robot.run_linear_positions(through, params)
-    assert (refused.value.status, refused.value.body) == (412, '"Collision detected"')
+    touch_box = "\"Collision detected: the arm would touch 'box'\""  # the controller's words, naming it
+    assert (refused.value.status, refused.value.body) == (412, touch_box)
     assert robot.get_pose().angles == before and robot.status() == SystemState.ACTIVE
     robot.remove_from_environment_by_name("box")
     robot.run_linear_positions(through, params)

@@ -66,14 +66,24 @@ def test_a_move_through_a_box_is_refused_and_nothing_moves(sim: SimController, c
     assert np.allclose(sim.get_position().point.x, target.point.x, atol=1e-6)
 
 
-def test_obstacles_are_kept_by_name_and_one_touching_the_arm_is_refused(sim: SimController) -> None:
+def test_obstacles_are_kept_by_name_and_one_touching_the_moving_arm_is_refused(
+    sim: SimController, clock: FakeClock
+) -> None:
     here = sim.get_position()
-    sim.add_obstacle(box_at(shifted(here, dx=0.3), name="a"))
+    assert sim.add_obstacle(box_at(shifted(here, dx=0.3), name="a")) == "Obstacle 'a' added"
     sim.add_obstacle(box_at(shifted(here, dx=0.3, dy=0.2), name="b"))
     assert [o.name for o in sim.get_obstacles()] == ["a", "b"]
-    with pytest.raises(Collision):
-        sim.add_obstacle(box_at(here, name="on the tool"))
+    sim.run_linear_positions([waypoint(shifted(here, dz=0.1))], LINEAR)  # moving: its queue ends above
+    with pytest.raises(Collision, match="touches the arm or its tool while it moves"):
+        sim.add_obstacle(box_at(shifted(here, dz=0.1), name="where it goes"))
+    with pytest.raises(Collision, match="while it moves"):
+        sim.add_obstacle(box_at(sim.get_position(), name="where it is"))
     assert [o.name for o in sim.get_obstacles()] == ["a", "b"]
+    finish(sim, clock)
+    # At rest, an obstacle on the flange is taken (the arm may back out of it), and the answer says so.
+    added = sim.add_obstacle(box_at(sim.get_position(), name="on the flange"))
+    assert added.startswith("Obstacle 'on the flange' added touching the arm (") and "link6" in added
+    assert [o.name for o in sim.get_obstacles()] == ["a", "b", "on the flange"]
     with pytest.raises(PreconditionFailed, match="No obstacle named 'c'"):
         sim.get_obstacle("c")
     sim.remove_obstacles()

@@ -10,8 +10,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pendant.controller import Point, Position, Rotation
-from pendant.controller.cell_types import BoxObstacle, CapsuleObstacle, SimplifiedCapsuleObstacle, ToolShape
+from pendant.controller import MotionParams, MotionType, Point, Pose, Position, Rotation
+from pendant.controller.cell_types import (
+    BoxObstacle,
+    CapsuleObstacle,
+    PlaneObstacle,
+    SimplifiedCapsuleObstacle,
+    ToolShape,
+)
 from pendant.jog import JogFrame, JogRequest
 from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
@@ -123,17 +129,56 @@ def test_bad_fields_and_viewers_are_refused_and_the_cell_is_unchanged(
     assert names(sim) == []
 
 
-def test_an_obstacle_touching_the_arm_is_refused_with_the_controllers_message(
+def test_an_obstacle_touching_the_arm_is_taken_shown_red_said_and_logged(
+    pendant_ui: PendantUI, ui: ClientSession, sim: SimController, clock: FakeClock
+) -> None:
+    pendant_ui.refresh_cell()  # the page has read the (empty) cell, as it does a few times a second
+    browser = FakeBrowser(OPERATOR)
+    flange = sim.arm.fk(home_q(sim))[:3, 3]
+    fire(ui.cell.kind, browser, "BOX")
+    fire(ui.cell.name, browser, "on the arm")
+    beside = flange + np.array([-0.07, 0.0, 0.0])  # its +x face 2 cm into the wrist and the gripper
+    fire(ui.cell.at, browser, tuple(float(v) for v in beside * 1000.0))
+    future = ui.cell.submit(browser)
+    assert future is not None and future.result(timeout=WAIT_S) is not None  # taken, as a controller does
+    assert names(sim) == ["on the arm"]
+    pendant_ui.refresh_cell()
+    assert pendant_ui.obstacles.shown == {"on the arm": True}  # drawn red
+    assert "**The arm touches 'on the arm' (link5, link6, gripper_body" in ui.cell.note.content
+    assert "not deeper in" in ui.cell.note.content
+    logged = [e.message for e in pendant_ui.events.recent() if e.source == "cell"]
+    assert logged == [
+        "Obstacle 'on the arm' added touching the arm (link5, link6, gripper_body, finger_left, finger_right)"
+    ]
+
+    # Backed out (10 cm along +x, away from it), the arm is clear: orange again, no line, logged once.
+    here = sim.get_position()
+    out = Position(point=Point(x=here.point.x + 0.1, y=here.point.y, z=here.point.z), rotation=here.rotation)
+    sim.set_position(out, MotionParams(speed=50.0, motion_type=MotionType.LINEAR, tcp_max_velocity=0.2))
+    clock.advance(10.0)
+    pendant_ui.refresh()
+    pendant_ui.refresh_cell()
+    pendant_ui.refresh_cell()
+    assert pendant_ui.obstacles.shown == {"on the arm": False}
+    assert "touches" not in ui.cell.note.content
+    logged = [e.message for e in pendant_ui.events.recent() if e.source == "cell"]
+    assert logged[1:] == ["The arm is clear of obstacle 'on the arm'"]
+
+
+def test_an_obstacle_touching_the_moving_arm_is_refused_with_the_controllers_message(
     ui: ClientSession, sim: SimController
 ) -> None:
     browser = FakeBrowser(OPERATOR)
+    away = sim.get_pose().angles
+    away[0] += 30.0
+    sim.set_pose(Pose(angles=away), MotionParams(speed=10.0))  # the fake clock holds it in motion
     flange = sim.arm.fk(home_q(sim))[:3, 3] * 1000.0
     fire(ui.cell.kind, browser, "BOX")
     fire(ui.cell.name, browser, "on the arm")
     fire(ui.cell.at, browser, tuple(float(v) for v in flange))
     future = ui.cell.submit(browser)
     assert future is not None and future.exception(timeout=WAIT_S) is not None
-    assert any("Collision detected" in n for n in browser.notifications)
+    assert any("Collision detected: the obstacle touches the arm" in n for n in browser.notifications)
     assert names(sim) == []
 
 
@@ -213,14 +258,18 @@ def test_a_cell_file_the_controller_refuses_leaves_the_cell_as_it_was(
 ) -> None:
     ui.cell._folder = tmp_path
     browser = FakeBrowser(OPERATOR)
-    flange = tuple(sim.arm.fk(home_q(sim))[:3, 3])
-    bad = {"schema_version": 1, "obstacles": [json.loads(box("on the arm", flange).model_dump_json())]}  # type: ignore[arg-type]
+    on_a_line = PlaneObstacle(
+        obstacleType="PLANE",
+        name="wall",
+        points=[Point(x=0.0, y=0.0, z=0.0), Point(x=0.1, y=0.0, z=0.0), Point(x=0.2, y=0.0, z=0.0)],
+    )
+    bad = {"schema_version": 1, "obstacles": [json.loads(on_a_line.model_dump_json())]}
     (tmp_path / "bad.cell.json").write_text(json.dumps(bad))
     sim.add_obstacle(box("kept", (0.4, 0.3, 0.2)))
     future = ui.cell.load_file("bad", browser)
     assert future is not None and future.exception(timeout=WAIT_S) is not None
     assert names(sim) == ["kept"]
-    assert any("Collision detected" in n for n in browser.notifications)
+    assert any("plane points must not lie on one line" in n for n in browser.notifications)
 
     (tmp_path / "garbage.cell.json").write_text('{"schema_version": 7}')
     assert ui.cell.load_file("garbage", browser) is None

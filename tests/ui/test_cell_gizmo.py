@@ -15,7 +15,7 @@ import viser
 import viser.transforms as vtf
 
 from pendant.controller.cell_types import BoxObstacle, CapsuleObstacle, Obstacle
-from pendant.controller.types import Point
+from pendant.controller.types import MotionParams, Point, Pose
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.cell.gizmo import ObstacleGizmo
@@ -129,11 +129,14 @@ def test_a_placement_the_controller_refuses_puts_the_gizmo_back_and_says_why(
     gizmo, operator = ui.cell.gizmo, FakeBrowser(OPERATOR)
     fire(ui.cell.selected, operator, "table")
     flange = sim.arm.fk(np.radians(sim.get_pose().angles))[:3, 3]
+    away = sim.get_pose().angles
+    away[0] += 30.0
+    sim.set_pose(Pose(angles=away), MotionParams(speed=10.0))  # the fake clock holds the arm in motion
     drag(gizmo, operator, [pose((0.5, 0.3, 0.3)), pose(tuple(flange))])  # type: ignore[arg-type]
     wait_for(lambda: bool(operator.notifications), "the refusal")
     assert operator.notifications == [
-        "Update obstacle 'table' refused: Collision detected: the obstacle touches the arm or its tool where "
-        "it is"
+        "Update obstacle 'table' refused: Collision detected: the obstacle touches the arm or its tool while "
+        "it moves (freeze it first)"
     ]
     wait_for(
         lambda: np.allclose(gizmo.handle.position, (0.5, 0.3, 0.1), atol=MM_TOL), "the gizmo back in place"

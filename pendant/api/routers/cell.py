@@ -128,8 +128,9 @@ def cell_router(controller: Controller) -> APIRouter:
         description=(
             "One BOX (sides, centerPosition), CAPSULE (radius, begin, finish) or PLANE (three points; the "
             "side away from the arm base is solid) per call, in the arm's base frame (metres, radians). "
-            "An obstacle with a name already used replaces it. Refused (412) if it touches the arm where "
-            "it is or where its queued moves end."
+            "An obstacle with a name already used replaces it. One that touches the resting arm is taken "
+            "(the answer names the links): the arm may then move out of it, not deeper in. Refused (412) "
+            "if it touches the arm while it moves (where it is or where its queued moves end)."
         ),
         response_class=TextResponse,
         responses={

@@ -60,8 +60,8 @@ def sim_router(sim: SimController) -> APIRouter:
         description=(
             "Puts the arm at a pose (six angles in degrees) at once, as a hand would; only while the arm is "
             "relaxed (ZERO_GRAVITY, after PUT /relax), else 412; a pose beyond the joint limits, touching "
-            "the arm itself or the floor, or putting the arm or its tool inside an obstacle is refused "
-            "(412) and the arm stays where it was."
+            "the arm itself or the floor, or putting the arm or its tool into an obstacle (one it did not "
+            "touch, or deeper into one it touches) is refused (412) and the arm stays where it was."
         ),
         response_class=TextResponse,
         responses={

@@ -21,6 +21,7 @@ from pendant.cell.placement import gizmo_pose, moved_form
 from pendant.controller import Controller
 from pendant.controller.cell_types import Obstacle
 from pendant.ui.cell.gizmo import ObstacleGizmo
+from pendant.ui.kit.cell_contact import contact_line
 from pendant.ui.kit.cell_state import CellState
 from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
@@ -283,6 +284,9 @@ class CellPanel:
             if unsupported
             else f"{len(names)} obstacle(s); the controller checks every motion against them."
         )
+        touching = contact_line(state.arm_contacts)
+        if touching and not unsupported:
+            text = f"{text}\n\n{touching}"
         if self.note.content != text:
             self.note.content = text
         if unsupported != self._unsupported:

@@ -26,6 +26,8 @@ class CellState:
     failures: tuple[Failure, ...] = ()
     # feature -> the controller's message, for each feature it lacks ("environment", "status", ...)
     unsupported: dict[str, str] = field(default_factory=dict)
+    # the obstacles touching the arm where it stands, with the links touching each (the pendant computes it)
+    arm_contacts: tuple[tuple[str, tuple[str, ...]], ...] = ()
 
 
 def _read(read: Callable[[], T], feature: str, unsupported: dict[str, str]) -> T | None:

@@ -1,5 +1,6 @@
 """Is a dragged target executable? IK to the branch nearest the current pose, then limits and collision:
-with itself and the floor, and with the cell's obstacles at the target and along the joint path to it."""
+with itself and the floor, and with the cell's obstacles at the target and along the joint path to it (under
+the contact rule, kinematics/contact.py, as the controller checks it)."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import numpy as np
 from pendant.cell.geometry import CellModel
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSITION
 from pendant.kinematics import ArmModel
+from pendant.kinematics.contact import FLOOR, ContactGuard
 
 
 @dataclass(frozen=True)
@@ -50,14 +52,27 @@ def check_joint_target(
         return TargetCheck(q, MSG_COLLISION)
     if cell is None:
         return TargetCheck(q)
+    if q_from is not None:  # from where the arm is: out of a contact it may go, deeper in it may not
+        return _check_from(cell, q_from, q)
     if cell.collides(q):
         hit = cell.touching(q)
         where = f"the target touches {_names(hit)}" if hit else "the tool would touch the floor"
         return TargetCheck(q, f"{MSG_COLLISION}: {where}", tuple(hit))
-    if q_from is not None:
-        hit = cell.path_touching(q_from, q)
-        if hit:
-            return TargetCheck(
-                q, f"{MSG_COLLISION}: the path to the target passes through {_names(hit)}", tuple(hit)
-            )
     return TargetCheck(q)
+
+
+def _check_from(cell: CellModel, q_from: np.ndarray, q: np.ndarray) -> TargetCheck:
+    """The contact rule at the target (against where the arm is), then along the path to it."""
+    at_target = ContactGuard(cell, q_from).check(q)
+    worse = at_target if at_target is not None else cell.path_worse(q_from, q)
+    if worse is None:
+        return TargetCheck(q)
+    if worse.obstacle is FLOOR:
+        return TargetCheck(q, f"{MSG_COLLISION}: the tool would touch the floor")
+    if worse.allowed_m is not None:
+        where = f"the {'target' if at_target is not None else 'path to the target'} {worse.describe()}"
+    elif at_target is not None:
+        where = f"the target touches {worse.obstacle!r}"
+    else:
+        where = f"the path to the target passes through {worse.obstacle!r}"
+    return TargetCheck(q, f"{MSG_COLLISION}: {where}", (worse.obstacle,))
