@@ -249,7 +249,13 @@
     for (let box = pinned.parentElement; box !== null; box = box.parentElement) {
       if (box.classList.contains("mantine-ScrollArea-viewport")) break;
       const style = getComputedStyle(box);
-      if (style.overflowY === "hidden" || style.overflowX === "hidden") box.style.overflow = "clip";
+      if (style.overflowY === "hidden" || style.overflowX === "hidden") {
+        box.style.overflow = "clip";
+        // A hidden overflow also let the box shrink below its content's width (a grid or flex item's
+        // automatic minimum is 0 only for a scroll container); clip does not: say it, or the widest thing
+        // in a tab widens the whole panel and pushes Freeze off its right edge.
+        box.style.minWidth = "0";
+      }
     }
     Object.assign(pinned.style, {
       position: "sticky", top: "0", zIndex: "20", paddingTop: "6px",
