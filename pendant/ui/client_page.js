@@ -9,11 +9,9 @@
 //    that starts on a jog button scrolls the panel and never moves the arm.
 // 3. Software WebGL (no GPU): no multisampling, a capped pixel ratio and frame rate, which leave the main
 //    thread time for input.
-// 4. Freeze pinned to the top of the panel.
+// 4. Freeze pinned to the top of the panel, which stays as wide as its dock (docs/screens.md).
 // 5. `?token=T` in the page's URL (as Jupyter's): handed to viser's websocket URL (`?websocket=`), whose
 //    handshake is where the pendant reads it, before viser's own script reads the page's URL.
-// 6. Nothing in a tab is wider than the panel (layout only; see docs/screens.md): a long word, path or table
-//    wraps inside the panel's width rather than making the panel scroll sideways.
 (() => {
   "use strict";
   (function tokenIntoWebsocketUrl() {
@@ -265,21 +263,6 @@
     });
   }
   new MutationObserver(pinFreeze).observe(document.documentElement, { childList: true, subtree: true });
-
-  // --- 6. The panel never scrolls sideways -------------------------------------------------------------
-  // Layout only (nothing here reads or sends input). A tab's widest line sets the panel's scroll width:
-  // words longer than the panel (a folder path, a file name, an id) break anywhere, tables, images and
-  // plots shrink to the panel's width, and code wraps.
-  (function panelFitsItsWidth() {
-    const style = document.createElement("style");
-    style.dataset.pendant = "panel-width";
-    style.textContent = `
-      .mantine-ScrollArea-viewport { overflow-wrap: anywhere; }
-      .mantine-ScrollArea-viewport :is(table, img, svg, video) { max-width: 100%; }
-      .mantine-ScrollArea-viewport pre { white-space: pre-wrap; }
-    `;
-    document.head.appendChild(style);
-  })();
 
   // Keyboard: Space or Enter held on a focused jog button.
   document.addEventListener("keydown", (event) => {

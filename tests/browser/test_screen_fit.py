@@ -1,6 +1,6 @@
 """Every tab at the four screen sizes the pendant is used at: Freeze wholly on screen at every scroll position
-of the panel, and nothing scrolls sideways (the panel, its scrolling ancestors, the page), even with a long
-programs folder path on the Program tab and the Dashboard's motor table filled in.
+of the panel, and nothing scrolls sideways (the panel, its scrolling ancestors, the page), even with long
+unbreakable names on show (the programs folder, the tool) and the Dashboard's motor table filled in.
 
 One pendant for the module and one page per screen size, every tab in that page.
 """
@@ -22,8 +22,10 @@ SCREENS = {
     "phone": (390, 844),
 }
 SCROLL_FRACTIONS = (0.0, 0.3, 0.6, 1.0)
-# A folder path with no place to break it at a word: the Program tab shows it in full.
+# Names with no place to break them at a word: the Program tab shows the folder's path, the status and the
+# event log the tool's name.
 LONG_FOLDER = "cell-7-welding-station-programs-" * 3
+LONG_TOOL = "vacuum_gripper_" * 6
 SCROLL_SETTLE_MS = 150
 PX_TOL = 1  # sub-pixel rounding of boxes
 
@@ -58,6 +60,14 @@ def pendant() -> Iterator[Pendant]:
     with tempfile.TemporaryDirectory(prefix="pendant-programs-") as folder:
         programs = Path(folder) / LONG_FOLDER
         with running_pendant("--programs", str(programs)) as served:
+            origin = {"x": 0.0, "y": 0.0, "z": 0.0}
+            tool = {
+                "name": LONG_TOOL,
+                "radius": 0.0,
+                "point": origin,
+                "rotation": {"roll": 0.0, "pitch": 0.0, "yaw": 0.0},
+            }
+            served.api.post("/tool", json=tool).raise_for_status()
             yield served
 
 
