@@ -12,6 +12,8 @@
 // 4. Freeze pinned to the top of the panel, which stays as wide as its dock (docs/screens.md).
 // 5. `?token=T` in the page's URL (as Jupyter's): handed to viser's websocket URL (`?websocket=`), whose
 //    handshake is where the pendant reads it, before viser's own script reads the page's URL.
+// 6. Focus on request: a question in the panel (pendant/ui/focus_request.py) puts the cursor in the text box
+//    it names (Save of an unnamed program asks for the name there).
 (() => {
   "use strict";
   (function tokenIntoWebsocketUrl() {
@@ -279,4 +281,35 @@
   document.addEventListener("keyup", (event) => {
     if (event.key === " " || event.key === "Enter") finish("key", true);
   }, true);
+
+  // --- 6. Focus on request ----------------------------------------------------------------------------
+  // Layout and focus only (nothing here sends anything). The panel's labels are not tied to their inputs:
+  // the box asked for is the first input in the smallest box holding both the label's text and an input.
+  (function focusOnRequest() {
+    const asked = new WeakSet();
+    function inputLabelled(label) {
+      const walker = document.createTreeWalker(document.body, NodeFilter.SHOW_TEXT);
+      for (let text = walker.nextNode(); text !== null; text = walker.nextNode()) {
+        if (text.data.trim() !== label) continue;
+        for (let box = text.parentElement; box !== null; box = box.parentElement) {
+          const input = box.querySelector("input:not([type=hidden]), textarea");
+          if (input !== null) return input;
+        }
+      }
+      return null;
+    }
+    function focusAsked() {
+      for (const ask of document.querySelectorAll("[data-pendant-focus]")) {
+        if (asked.has(ask) || ask.offsetParent === null) continue; // done, or not shown yet
+        const input = inputLabelled(ask.dataset.pendantFocus);
+        if (input === null) continue;
+        asked.add(ask);
+        input.focus({ preventScroll: false });
+        input.select();
+      }
+    }
+    new MutationObserver(focusAsked).observe(document.documentElement, {
+      childList: true, subtree: true, attributes: true, attributeFilter: ["style", "class"],
+    });
+  })();
 })();
