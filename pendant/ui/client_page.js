@@ -304,7 +304,7 @@
         const input = inputLabelled(ask.dataset.pendantFocus);
         if (input === null) continue;
         asked.add(ask);
-        input.focus({ preventScroll: false });
+        input.focus();
         input.select();
       }
     }
