@@ -253,3 +253,38 @@ def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, cloc
     above_p1 = np.array([p1.x, p1.y, p1.z + 0.05])
     assert min(float(np.linalg.norm(p - above_p1)) for p in marker_points) < 1e-4  # the relative target
     assert any(abs(float(p[2]) - (p1.z + 0.03)) < 1e-4 for p in marker_points)  # above the first cell
+
+
+def test_save_of_an_unnamed_program_asks_for_its_name_then_saves(setup, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]
+    panel, workspace = setup
+    files, browser, folder = panel.file_section, FakeClient(), tmp_path / "programs"
+    teach(sim, clock, POSE_A_DEG, "ignored")
+    record(panel, browser)
+    assert workspace.file_name is None
+
+    fire(files.files, browser, "Save")  # no name yet: asked for one in the name box, not refused
+    assert files.name_prompt.visible and "Name this program" in files.name_prompt.content
+    assert 'data-pendant-focus="Save as name"' in files.name_prompt.content  # the page focuses that box
+    assert browser.notifications == [] and list(folder.glob("[!.]*.json")) == []  # .autosave.json aside
+    asked = files.name_prompt.content
+    fire(files.files, browser, "Save")  # asked again: a new question, so the box is focused again
+    assert files.name_prompt.content != asked
+
+    fire(files.file_name, browser, "first job")
+    fire(files.files, browser, "Save")
+    assert json.loads((folder / "first job.json").read_text())["name"] == "first job"
+    assert workspace.file_name == "first job" and not workspace.dirty
+    assert browser.notifications[-1]["title"] == "Saved" and not files.name_prompt.visible
+
+    fire(files.files, browser, "New")
+    record(panel, browser)  # the box still says "first job": Save does not write over that file
+    fire(files.files, browser, "Save")
+    assert "'first job' already exists" in files.name_prompt.content
+    assert [s["kind"] for s in json.loads((folder / "first job.json").read_text())["steps"]] == ["move"]
+    fire(files.file_name, browser, "../escape")  # a name that would leave the folder: asked again
+    fire(files.files, browser, "Save")
+    assert "not a usable program name" in files.name_prompt.content
+    assert sorted(p.name for p in tmp_path.rglob("[!.]*.json")) == ["first job.json"]
+    fire(files.file_name, browser, "second job")
+    fire(files.files, browser, "Save")
+    assert (folder / "second job.json").is_file() and workspace.file_name == "second job"

@@ -20,33 +20,37 @@ from pendant.ui.dashboard.recording import RecordingControls, RecordingListener
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.html import inset
 
+# (row label, what it means, how a reading shows): one row per quantity, one column per joint, so the table
+# is seven narrow columns whatever the panel's width (joints as rows made nine columns, too wide for a phone).
+MOTOR_ROWS: tuple[tuple[str, str, Callable[[MotorStatus], str]], ...] = (
+    ("Angle °", "Joint angle", lambda m: f"{m.angle:.2f}"),
+    ("rpm", "Rotor speed", lambda m: f"{m.rotorVelocity:.1f}"),
+    ("I rms A", "RMS current", lambda m: f"{m.rmsCurrent:.2f}"),
+    ("U V", "Voltage", lambda m: f"{m.voltage:.1f}"),
+    ("Stator °C", "Stator temperature", lambda m: f"{m.statorTemperature:.1f}"),
+    ("Servo °C", "Servo temperature", lambda m: f"{m.servoTemperature:.1f}"),
+    ("Pos err °", "Position error", lambda m: f"{m.positionError:.3f}"),
+)
+_CELL = "text-align:right;padding:0 1px"
+
 
 def render_motor_table(motors: Sequence[MotorStatus] | None) -> str:
-    """Per motor: angle, rotor speed, RMS current, voltage, stator and servo temperature, position error."""
+    """Per motor (a column each, J1..J6): angle, rotor speed, RMS current, voltage, stator and servo
+    temperature, position error (a row each)."""
     if motors is None:
         return '<div style="color:#868e96">No motor readings (controller offline)</div>'
-    header = "".join(
-        f'<th style="text-align:right;padding:0 2px;white-space:nowrap">{h}</th>'
-        for h in ("", "Angle °", "rpm", "I rms A", "U V", "Stator °C", "Servo °C", "Pos err °")
-    )
-    rows = []
-    for i, m in enumerate(motors):
-        cells = (
-            f"{m.angle:.2f}",
-            f"{m.rotorVelocity:.1f}",
-            f"{m.rmsCurrent:.2f}",
-            f"{m.voltage:.1f}",
-            f"{m.statorTemperature:.1f}",
-            f"{m.servoTemperature:.1f}",
-            f"{m.positionError:.3f}",
-        )
-        tds = "".join(f'<td style="text-align:right;padding:0 2px">{c}</td>' for c in cells)
-        rows.append(f"<tr><td><b>J{i + 1}</b></td>{tds}</tr>")
-    # Nine columns are wider than the panel on a narrow screen: scroll sideways rather than cut them off.
+    header = "".join(f'<th style="{_CELL}">J{i + 1}</th>' for i in range(len(motors)))
+    rows = [f'<tr><th style="text-align:left;padding:0"></th>{header}</tr>']
+    for label, meaning, shown in MOTOR_ROWS:
+        tds = "".join(f'<td style="{_CELL}">{shown(m)}</td>' for m in motors)
+        rows.append(f'<tr><th style="text-align:left;padding:0" title="{meaning}">{label}</th>{tds}</tr>')
+    # A fixed layout shares the panel's width out and never grows past it: a value too long for its column
+    # wraps inside the cell rather than widening the panel (which would push Freeze off screen).
     return inset(
-        '<div style="overflow-x:auto"><table id="motor-table" '
-        'style="width:100%;font-size:0.72em;font-family:monospace;border-collapse:collapse">'
-        f"<tr>{header}</tr>{''.join(rows)}</table></div>"
+        '<table id="motor-table" style="width:100%;table-layout:fixed;border-collapse:collapse;'
+        'font-size:0.72em;font-variant-numeric:tabular-nums;overflow-wrap:anywhere">'
+        '<colgroup><col style="width:22%"></colgroup>'
+        f"{''.join(rows)}</table>"
     )
 
 

@@ -9,9 +9,11 @@
 //    that starts on a jog button scrolls the panel and never moves the arm.
 // 3. Software WebGL (no GPU): no multisampling, a capped pixel ratio and frame rate, which leave the main
 //    thread time for input.
-// 4. Freeze pinned to the top of the panel.
+// 4. Freeze pinned to the top of the panel, which stays as wide as its dock (docs/screens.md).
 // 5. `?token=T` in the page's URL (as Jupyter's): handed to viser's websocket URL (`?websocket=`), whose
 //    handshake is where the pendant reads it, before viser's own script reads the page's URL.
+// 6. Focus on request: a question in the panel (pendant/ui/kit/focus_request.py) puts the cursor in the text box
+//    it names (Save of an unnamed program asks for the name there).
 (() => {
   "use strict";
   (function tokenIntoWebsocketUrl() {
@@ -249,7 +251,13 @@
     for (let box = pinned.parentElement; box !== null; box = box.parentElement) {
       if (box.classList.contains("mantine-ScrollArea-viewport")) break;
       const style = getComputedStyle(box);
-      if (style.overflowY === "hidden" || style.overflowX === "hidden") box.style.overflow = "clip";
+      if (style.overflowY === "hidden" || style.overflowX === "hidden") {
+        box.style.overflow = "clip";
+        // A hidden overflow also let the box shrink below its content's width (a grid or flex item's
+        // automatic minimum is 0 only for a scroll container); clip does not: say it, or the widest thing
+        // in a tab widens the whole panel and pushes Freeze off its right edge.
+        box.style.minWidth = "0";
+      }
     }
     Object.assign(pinned.style, {
       position: "sticky", top: "0", zIndex: "20", paddingTop: "6px",
@@ -273,4 +281,35 @@
   document.addEventListener("keyup", (event) => {
     if (event.key === " " || event.key === "Enter") finish("key", true);
   }, true);
+
+  // --- 6. Focus on request ----------------------------------------------------------------------------
+  // Layout and focus only (nothing here sends anything). The panel's labels are not tied to their inputs:
+  // the box asked for is the first input in the smallest box holding both the label's text and an input.
+  (function focusOnRequest() {
+    const asked = new WeakSet();
+    function inputLabelled(label) {
+      const walker = document.createTreeWalker(document.body, NodeFilter.SHOW_TEXT);
+      for (let text = walker.nextNode(); text !== null; text = walker.nextNode()) {
+        if (text.data.trim() !== label) continue;
+        for (let box = text.parentElement; box !== null; box = box.parentElement) {
+          const input = box.querySelector("input:not([type=hidden]), textarea");
+          if (input !== null) return input;
+        }
+      }
+      return null;
+    }
+    function focusAsked() {
+      for (const ask of document.querySelectorAll("[data-pendant-focus]")) {
+        if (asked.has(ask) || ask.offsetParent === null) continue; // done, or not shown yet
+        const input = inputLabelled(ask.dataset.pendantFocus);
+        if (input === null) continue;
+        asked.add(ask);
+        input.focus();
+        input.select();
+      }
+    }
+    new MutationObserver(focusAsked).observe(document.documentElement, {
+      childList: true, subtree: true, attributes: true, attributeFilter: ["style", "class"],
+    });
+  })();
 })();

@@ -1,5 +1,8 @@
 """The Program tab's "Files" folder: New, Save, Save as, Load, Delete file, Download, Export, Upload.
 
+Save never refuses a program without a file: it saves under the name typed in "Save as name" if that is a
+new one, and otherwise asks for a name there (the box focused) until it gets one.
+
 Nothing is lost without a question: New, Load and Upload over unsaved changes, and Delete file always, wait
 for the operator to confirm (a row of buttons in the folder, so every browser and the tests see it).
 """
@@ -10,23 +13,27 @@ from collections.abc import Callable
 
 import viser
 
-from pendant.program.files import MAX_FILE_BYTES
+from pendant.program.files import MAX_FILE_BYTES, ProgramFileError, sanitize_name
+from pendant.ui.kit.focus_request import focus_request
 from pendant.ui.kit.upload_limit import limit_uploads
 from pendant.ui.program.host import ProgramHost
 
 NO_FILE = "(no saved programs)"
 FILE_OPTIONS = ("New", "Save", "Save as", "Load", "Delete file")
 CONFIRM_OPTIONS = ("Yes", "Cancel")
+FILE_NAME_LABEL = "Save as name"
 
 
 class FileSection:
     def __init__(self, host: ProgramHost) -> None:
         self._host = host
         self._pending: tuple[str, Callable[[], object]] | None = None  # (label, action) awaiting Yes
+        self._name_asks = 0  # how many times Save asked for a name: each ask focuses the box again
         gui = host.target.gui
         with gui.add_folder("Files"):
             self.status = gui.add_markdown("")
-            self.file_name = gui.add_text("Save as name", initial_value="")
+            self.name_prompt = gui.add_html("", visible=False)  # Save's question for an unnamed program
+            self.file_name = gui.add_text(FILE_NAME_LABEL, initial_value="")
             self.saved = gui.add_dropdown("Saved programs", options=[NO_FILE], initial_value=NO_FILE)
             self.files = gui.add_button_group("File", options=FILE_OPTIONS)
             self.question = gui.add_markdown("", visible=False)
@@ -98,19 +105,48 @@ class FileSection:
             case "Delete file" if saved != NO_FILE:
                 question = f"Delete the file {saved}.json? This cannot be undone."
                 self._ask("Delete file", question, lambda: shared.delete_file(saved), client)
+            case "Save" if shared.file_name is None:
+                self._save_unnamed(str(self.file_name.value), client)
             case "Save" | "Save as":
                 name = str(self.file_name.value)
-                action = shared.save if option == "Save" else (lambda: shared.save_as(name))
+                self._save(
+                    option, client, shared.save if option == "Save" else (lambda: shared.save_as(name))
+                )
 
-                def save() -> None:
-                    action()
-                    if client is not None:
-                        body = f"{shared.file_name}.json"
-                        client.add_notification(
-                            title="Saved", body=body, color="green", auto_close_seconds=3.0
-                        )
+    def _save(self, label: str, client: viser.ClientHandle | None, action: Callable[[], object]) -> None:
+        shared = self._host.shared
 
-                host.edit(option, client, save)
+        def save() -> None:
+            action()
+            self.name_prompt.visible = False
+            if client is not None:
+                body = f"{shared.file_name}.json"
+                client.add_notification(title="Saved", body=body, color="green", auto_close_seconds=3.0)
+
+        self._host.edit(label, client, save)
+
+    def _save_unnamed(self, typed: str, client: viser.ClientHandle | None) -> None:
+        """Save of a program with no file yet: under `typed` if that names a new file, otherwise ask for a
+        name in the box (focused), which the next Save uses."""
+        if not self._host.allowed(client, "Save"):
+            return
+        shared = self._host.shared
+        try:
+            name = sanitize_name(typed) if typed.strip() else None
+        except ProgramFileError as error:
+            question = f"{error}. Type a name for this program, then press Save."
+        else:
+            if name is not None and not shared.store.exists(name):
+                self._save("Save", client, lambda: shared.save_as(name))
+                return
+            question = (
+                "Name this program: type a name, then press Save."
+                if name is None
+                else f"A program named {name!r} already exists: type a new name, then press Save."
+            )
+        self._name_asks += 1
+        self.name_prompt.content = focus_request(FILE_NAME_LABEL, self._name_asks, question)
+        self.name_prompt.visible = True
 
     def _on_upload(self, event: viser.GuiEvent) -> None:
         uploaded = self.upload.value
