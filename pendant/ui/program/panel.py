@@ -14,35 +14,15 @@ from concurrent.futures import Future
 
 import viser
 
-from pendant.controller import Controller, SignalLevel
-from pendant.controller.types import INPUT_PORTS, OUTPUT_PORTS
+from pendant.controller import Controller
 from pendant.kinematics import ArmModel
-from pendant.program import (
-    CallStep,
-    Change,
-    CommentStep,
-    EditError,
-    GripperAction,
-    GripperStep,
-    IfStep,
-    LoopMode,
-    LoopStep,
-    MoveStep,
-    Offset,
-    OutputStep,
-    PalletStep,
-    ProgramWorkspace,
-    Step,
-    WaitInputStep,
-    WaitStep,
-    describe_step,
-)
-from pendant.program.models import DEFAULT_INPUT_TIMEOUT_MS
+from pendant.program import Change, EditError, ProgramWorkspace, describe_step
 from pendant.program.tree import Line
 from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.program.file_section import FileSection
 from pendant.ui.program.history_section import HistorySection
+from pendant.ui.program.new_step import ADD_OPTIONS, STRUCTURE_OPTIONS, new_step, waypoint_here
 from pendant.ui.program.refusals import USER_ERRORS
 from pendant.ui.program.run_section import RunSection
 from pendant.ui.program.scene import ProgramScene
@@ -52,10 +32,7 @@ from pendant.ui.program.waypoint_section import WaypointSection
 log = logging.getLogger(__name__)
 
 NO_STEP = "(no steps yet: press Record)"
-ADD_OPTIONS = ("Gripper open", "Gripper close", "Set DO", "Wait DI", "Wait", "Comment")
-STRUCTURE_OPTIONS = ("Loop", "If DI", "Pallet", "Call", "Move to waypoint", "Relative move")
 EDIT_OPTIONS = ("Up", "Down", "Indent", "Outdent", "Duplicate", "Delete step")
-DEFAULT_WAIT_MS = 500
 INDENT = "\u2003"  # an em space: Markdown keeps it, so nesting shows
 
 
@@ -203,57 +180,13 @@ class ProgramPanel:
             )
         )
 
-    # --- editing ------------------------------------------------------------------------------------
+    # --- editing (the step an Add button makes: new_step.py) -------------------------------------------
     def _record(self, controller: Controller) -> None:
         self.select_line(self.shared.record_from(controller, after=self.selected))
 
-    def _new_step(self, option: str) -> Step:
-        line = self.selected_line()
-        waypoint = self._waypoint_here(line)
-        match option:
-            case "Gripper open" | "Gripper close":
-                return GripperStep(
-                    action=GripperAction.OPEN if option == "Gripper open" else GripperAction.CLOSE
-                )
-            case "Set DO":
-                return OutputStep(port=OUTPUT_PORTS[0], level=SignalLevel.HIGH)
-            case "Wait DI":
-                return WaitInputStep(
-                    port=INPUT_PORTS[0], level=SignalLevel.HIGH, timeout_ms=DEFAULT_INPUT_TIMEOUT_MS
-                )
-            case "Wait":
-                return WaitStep(ms=DEFAULT_WAIT_MS)
-            case "Comment":
-                return CommentStep(text="")
-            case "Loop":
-                return LoopStep(mode=LoopMode.TIMES, times=2)
-            case "If DI":
-                return IfStep(port=INPUT_PORTS[0], level=SignalLevel.HIGH)
-            case "Call":
-                names = [n for n in self.shared.saved_programs() if n != self.shared.file_name]
-                if not names:
-                    raise EditError("Call runs a saved program: save another program first")
-                return CallStep(program=names[0])
-            case "Pallet":
-                names = self.shared.program.waypoint_names()
-                if len(names) < 3:
-                    raise EditError("A pallet needs three taught corners: teach three waypoints first")
-                return PalletStep(corners=(names[-3], names[-2], names[-1]))
-            case "Move to waypoint" | "Relative move":
-                if waypoint is None:
-                    raise EditError("Teach a waypoint first (Record, or Waypoints > Add waypoint here)")
-                offset = Offset(z=50.0) if option == "Relative move" else None
-                return MoveStep(waypoint=waypoint, offset=offset)
-        raise EditError(f"Unknown step {option!r}")
-
-    def _waypoint_here(self, line: Line | None) -> str | None:
-        """The waypoint a new move goes to: the selected move's, else the one chosen in the table."""
-        if line is not None and isinstance(line.step, MoveStep):
-            return line.step.waypoint
-        return self.waypoints.chosen()
-
     def _add(self, option: str) -> None:
-        step = self._new_step(option)
+        line = self.selected_line()
+        step = new_step(option, self.shared, waypoint_here(line, self.waypoints.chosen()))
         self.select_line(self.shared.insert_step(step, after=self.selected))
 
     def _order(self, option: str) -> None:
