@@ -10,8 +10,9 @@ from pathlib import Path
 
 import pytest
 
+from tests.support.jog_measure import open_as_operator
+
 from .conftest import ARTIFACTS, Pendant, running_pendant
-from .jog_measure import open_as_operator
 
 UI_TIMEOUT_MS = 30_000
 SAVE_TIMEOUT_S = 10.0
