@@ -1,6 +1,7 @@
-"""The controller's cell as coal geometry in the pendant, so the page checks what the controller checks.
+"""The controller's cell in the pendant, so the page checks what the controller checks.
 
-Built with the simulator's own shape builders: the ghost turns red exactly where the simulator refuses.
+Built with the simulator's own shape builders and checker: the ghost turns red exactly where the simulator
+refuses.
 """
 
 from __future__ import annotations
@@ -8,24 +9,20 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any
 
-import coal
 import numpy as np
 
 from pendant.controller import ControllerError, Point, Rotation, Tool
 from pendant.controller.cell_types import Obstacle, ToolShape
 from pendant.kinematics import ArmModel
+from pendant.kinematics.cell_check import CellCheck, NamedShape, joint_samples
 from pendant.kinematics.cell_shapes import obstacle_shape, tool_capsules
-from pendant.kinematics.obstacles import CellGeometry, bounding_sphere, capsule_shape, collide
 
 PATH_STEP_RAD = np.radians(2.0)  # the joint path is checked every 2° of the joint that travels most
 
 
 class CellModel:
-    """Obstacles by name and the tool's capsules, checked against the arm at any joint angles.
-
-    Same shapes and the same narrow-phase test as the simulator (its `CellGeometry`), with a bounding-sphere
-    test first: most link-obstacle pairs are far apart, and the ghost checks a whole path on every drag.
-    """
+    """Obstacles by name and the tool's capsules, checked against the arm at any joint angles by the
+    simulator's own checker (`CellCheck`), so the ghost turns red exactly where the simulator refuses."""
 
     def __init__(
         self, arm: ArmModel, obstacles: Sequence[Obstacle], shape: ToolShape, tool: Tool | None = None
@@ -33,63 +30,29 @@ class CellModel:
         self.arm = arm
         self.obstacles = list(obstacles)
         self.shape = shape
-        capsules = tool_capsules(shape, tool if tool is not None else _NO_TOOL)
-        self._floor = CellGeometry(arm, [], capsules)  # the tool against the floor (no obstacles: fast)
-        self._tool = [capsule_shape(capsule) for capsule in capsules]
-        self._shapes: list[tuple[str, coal.CollisionGeometry, np.ndarray]] = []
-        centres, radii = [], []
+        named = []
         for obstacle in self.obstacles:
             try:
-                geometry, T = obstacle_shape(obstacle)
+                named.append(NamedShape(obstacle.name, *obstacle_shape(obstacle)))
             except ControllerError:  # a plane on a line: the controller refuses it, so it never holds one
                 continue
-            centre, radius = bounding_sphere(geometry, T)
-            self._shapes.append((obstacle.name, geometry, T))
-            centres.append(centre)
-            radii.append(radius)
-        self._centres = np.array(centres).reshape(-1, 3)
-        self._radii = np.array(radii)
-
-    def _hits(self, q: np.ndarray, *, all_of_them: bool) -> list[str]:
-        if not self._shapes:
-            return []
-        T_base_flange = self.arm.fk(q)
-        moving = [*self.arm.moving_shapes(q), *((s, T_base_flange @ T) for s, T in self._tool)]
-        # Each coal shape keeps its local bounding sphere once computed (pinocchio hands out a new Python
-        # wrapper of the same shape on every call: a cache keyed by the wrapper grew by every check).
-        spheres = [bounding_sphere(link, T_link) for link, T_link in moving]
-        centres = [centre for centre, _ in spheres]
-        radii = [radius for _, radius in spheres]
-        gaps = np.linalg.norm(np.asarray(centres)[:, None, :] - self._centres[None, :, :], axis=2)
-        near = gaps <= np.asarray(radii)[:, None] + self._radii[None, :]  # planes (infinite) always
-        hit: list[str] = []
-        for i, j in zip(*np.nonzero(near), strict=True):
-            name, obstacle, T_obstacle = self._shapes[j]
-            if name in hit:
-                continue
-            link, T_link = moving[i]
-            if collide(link, T_link, obstacle, T_obstacle):
-                hit.append(name)
-                if not all_of_them:
-                    return hit
-        return hit
+        capsules = tool_capsules(shape, tool if tool is not None else _NO_TOOL)
+        self.check = CellCheck(arm, named, capsules)
 
     def collides(self, q: np.ndarray) -> bool:
-        """The arm or its tool touches an obstacle, or the tool dips below the floor, at q."""
-        return self._floor.collides(q) or bool(self._hits(q, all_of_them=False))
+        """The arm touches itself, the floor or an obstacle, or its tool the floor or an obstacle, at q."""
+        return self.check.collides(q)
 
     def touching(self, q: np.ndarray) -> list[str]:
         """The names of the obstacles the arm or its tool touches at q."""
-        return self._hits(q, all_of_them=True)
+        return self.check.touching(q) or []
 
     def path_touching(self, q_from: np.ndarray, q_to: np.ndarray) -> list[str]:
         """The obstacles hit along the joint-interpolated path from q_from to q_to (Move J's path)."""
-        if not self._shapes:
-            return []
-        steps = max(1, int(np.ceil(float(np.max(np.abs(q_to - q_from))) / PATH_STEP_RAD)))
+        samples = joint_samples(q_from, q_to, PATH_STEP_RAD)
         hit: list[str] = []
-        for fraction in np.linspace(0.0, 1.0, steps + 1):
-            hit.extend(name for name in self.touching(q_from + fraction * (q_to - q_from)) if name not in hit)
+        for k in np.flatnonzero(self.check.collides_many(samples)):  # names only where something touches
+            hit.extend(name for name in self.touching(samples[k]) if name not in hit)
         return hit
 
 
@@ -110,10 +73,8 @@ class CellAwareArm:
         self._cell = cell
 
     def in_collision(self, q: np.ndarray) -> bool:
-        if self._arm.in_collision(q):
-            return True
         cell = self._cell()
-        return cell is not None and cell.collides(q)
+        return cell.collides(q) if cell is not None else self._arm.in_collision(q)
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self._arm, name)

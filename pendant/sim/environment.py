@@ -1,6 +1,6 @@
 """The cell's obstacles (by name) and the tool's shape, as SDK 1.8.4 sets them, and their collision geometry.
 
-Every change makes a new `CellGeometry`, so a plan made from an older one is stale (see controller.py). A
+Every change makes a new `CellCheck`, so a plan made from an older one is stale (see controller.py). A
 change that would leave the arm already touching something is refused: every later move would fail.
 """
 
@@ -21,8 +21,8 @@ from pendant.controller.cell_types import (
 from pendant.controller.errors import Collision, PreconditionFailed
 from pendant.controller.types import Tool
 from pendant.kinematics import ArmModel
-from pendant.kinematics.cell_shapes import obstacle_shape, tool_capsules
-from pendant.kinematics.obstacles import CellGeometry
+from pendant.kinematics.cell_check import CellCheck
+from pendant.kinematics.cell_shapes import cell_check
 
 # Beyond these an obstacle or a tool capsule is a typing error (and overflows the geometry arithmetic).
 MAX_OBSTACLE_EXTENT_M = 100.0
@@ -59,10 +59,8 @@ class Environment:
         self._tool = tool
         self.geometry = self._build(self.obstacles, self.tool_shape, tool)
 
-    def _build(self, obstacles: dict[str, Obstacle], shape: ToolShape, tool: Tool) -> CellGeometry:
-        return CellGeometry(
-            self.arm, [obstacle_shape(o) for o in obstacles.values()], tool_capsules(shape, tool)
-        )
+    def _build(self, obstacles: dict[str, Obstacle], shape: ToolShape, tool: Tool) -> CellCheck:
+        return cell_check(self.arm, obstacles.values(), shape, tool)
 
     def get(self, name: str) -> Obstacle:
         try:
@@ -75,11 +73,11 @@ class Environment:
         if obstacle.name not in self.obstacles and len(self.obstacles) >= MAX_OBSTACLES:
             raise PreconditionFailed(MSG_TOO_MANY_OBSTACLES)
         _check_extent(obstacle, MAX_OBSTACLE_EXTENT_M, MSG_OBSTACLE_TOO_FAR)
-        alone = CellGeometry(self.arm, [obstacle_shape(obstacle)], self.geometry.tool)
-        if any(alone.collides(q) for q in configurations):
-            raise Collision(MSG_OBSTACLE_TOUCHES_ARM)
         obstacles = {**self.obstacles, obstacle.name: obstacle}
-        self._commit(obstacles, self.tool_shape, self._tool)
+        geometry = self._build(obstacles, self.tool_shape, self._tool)
+        if any(obstacle.name in (geometry.touching(q) or ()) for q in configurations):
+            raise Collision(MSG_OBSTACLE_TOUCHES_ARM)
+        self.obstacles, self.geometry = obstacles, geometry
 
     def remove(self, name: str) -> None:
         self.get(name)
@@ -88,22 +86,20 @@ class Environment:
     def clear(self) -> None:
         self._commit({}, self.tool_shape, self._tool)
 
-    def check_tool(self, shape: ToolShape, tool: Tool, configurations: list[np.ndarray]) -> CellGeometry:
+    def check_tool(self, shape: ToolShape, tool: Tool, configurations: list[np.ndarray]) -> CellCheck:
         """The geometry with this tool shape and tool, or Collision if it touches anything already."""
         _check_extent(shape, MAX_TOOL_EXTENT_M, MSG_TOOL_SHAPE_TOO_BIG)
         geometry = self._build(self.obstacles, shape, tool)
-        if any(geometry.collides(q) for q in configurations):
+        if any(geometry.collides_many(configurations)):
             raise Collision(MSG_SHAPE_TOUCHES)
         return geometry
 
     def touching(self, q: np.ndarray) -> list[str] | None:
-        """What the arm or its tool would touch at q: the obstacles' names ([] for the tool in the floor),
-        or None when it is clear of the cell."""
-        if not self.geometry.collides(q):
-            return None
-        return [name for i, name in enumerate(self.obstacles) if self.geometry.obstacle_collides(i, q)]
+        """What the arm or its tool would touch at q: the obstacles' names ([] for the floor or the arm
+        itself), or None when nothing is touched."""
+        return self.geometry.touching(q)
 
-    def set_tool(self, shape: ToolShape, tool: Tool, geometry: CellGeometry) -> None:
+    def set_tool(self, shape: ToolShape, tool: Tool, geometry: CellCheck) -> None:
         self.tool_shape, self._tool, self.geometry = shape, tool, geometry
 
     def _commit(self, obstacles: dict[str, Obstacle], shape: ToolShape, tool: Tool) -> None:

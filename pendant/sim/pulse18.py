@@ -304,7 +304,7 @@ class Pulse18Operations:
         for k in range(1, JOG_SCAN_STEPS + 1):
             fraction = k / JOG_SCAN_STEPS
             q = self.arm.ik(target(fraction) @ T_tool_flange, q_near)
-            if q is None or self.arm.in_collision(q) or (start.cell is not None and start.cell.collides(q)):
+            if q is None or (start.cell.collides(q) if start.cell is not None else self.arm.in_collision(q)):
                 break
             reach, q_near = fraction, q
         last_error: ControllerError = Unreachable(MSG_JOG_BLOCKED)

@@ -1,0 +1,149 @@
+"""Collision-free joint paths with OMPL (RRT-Connect and its path simplifier) over the ONE cell check.
+
+The planner sees the world only through a `CellCheck` (the arm, its tool shape, the cell's obstacles, the
+floor, itself) and the joint limits. It plans in joint space, each joint a real interval (a joint with
++-2*pi limits reaches the target as given, never an equivalent angle a turn away), with obstacles padded by
+`MARGIN_M`, every edge checked at most `EDGE_STEP_RAD` apart per joint. The returned path is re-checked
+every `RECHECK_STEP_RAD` per joint after simplification; one that fails is replaced by the unsimplified
+path, or refused: a path that touches anything is never returned.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from ompl import base as ob
+from ompl import geometric as og
+from ompl import util as ou
+
+from pendant.controller.errors import PreconditionFailed
+from pendant.kinematics.cell_check import CellCheck, joint_samples
+
+MARGIN_M = 0.005  # obstacles are padded by this much while planning
+EDGE_STEP_RAD = math.radians(1.0)  # an edge is checked at least this often per joint while planning
+RECHECK_STEP_RAD = math.radians(0.5)  # and the returned path this often, after simplification
+DEFAULT_BUDGET_S = 1.0
+MAX_BUDGET_S = 10.0
+# Share of the budget kept for simplification once a path is found.
+SIMPLIFY_SHARE = 0.25
+MSG_NO_PATH = "no path found in {budget:g} s"
+MSG_NO_CLEAR_PATH = "no path found that stays clear under the dense re-check"
+
+ou.setLogLevel(ou.LogLevel.LOG_ERROR)  # OMPL's info lines ("Created 12 states") would flood the log
+
+
+@dataclass(frozen=True)
+class PlannedPath:
+    """Joint waypoints (k, 6), radians: the start, the corners of the path, the target; and what it cost."""
+
+    waypoints: np.ndarray
+    planning_s: float
+    margin_m: float
+
+    @property
+    def length_rad(self) -> float:
+        """The path's length in joint space: the sum of its segments' Euclidean lengths."""
+        return float(np.sum(np.linalg.norm(np.diff(self.waypoints, axis=0), axis=1)))
+
+
+@dataclass(frozen=True)
+class PlannerSettings:
+    """How the search runs. `tuned=False` is OMPL's defaults (its default planner, its 1 % edge resolution,
+    its default simplification, no straight-line try first), for the benchmark's comparison."""
+
+    margin_m: float = MARGIN_M
+    tuned: bool = True
+    seed: int | None = None
+
+
+def path_is_clear(check: CellCheck, waypoints: np.ndarray, step_rad: float = RECHECK_STEP_RAD) -> bool:
+    """Every configuration along the straight joint segments between the waypoints, at most `step_rad`
+    apart per joint, is collision-free."""
+    samples = np.concatenate(
+        [joint_samples(a, b, step_rad) for a, b in zip(waypoints[:-1], waypoints[1:], strict=True)]
+    )
+    return not bool(np.any(check.collides_many(samples)))
+
+
+def plan_joint_path(
+    check: CellCheck,
+    q_start: np.ndarray,
+    q_goal: np.ndarray,
+    budget_s: float = DEFAULT_BUDGET_S,
+    settings: PlannerSettings | None = None,
+) -> PlannedPath:
+    """A collision-free joint path from q_start to q_goal, both inside the limits and clear (the caller
+    checks them and says why not). PreconditionFailed when no path is found within `budget_s`."""
+    settings = settings or PlannerSettings()
+    began = time.perf_counter()
+    deadline = began + budget_s
+    padded = check.with_margin(settings.margin_m) if settings.margin_m > 0.0 else check
+    # An end already inside the margin (but clear) cannot be planned from padded: keep just clear instead.
+    if padded is not check and (padded.collides(q_start) or padded.collides(q_goal)):
+        padded = check
+    straight = np.array([q_start, q_goal])
+    if settings.tuned and path_is_clear(padded, straight, EDGE_STEP_RAD):
+        return _checked(check, padded, straight, straight, began)
+    raw, simplified = _search(padded, q_start, q_goal, deadline, settings)
+    if raw is None:
+        raise PreconditionFailed(MSG_NO_PATH.format(budget=budget_s))
+    return _checked(check, padded, simplified, raw, began)
+
+
+def _checked(
+    check: CellCheck, padded: CellCheck, simplified: np.ndarray, raw: np.ndarray, began: float
+) -> PlannedPath:
+    """The simplified path if it passes the dense re-check, else the raw one, else a refusal. Padded
+    first; a path clear only of the unpadded cell still touches nothing and is returned."""
+    for candidate_check in (padded, check) if padded is not check else (check,):
+        for waypoints in (simplified, raw):
+            if path_is_clear(candidate_check, waypoints):
+                return PlannedPath(waypoints, time.perf_counter() - began, candidate_check.margin_m)
+    raise PreconditionFailed(MSG_NO_CLEAR_PATH)
+
+
+def _search(
+    check: CellCheck, q_start: np.ndarray, q_goal: np.ndarray, deadline: float, settings: PlannerSettings
+) -> tuple[np.ndarray, np.ndarray] | tuple[None, None]:
+    """OMPL's search: (the path as found, the path simplified), or Nones when none is found in time."""
+    if settings.seed is not None:
+        ou.RNG.setSeed(settings.seed)
+    arm = check.arm
+    space = ob.RealVectorStateSpace(len(q_start))
+    bounds = ob.RealVectorBounds(len(q_start))
+    for k, (low, high) in enumerate(zip(arm.lower, arm.upper, strict=True)):
+        bounds.setLow(k, float(low))
+        bounds.setHigh(k, float(high))
+    space.setBounds(bounds)
+    setup = og.SimpleSetup(space)
+    dimension = len(q_start)
+
+    def valid(state: ob.State) -> bool:
+        return not check.collides(np.array([state[k] for k in range(dimension)]))
+
+    setup.setStateValidityChecker(valid)
+    information = setup.getSpaceInformation()
+    if settings.tuned:
+        # OMPL's step is a Euclidean length in joint space: this one keeps every joint within EDGE_STEP_RAD.
+        information.setStateValidityCheckingResolution(EDGE_STEP_RAD / space.getMaximumExtent())
+        setup.setPlanner(og.RRTConnect(information))
+    start, goal = space.allocState(), space.allocState()
+    for k in range(dimension):
+        start[k], goal[k] = float(q_start[k]), float(q_goal[k])
+    setup.setStartAndGoalStates(start, goal)
+    search_s = max(0.0, deadline - time.perf_counter()) * (1.0 - SIMPLIFY_SHARE)
+    setup.solve(search_s)
+    if not setup.haveExactSolutionPath():
+        return None, None
+    raw = _states(setup.getSolutionPath(), dimension)
+    setup.simplifySolution(max(0.0, deadline - time.perf_counter()))
+    return raw, _states(setup.getSolutionPath(), dimension)
+
+
+def _states(path: og.PathGeometric, dimension: int) -> np.ndarray:
+    return np.array(
+        [[path.getState(i)[k] for k in range(dimension)] for i in range(path.getStateCount())], dtype=float
+    )
