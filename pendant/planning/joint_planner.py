@@ -10,6 +10,7 @@ path, or refused: a path that touches anything is never returned.
 
 from __future__ import annotations
 
+import itertools
 import math
 import time
 from dataclasses import dataclass
@@ -62,9 +63,7 @@ class PlannerSettings:
 def path_is_clear(check: CellCheck, waypoints: np.ndarray, step_rad: float = RECHECK_STEP_RAD) -> bool:
     """Every configuration along the straight joint segments between the waypoints, at most `step_rad`
     apart per joint, is collision-free."""
-    samples = np.concatenate(
-        [joint_samples(a, b, step_rad) for a, b in zip(waypoints[:-1], waypoints[1:], strict=True)]
-    )
+    samples = np.concatenate([joint_samples(a, b, step_rad) for a, b in itertools.pairwise(waypoints)])
     return not bool(np.any(check.collides_many(samples)))
 
 
