@@ -31,6 +31,9 @@ from pendant.kinematics.obstacles import Capsule, capsule_shape
 
 TOOL_PREFIX = "tool_capsule_"
 FLANGE_JOINT = "joint6"  # the tool's capsules ride on the last joint
+# A half-space (the floor, a plane obstacle) is checked as a box this far from the plane's point nearest
+# the base in every direction: more than the arm's reach plus the largest tool (2 m).
+SLAB_HALF_M = 4.0
 # Threads for a batch check: the machine's two cores (more only adds contention).
 BATCH_THREADS = 2
 # Below this many configurations a batch is checked one by one (the pool's set-up costs more).
@@ -90,6 +93,8 @@ class CellCheck:
         objects = geometry.geometryObjects
         moving = [i for i in range(geometry.ngeoms) if objects[i].parentJoint != UNIVERSE_JOINT]
         floor = geometry.getGeometryId(FLOOR_NAME)
+        floor_slab, T_floor = bounded(objects[floor].geometry, np.eye(4))
+        objects[floor].geometry, objects[floor].placement = floor_slab, _se3(T_floor)
         flange_joint = self.model.getJointId(FLANGE_JOINT)
         T_joint_flange = _joint_to_flange(arm, self.model, flange_joint)
         tool_ids = []
@@ -105,8 +110,9 @@ class CellCheck:
         self._obstacle_of_pair: dict[int, str] = {}
         self._padded_pairs: list[int] = []
         for obstacle in self.obstacles:
+            shape, T = bounded(obstacle.shape, obstacle.T)
             obstacle_id = geometry.addGeometryObject(
-                pin.GeometryObject(obstacle.name, UNIVERSE_JOINT, _se3(obstacle.T), obstacle.shape)
+                pin.GeometryObject(obstacle.name, UNIVERSE_JOINT, _se3(T), shape)
             )
             for other in (*moving, *tool_ids):
                 geometry.addCollisionPair(pin.CollisionPair(other, obstacle_id))
@@ -119,14 +125,18 @@ class CellCheck:
         self.geometry_model = geometry
         self._names = [o.name for o in geometry.geometryObjects]
         self._local = threading.local()
-        self._pool: pin.GeometryPool | None = None
+        self._pool: pin.BroadPhaseManagerPool_DynamicAABBTreeCollisionManager | None = None
         self._pool_lock = threading.Lock()
 
     # --- scratch data ---------------------------------------------------------------------------------
 
     def _new_geometry_data(self) -> pin.GeometryData:
+        """Scratch data with the margin on the obstacles' pairs, placed at q = 0: a broad-phase manager
+        builds its tree from the placements it is given (unset ones make boxes of garbage)."""
         data = pin.GeometryData(self.geometry_model)
         self._pad(data)
+        q_zero = np.zeros(self.model.nq)
+        pin.updateGeometryPlacements(self.model, self.model.createData(), self.geometry_model, data, q_zero)
         return data
 
     def _scratch(self) -> tuple[pin.Data, pin.GeometryData]:
@@ -134,7 +144,15 @@ class CellCheck:
         if not hasattr(local, "data"):
             local.data = self.model.createData()
             local.geometry_data = self._new_geometry_data()
+            # coal's dynamic AABB tree: only shapes whose boxes overlap reach the narrow phase.
+            local.broad_phase = pin.BroadPhaseManager_DynamicAABBTreeCollisionManager(
+                self.model, self.geometry_model, local.geometry_data
+            )
         return local.data, local.geometry_data
+
+    def _broad_phase(self) -> tuple[pin.Data, pin.BroadPhaseManager_DynamicAABBTreeCollisionManager]:
+        data, _ = self._scratch()
+        return data, self._local.broad_phase
 
     # --- queries --------------------------------------------------------------------------------------
 
@@ -153,10 +171,8 @@ class CellCheck:
         # The cheap form of joint_vector's check (a sum is NaN or infinite if any element is): hot path.
         if q.shape != (self.model.nq,) or not math.isfinite(float(q.sum())):
             joint_vector(q)  # raises the ValueError that says what is wrong
-        data, geometry_data = self._scratch()
-        return bool(
-            pin.computeCollisions(self.model, data, self.geometry_model, geometry_data, self._to_pin(q), True)
-        )
+        data, broad_phase = self._broad_phase()
+        return bool(pin.computeCollisions(self.model, data, broad_phase, self._to_pin(q), True))
 
     def collides_many(self, qs: np.ndarray) -> np.ndarray:
         """`collides` for each row of qs (n, 6), as a bool array (n,): one C++ call over the batch."""
@@ -168,9 +184,11 @@ class CellCheck:
         q_batch = np.asfortranarray(np.array([self._to_pin(q) for q in qs]).T)
         with self._pool_lock:
             if self._pool is None:
-                self._pool = pin.GeometryPool(self.model, self.geometry_model, BATCH_THREADS)
-                for k in range(BATCH_THREADS):
-                    self._pad(self._pool.getGeometryData(k))
+                pool = pin.BroadPhaseManagerPool_DynamicAABBTreeCollisionManager(
+                    self.model, self.geometry_model, BATCH_THREADS
+                )
+                pool.update(self._new_geometry_data())  # every manager of the pool gets the padded requests
+                self._pool = pool
             return np.asarray(
                 pin.computeCollisionsInParallel(BATCH_THREADS, self._pool, q_batch, True), dtype=bool
             )
@@ -223,6 +241,25 @@ class CellCheck:
             if distance < best.distance_m:
                 best = Clearance(float(distance), self._obstacle_of_pair.get(index, FLOOR_NAME))
         return best
+
+
+def bounded(shape: coal.CollisionGeometry, T: np.ndarray) -> tuple[coal.CollisionGeometry, np.ndarray]:
+    """A half-space as a slab (a box) that holds all of it within SLAB_HALF_M of the base, so that the
+    broad phase's bounding boxes stay finite (coal's AABB tree misses contacts with an infinite one); any
+    other shape as it is."""
+    if not isinstance(shape, coal.Halfspace):
+        return shape, T
+    normal = T[:3, :3] @ np.array(shape.n)
+    offset = float(shape.d) + float(normal @ T[:3, 3])
+    z = normal / np.linalg.norm(normal)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = np.cross(helper, z)
+    x /= np.linalg.norm(x)
+    T_slab = np.eye(4)
+    T_slab[:3, :3] = np.column_stack([x, np.cross(z, x), z])
+    T_slab[:3, 3] = z * (offset - SLAB_HALF_M)  # its top face is the plane, n . p = offset
+    side = 2.0 * SLAB_HALF_M
+    return coal.Box(side, side, side), T_slab
 
 
 def joint_samples(q_from: np.ndarray, q_to: np.ndarray, step_rad: float) -> np.ndarray:
