@@ -229,18 +229,31 @@ class CellCheck:
             if geometry_data.collisionResults[index].isCollision()
         ]
 
-    def clearance(self, q: np.ndarray) -> Clearance:
+    def clearance(self, q: np.ndarray, *, with_itself: bool = False) -> Clearance:
         """The smallest distance from the arm and its tool to the obstacles and the floor at q (signed:
-        negative is a penetration depth), without the margin."""
+        negative is a penetration depth), without the margin; `with_itself`: the arm's own pairs too."""
         data, geometry_data = self._scratch()
         q_pin = self._to_pin(joint_vector(q))
         pin.updateGeometryPlacements(self.model, data, self.geometry_model, geometry_data, q_pin)
+        pairs = (
+            range(len(self.geometry_model.collisionPairs))
+            if with_itself
+            else (*self._obstacle_of_pair, *self._floor_pairs)
+        )
         best = Clearance(np.inf, "")
-        for index in (*self._obstacle_of_pair, *self._floor_pairs):
+        for index in pairs:
             distance = pin.computeDistance(self.geometry_model, geometry_data, index).min_distance
             if distance < best.distance_m:
-                best = Clearance(float(distance), self._obstacle_of_pair.get(index, FLOOR_NAME))
+                best = Clearance(float(distance), self._what(index))
         return best
+
+    def _what(self, index: int) -> str:
+        if index in self._obstacle_of_pair:
+            return self._obstacle_of_pair[index]
+        if index in self._floor_pairs:
+            return FLOOR_NAME
+        pair = self.geometry_model.collisionPairs[index]
+        return f"{self._names[pair.first]} / {self._names[pair.second]}"
 
 
 def bounded(shape: coal.CollisionGeometry, T: np.ndarray) -> tuple[coal.CollisionGeometry, np.ndarray]:
