@@ -198,6 +198,9 @@ class CellCheck:
             data.collisionRequests[index].security_margin = self.margin_m
         for request in data.collisionRequests:
             request.num_max_contacts = 1
+            # Without contacts, coal's GJK misses some deep overlaps (a capsule's end at a box's centre);
+            # the contact (EPA) runs only once a pair is found touching.
+            request.enable_contact = True
 
     def path_collides(self, q_from: np.ndarray, q_to: np.ndarray, step_rad: float) -> bool:
         """Any configuration on the straight joint path q_from -> q_to, sampled at most `step_rad` apart

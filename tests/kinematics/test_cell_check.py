@@ -12,7 +12,7 @@ from pendant.controller.types import Point, Position, Rotation
 from pendant.kinematics import ArmModel
 from pendant.kinematics.cell_check import CellCheck, NamedShape
 from pendant.kinematics.cell_shapes import obstacle_shape, tool_capsules
-from pendant.kinematics.obstacles import box_shape
+from pendant.kinematics.obstacles import Capsule, box_shape
 from pendant.planning.scenes import FLANGE, HOME_DEG, README_CELL, SCENES
 from pendant.sim import FakeClock, SimController
 
@@ -133,3 +133,15 @@ def test_every_scene_starts_clear_and_its_straight_path_is_blocked(arm: ArmModel
     start, target = np.radians(scene.start_deg), np.radians(scene.target_deg)
     assert not check.collides(start) and not check.collides(target)
     assert check.path_collides(start, target, np.radians(1.0))
+
+
+def test_a_tool_capsule_ending_inside_a_box_is_a_collision(arm: ArmModel) -> None:
+    """A capsule whose end is at a box's centre: coal's GJK without contacts answered "clear" here."""
+    q = np.radians(HOME_DEG)
+    flange = arm.fk(q)
+    T = _at(*(flange[:3, 3] + 0.15 * flange[:3, 2]))
+    box = NamedShape("box", *box_shape(np.array([0.04, 0.04, 0.04]), T))
+    tool = [Capsule(0.03, np.zeros(3), np.array([0.0, 0.0, 0.15]))]
+    check = CellCheck(arm, [box], tool)
+    assert check.touching(q) == ["box"]
+    assert check.collides(q) and check.collides_many(np.tile(q, (100, 1))).all()
