@@ -90,7 +90,7 @@ class Environment:
         """The geometry with this tool shape and tool, or Collision if it touches anything already."""
         _check_extent(shape, MAX_TOOL_EXTENT_M, MSG_TOOL_SHAPE_TOO_BIG)
         geometry = self._build(self.obstacles, shape, tool)
-        if any(geometry.collides_many(configurations)):
+        if any(geometry.collides_many(np.array(configurations))):
             raise Collision(MSG_SHAPE_TOUCHES)
         return geometry
 
