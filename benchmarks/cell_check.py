@@ -1,6 +1,7 @@
 """What the cell costs the target ghost: check_joint_target (limits, self-collision, the cell at the target
 and along the joint path) with 0, 10 and 50 obstacles and a tool capsule, for a 90° joint-1 move; beside it,
-the same path checked sample by sample with the simulator's CellGeometry (no bounding-sphere pass); and the
+the same path checked sample by sample with the former cell check (tests/kinematics/reference_cell_check.py,
+a Python loop over coal pairs); and the
 memory the checks leave held (a drag of the gizmo checks a path on every move).
 
 Run: PYTHONPATH=. python benchmarks/cell_check.py
@@ -17,9 +18,10 @@ from pendant.cell.geometry import CellModel
 from pendant.controller import Point, Position, Rotation
 from pendant.controller.cell_types import BoxObstacle, SimplifiedCapsuleObstacle, ToolShape
 from pendant.kinematics.cell_shapes import obstacle_shape
-from pendant.kinematics.obstacles import Capsule, CellGeometry
+from pendant.kinematics.obstacles import Capsule
 from pendant.sim import SimController
 from pendant.ui.target.check import check_joint_target
+from tests.kinematics.reference_cell_check import CellGeometry
 
 RUNS = 200
 
@@ -73,7 +75,7 @@ def main() -> None:
                 assert not any(plain.collides(x) for x in samples)
             seconds = (time.perf_counter() - started) / (RUNS // 20)
             ms = seconds * 1000
-            line += f"; sample by sample with CellGeometry {ms:.1f} ms ({ms / median:.1f}x)"
+            line += f"; sample by sample with the former check {ms:.1f} ms ({ms / median:.1f}x)"
         if n:
             tracemalloc.start()
             for _ in range(RUNS):

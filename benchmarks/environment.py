@@ -1,12 +1,15 @@
 """What obstacles and a tool shape cost a motion: planning time of the same moves in an empty cell and in a
 cell with boxes, a capsule, a plane and a two-capsule tool (none in the way), side by side; and the cost of
-one collision check of a configuration against that cell.
+one collision check of a configuration against that cell: the former check (the arm's own pairs, then a
+Python loop over coal pairs, kept as the tests' reference) and the ONE cell check (kinematics/cell_check.py),
+one configuration at a time and in batches of 1,000, side by side in one run.
 
 Run: PYTHONPATH=. python benchmarks/environment.py
 """
 
 from __future__ import annotations
 
+import os
 import statistics
 import time
 from collections.abc import Callable
@@ -23,8 +26,10 @@ from pendant.controller.cell_types import (
 from pendant.controller.system_types import JointMotionParameters, LinearMotionParameters, PositionWaypoint
 from pendant.controller.types import Point, Position, Rotation
 from pendant.sim import FakeClock, SimController
+from tests.kinematics.reference_cell_check import CellGeometry
 
 REPEATS = 7
+CHECKS = 1000
 LINEAR = LinearMotionParameters(velocity=0.5, acceleration=2.0)
 JOINT = JointMotionParameters(velocity=50, acceleration=50)
 LEVEL = Rotation(roll=0.0, pitch=0.0, yaw=0.0)
@@ -92,16 +97,35 @@ def main() -> None:
     for name, move in moves.items():
         bare, busy = plan_seconds(empty, move), plan_seconds(furnished, move)
         print(f"{name:34} {bare * 1e3:9.1f} ms {busy * 1e3:9.1f} ms {busy / bare:6.1f}x")
-    geometry = furnished._environment.geometry
-    q = furnished.joint_positions()
-    checks = []
-    for _ in range(200):
+    compare_checks(furnished)
+
+
+def compare_checks(furnished: SimController) -> None:
+    arm = furnished.arm
+    new = furnished._environment.geometry
+    old = CellGeometry(arm, [(o.shape, o.T) for o in new.obstacles], list(new.tool))
+    rng = np.random.default_rng(0)
+    near = furnished.joint_positions() + rng.normal(0, 0.01, (CHECKS, 6))  # clear: every pair is checked
+    anywhere = rng.uniform(arm.lower, arm.upper, (CHECKS, 6))  # about 70 % in some collision
+
+    def per_check_us(check: Callable[[np.ndarray], object], qs: np.ndarray) -> float:
         started = time.perf_counter()
-        geometry.collides(q + np.random.default_rng(0).normal(0, 0.01, 6))
-        checks.append(time.perf_counter() - started)
-    print(
-        f"one configuration against 6 obstacles and 2 tool capsules: {statistics.median(checks) * 1e6:.0f} us"
-    )
+        for q in qs:
+            check(q)
+        return (time.perf_counter() - started) / len(qs) * 1e6
+
+    def batch_us(qs: np.ndarray) -> float:
+        started = time.perf_counter()
+        new.collides_many(qs)
+        return (time.perf_counter() - started) / len(qs) * 1e6
+
+    print(f"\none configuration against 6 obstacles and 2 tool capsules (load {os.getloadavg()[0]:.1f}):")
+    print(f"{'configurations':26} {'former':>10} {'new, one':>10} {'new, 1000':>10} {'ratio':>7}")
+    for name, qs in (("clear (near the start)", near), ("random (limits)", anywhere)):
+        before = per_check_us(lambda q: arm.in_collision(q) or old.collides(q), qs)
+        after = per_check_us(new.collides, qs)
+        batched = batch_us(qs)
+        print(f"{name:26} {before:7.0f} us {after:7.1f} us {batched:7.1f} us {before / after:6.0f}x")
 
 
 if __name__ == "__main__":

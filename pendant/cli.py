@@ -236,9 +236,12 @@ def make_api_app(
     stops: StopBus | None = None,
 ) -> ASGIApp:
     """The app on the API port: the simulator's PULSE API, or a transparent proxy to the real controller;
-    both also answer GET /pendant/health, GET /metrics and (with a stored log) GET /pendant/events.
+    both also answer GET /pendant/health, POST /pendant/plan, GET /metrics and (with a stored log)
+    GET /pendant/events.
     `access`: its guard (default: `access_rules(settings, events)`)."""
+    from pendant.kinematics import ArmModel
     from pendant.monitoring import add_monitoring
+    from pendant.planning.api import plan_router
     from pendant.remote import health_router
 
     access = access if access is not None else access_rules(settings, events)
@@ -247,7 +250,7 @@ def make_api_app(
         from pendant.remote import RemoteController, create_proxy_app
 
         assert isinstance(controller, RemoteController)
-        return create_proxy_app(
+        proxy = create_proxy_app(
             settings.robot_url,
             settings=settings,
             controller=controller,
@@ -257,10 +260,15 @@ def make_api_app(
             store=store,
             stops=stops,
         )
+        proxy.include_router(plan_router(controller, ArmModel.load(settings.model)))
+        return proxy
     from pendant.api import create_app
 
     app = create_app(controller, access=access, stops=stops)
     app.include_router(health_router(settings, controller, started_at))
+    app.include_router(
+        plan_router(controller, getattr(controller, "arm", None) or ArmModel.load(settings.model))
+    )
     if metrics is None:
         metrics = PendantMetrics(controller, mode="sim", model=settings.model, robot_url=None)
     add_monitoring(app, metrics, store)

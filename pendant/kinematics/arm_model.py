@@ -66,11 +66,11 @@ class ArmModel:
 
     def fk(self, q: np.ndarray) -> np.ndarray:
         """T_base_tcp (4, 4) for joint angles q (6,)."""
-        return dh_fk.fk(self.table, _joint_vector(q))
+        return dh_fk.fk(self.table, joint_vector(q))
 
     def dh_frames(self, q: np.ndarray) -> np.ndarray:
         """T_base_i of the DH frames 0..6 and the TCP, shape (8, 4, 4)."""
-        return dh_fk.dh_link_frames(self.table, _joint_vector(q))
+        return dh_fk.dh_link_frames(self.table, joint_vector(q))
 
     def ik_all(self, T_base_tcp: np.ndarray, q_near: np.ndarray | None = None) -> np.ndarray:
         """Every IK branch within the joint limits, shape (k, 6), k <= 8 (k = 0 when unreachable).
@@ -79,7 +79,7 @@ class ArmModel:
         in a wrist singularity (default: the middle of the limits).
         """
         T = _transform(T_base_tcp)
-        q6_free = float(self._midpoint[5] if q_near is None else _joint_vector(q_near)[5])
+        q6_free = float(self._midpoint[5] if q_near is None else joint_vector(q_near)[5])
         raw = analytic_ik.ik_branches(self.table, T, q6_free)
         if not raw:
             return np.empty((0, N_JOINTS))
@@ -97,7 +97,7 @@ class ArmModel:
     def ik(self, T_base_tcp: np.ndarray, q_near: np.ndarray) -> np.ndarray | None:
         """The IK solution nearest q_near (6,) within the limits, or None when the target is unreachable."""
         T = _transform(T_base_tcp)
-        near = _joint_vector(q_near)
+        near = joint_vector(q_near)
         raw = analytic_ik.ik_branches(self.table, T, float(near[5]))
         if not raw:
             return None
@@ -115,7 +115,7 @@ class ArmModel:
         return pos_err < IK_POS_TOL_M and rot_err < IK_ROT_TOL_RAD
 
     def within_limits(self, q: np.ndarray) -> bool:
-        q = _joint_vector(q)
+        q = joint_vector(q)
         return bool(np.all(q >= self.lower) and np.all(q <= self.upper))
 
     # --- pinocchio: Jacobian, dynamics, collision -------------------------------------------------------
@@ -128,46 +128,46 @@ class ArmModel:
             )
         return PinArm(self.urdf_path)
 
+    @property
+    def pin_arm(self) -> PinArm:
+        """The pinocchio model and collision geometry (loaded on first use; its data is not thread-safe)."""
+        return self._pin
+
     def jacobian(self, q: np.ndarray) -> np.ndarray:
         """Geometric Jacobian of the TCP in base axes, (6, 6): rows vx vy vz wx wy wz, columns joints."""
-        q = _joint_vector(q)
+        q = joint_vector(q)
         with self._pin_lock:
             return self._pin.tcp_jacobian(q)
 
     def fk_all_links(self, q: np.ndarray) -> dict[str, np.ndarray]:
         """T_base_link (4, 4) of every URDF link (base_link, link1..link6, tcp, gripper parts)."""
-        q = _joint_vector(q)
+        q = joint_vector(q)
         with self._pin_lock:
             return self._pin.link_poses(q)
 
     def gravity_torques(self, q: np.ndarray) -> np.ndarray:
         """Joint torques (6,) in N m that hold the arm still against gravity at q."""
-        q = _joint_vector(q)
+        q = joint_vector(q)
         with self._pin_lock:
             return self._pin.gravity(q)
 
     def inverse_dynamics(self, q: np.ndarray, dq: np.ndarray, ddq: np.ndarray) -> np.ndarray:
         """Joint torques (6,) in N m for joint positions, velocities and accelerations (RNEA)."""
-        q, dq, ddq = _joint_vector(q), _joint_vector(dq, "dq"), _joint_vector(ddq, "ddq")
+        q, dq, ddq = joint_vector(q), joint_vector(dq, "dq"), joint_vector(ddq, "ddq")
         with self._pin_lock:
             return self._pin.rnea(q, dq, ddq)
 
     def in_collision(self, q: np.ndarray) -> bool:
         """True when two non-adjacent links touch or any link but the base dips below the floor (z = 0)."""
-        q = _joint_vector(q)
+        q = joint_vector(q)
         with self._pin_lock:
             return self._pin.collision.in_collision(q)
 
     def moving_shapes(self, q: np.ndarray) -> list[tuple[object, np.ndarray]]:
         """(coal shape, T_base_shape) of every collision shape on a moving link at q (obstacle checks)."""
-        q = _joint_vector(q)
+        q = joint_vector(q)
         with self._pin_lock:
             return self._pin.collision.moving_shapes(q)
-
-    def moving_links(self) -> list[str]:
-        """The link name of each shape `moving_shapes` returns, in its order (for contact messages)."""
-        with self._pin_lock:
-            return self._pin.collision.moving_links()
 
     def blocked_from(self, q_start: np.ndarray) -> Callable[[np.ndarray], bool]:
         """The collision test for the samples of one motion from q_start (the arm alone: `in_collision`;
@@ -176,12 +176,12 @@ class ArmModel:
 
     def colliding_pairs(self, q: np.ndarray) -> list[tuple[str, str]]:
         """The (geometry, geometry) name pairs in contact at q ("floor" for the floor), for messages."""
-        q = _joint_vector(q)
+        q = joint_vector(q)
         with self._pin_lock:
             return self._pin.collision.colliding_pairs(q)
 
 
-def _joint_vector(q: object, what: str = "q") -> np.ndarray:
+def joint_vector(q: object, what: str = "q") -> np.ndarray:
     array = np.asarray(q, dtype=float)
     if array.shape != (N_JOINTS,):
         raise ValueError(f"{what} must have shape ({N_JOINTS},), got {array.shape}")

@@ -3,6 +3,8 @@ page's, so the ghost turns red exactly where the simulator refuses."""
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import coal
 import numpy as np
 
@@ -16,6 +18,8 @@ from pendant.controller.cell_types import (
 )
 from pendant.controller.errors import PreconditionFailed
 from pendant.controller.types import Point, Tool
+from pendant.kinematics.arm_model import ArmModel
+from pendant.kinematics.cell_check import CellCheck, NamedShape
 from pendant.kinematics.obstacles import Capsule, box_shape, capsule_shape, plane_shape
 from pendant.kinematics.transforms import position_to_matrix
 
@@ -45,3 +49,10 @@ def tool_capsules(shape: ToolShape, tool: Tool) -> list[Capsule]:
         tcp = vector(tool.point)
         capsules.append(Capsule(tool.radius, tcp, tcp))
     return capsules
+
+
+def cell_check(arm: ArmModel, obstacles: Iterable[Obstacle], shape: ToolShape, tool: Tool) -> CellCheck:
+    """The collision checker of this cell: the obstacles (a plane on a line is PreconditionFailed), the tool
+    shape and the tool's sphere."""
+    named = [NamedShape(o.name, *obstacle_shape(o)) for o in obstacles]
+    return CellCheck(arm, named, tool_capsules(shape, tool))

@@ -17,6 +17,11 @@ FLOOR_NAME = "floor"
 UNIVERSE_JOINT = 0
 
 
+def link_name(shape_name: str) -> str:
+    """The link a collision shape of the URDF belongs to ("link5" of "link5_0"), for contact messages."""
+    return shape_name.rsplit("_", 1)[0] if shape_name[-1:].isdigit() else shape_name
+
+
 class ArmCollision:
     """Collision model and scratch data of one reduced (6-joint) pinocchio model; not thread-safe."""
 
@@ -78,15 +83,6 @@ class ArmCollision:
         objects = self.geometry_model.geometryObjects
         return [
             (objects[i].geometry, self.geometry_data.oMg[i].homogeneous.copy())
-            for i in range(len(objects))
-            if objects[i].parentJoint != UNIVERSE_JOINT
-        ]
-
-    def moving_links(self) -> list[str]:
-        """The link of each shape `moving_shapes` returns, in the same order ("link5" of "link5_0")."""
-        objects = self.geometry_model.geometryObjects
-        return [
-            objects[i].name.rsplit("_", 1)[0] if objects[i].name[-1:].isdigit() else objects[i].name
             for i in range(len(objects))
             if objects[i].parentJoint != UNIVERSE_JOINT
         ]

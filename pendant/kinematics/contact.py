@@ -10,8 +10,9 @@ motion would drive it through. The rule, applied sample by sample along a motion
 - leaving an obstacle ends its allowance: touching it again later in the same motion is a new contact.
 
 So a motion that backs out of a contact is allowed and one that pushes in is refused at its first sample.
-The rule sits on any query that reports the penetration depth of each touched obstacle (coal's signed
-distance today), so a faster checker can stand in for it.
+The arm touching itself, or one of its links in the floor, is never allowed (only the tool may be in the
+floor under the rule, as in an obstacle). The rule sits on the one cell check (kinematics/cell_check.py):
+its yes/no test first, and the depths (its signed distances) only at a sample where something touches.
 """
 
 from __future__ import annotations
@@ -40,15 +41,24 @@ class Contact:
 Contacts = Mapping[str | None, Contact]  # obstacle name (FLOOR: the floor) -> its contact
 
 
+@dataclass(frozen=True)
+class Touch:
+    """What touches at one configuration: `itself` (the arm with itself, or a link in the floor: never
+    allowed) and the contacts the rule weighs."""
+
+    itself: bool
+    contacts: Contacts
+
+
 class ContactQuery(Protocol):
     """What the rule needs of a collision checker."""
 
     def collides(self, q: np.ndarray) -> bool:
-        """Anything of the cell touches the arm or its tool at q (the fast yes/no)."""
+        """Anything touches the arm or its tool at q (the fast yes/no)."""
         ...
 
-    def contacts(self, q: np.ndarray) -> Contacts:
-        """Every obstacle touching the arm or its tool at q, with its depth and links."""
+    def touch(self, q: np.ndarray) -> Touch:
+        """What touches at q: the arm itself, and every obstacle with its depth and links."""
         ...
 
 
@@ -60,8 +70,11 @@ class Worse:
     obstacle: str | None
     depth_m: float
     allowed_m: float | None
+    itself: bool = False  # the arm would touch itself or put a link in the floor (`obstacle` unused)
 
     def describe(self) -> str:
+        if self.itself:
+            return "would touch itself or the floor"
         what = "the floor" if self.obstacle is FLOOR else repr(self.obstacle)
         if self.allowed_m is None:
             return f"would touch {what}"
@@ -87,15 +100,19 @@ class ContactGuard:
 
     def __init__(self, query: ContactQuery, q_start: np.ndarray) -> None:
         self._query = query
-        self.start = dict(query.contacts(q_start)) if query.collides(q_start) else {}
+        self.start = dict(query.touch(q_start).contacts) if query.collides(q_start) else {}
         self._allowed = {name: contact.depth_m for name, contact in self.start.items()}
 
-    def check(self, q: np.ndarray) -> Worse | None:
-        """None if the path may go on to q (and q becomes the reference for the next sample)."""
-        if not self._query.collides(q):  # the common case, and no depth to compute
+    def check(self, q: np.ndarray, collides: bool | None = None) -> Worse | None:
+        """None if the path may go on to q (and q becomes the reference for the next sample). `collides`:
+        the yes/no answer at q when the caller has it already (from a batch check)."""
+        if not (self._query.collides(q) if collides is None else collides):  # the common case: no depth
             self._allowed = {}
             return None
-        depths = {name: contact.depth_m for name, contact in self._query.contacts(q).items()}
+        touch = self._query.touch(q)
+        if touch.itself:
+            return Worse(None, 0.0, None, itself=True)
+        depths = {name: contact.depth_m for name, contact in touch.contacts.items()}
         worse = worse_contact(self._allowed, depths)
         if worse is None:
             self._allowed = {name: min(depth, self._allowed[name]) for name, depth in depths.items()}

@@ -45,9 +45,9 @@ class PinArm:
             for index, frame in enumerate(model.frames)
             if frame.type == pin.FrameType.BODY
         ]
-        self.collision = ArmCollision(model, geometry, self._to_pin)
+        self.collision = ArmCollision(model, geometry, self.to_pin)
 
-    def _to_pin(self, q: np.ndarray) -> np.ndarray:
+    def to_pin(self, q: np.ndarray) -> np.ndarray:
         if self._identity_order:
             return q
         q_pin = np.empty(self.model.nq)
@@ -59,22 +59,22 @@ class PinArm:
 
     def tcp_jacobian(self, q: np.ndarray) -> np.ndarray:
         J = pin.computeFrameJacobian(
-            self.model, self.data, self._to_pin(q), self.tcp_frame_id, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+            self.model, self.data, self.to_pin(q), self.tcp_frame_id, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
         )
         return np.array(J if self._identity_order else J[:, self._q_index])
 
     def tcp_pose(self, q: np.ndarray) -> np.ndarray:
-        pin.framesForwardKinematics(self.model, self.data, self._to_pin(q))
+        pin.framesForwardKinematics(self.model, self.data, self.to_pin(q))
         return self.data.oMf[self.tcp_frame_id].homogeneous.copy()
 
     def link_poses(self, q: np.ndarray) -> dict[str, np.ndarray]:
-        pin.framesForwardKinematics(self.model, self.data, self._to_pin(q))
+        pin.framesForwardKinematics(self.model, self.data, self.to_pin(q))
         return {name: self.data.oMf[index].homogeneous.copy() for name, index in self._link_frames}
 
     def gravity(self, q: np.ndarray) -> np.ndarray:
-        return self._from_pin(pin.computeGeneralizedGravity(self.model, self.data, self._to_pin(q)))
+        return self._from_pin(pin.computeGeneralizedGravity(self.model, self.data, self.to_pin(q)))
 
     def rnea(self, q: np.ndarray, dq: np.ndarray, ddq: np.ndarray) -> np.ndarray:
         return self._from_pin(
-            pin.rnea(self.model, self.data, self._to_pin(q), self._to_pin(dq), self._to_pin(ddq))
+            pin.rnea(self.model, self.data, self.to_pin(q), self.to_pin(dq), self.to_pin(ddq))
         )

@@ -1,6 +1,6 @@
 """The cell's obstacles (by name) and the tool's shape, as SDK 1.8.4 sets them, and their collision geometry.
 
-Every change makes a new `CellGeometry`, so a plan made from an older one is stale (see controller.py).
+Every change makes a new `CellCheck`, so a plan made from an older one is stale (see controller.py).
 
 An obstacle that touches the arm where it stands still is taken, as a controller takes it: the contact rule
 (kinematics/contact.py) then lets the arm back out and refuses any motion deeper in. One that touches the arm
@@ -26,9 +26,9 @@ from pendant.controller.cell_types import (
 from pendant.controller.errors import Collision, PreconditionFailed
 from pendant.controller.types import Tool
 from pendant.kinematics import ArmModel
-from pendant.kinematics.cell_shapes import obstacle_shape, tool_capsules
+from pendant.kinematics.cell_check import CellCheck
+from pendant.kinematics.cell_shapes import cell_check
 from pendant.kinematics.contact import ContactGuard, Worse, worse_contact
-from pendant.kinematics.obstacles import CellGeometry
 
 # Beyond these an obstacle or a tool capsule is a typing error (and overflows the geometry arithmetic).
 MAX_OBSTACLE_EXTENT_M = 100.0
@@ -65,13 +65,8 @@ class Environment:
         self._tool = tool
         self.geometry = self._build(self.obstacles, self.tool_shape, tool)
 
-    def _build(self, obstacles: dict[str, Obstacle], shape: ToolShape, tool: Tool) -> CellGeometry:
-        return CellGeometry(
-            self.arm,
-            [obstacle_shape(o) for o in obstacles.values()],
-            tool_capsules(shape, tool),
-            list(obstacles),
-        )
+    def _build(self, obstacles: dict[str, Obstacle], shape: ToolShape, tool: Tool) -> CellCheck:
+        return cell_check(self.arm, obstacles.values(), shape, tool)
 
     def get(self, name: str) -> Obstacle:
         try:
@@ -86,13 +81,13 @@ class Environment:
         if obstacle.name not in self.obstacles and len(self.obstacles) >= MAX_OBSTACLES:
             raise PreconditionFailed(MSG_TOO_MANY_OBSTACLES)
         _check_extent(obstacle, MAX_OBSTACLE_EXTENT_M, MSG_OBSTACLE_TOO_FAR)
-        alone = CellGeometry(self.arm, [obstacle_shape(obstacle)], self.geometry.tool, [obstacle.name])
-        contact = alone.contacts(q_now).get(obstacle.name)
-        moving = not np.array_equal(q_now, q_end)
-        if moving and (contact is not None or alone.contacts(q_end).get(obstacle.name) is not None):
-            raise Collision(MSG_OBSTACLE_TOUCHES_ARM)
         obstacles = {**self.obstacles, obstacle.name: obstacle}
-        self._commit(obstacles, self.tool_shape, self._tool)
+        geometry = self._build(obstacles, self.tool_shape, self._tool)
+        contact = geometry.contacts(q_now).get(obstacle.name)
+        moving = not np.array_equal(q_now, q_end)
+        if moving and (contact is not None or obstacle.name in geometry.contacts(q_end)):
+            raise Collision(MSG_OBSTACLE_TOUCHES_ARM)
+        self.obstacles, self.geometry = obstacles, geometry
         return contact.links if contact is not None else ()
 
     def remove(self, name: str) -> None:
@@ -102,16 +97,17 @@ class Environment:
     def clear(self) -> None:
         self._commit({}, self.tool_shape, self._tool)
 
-    def check_tool(self, shape: ToolShape, tool: Tool, configurations: list[np.ndarray]) -> CellGeometry:
+    def check_tool(self, shape: ToolShape, tool: Tool, configurations: list[np.ndarray]) -> CellCheck:
         """The geometry with this tool shape and tool, or Collision if it touches anything already."""
         _check_extent(shape, MAX_TOOL_EXTENT_M, MSG_TOOL_SHAPE_TOO_BIG)
         geometry = self._build(self.obstacles, shape, tool)
-        for q in configurations:
-            if geometry.collides(q) and self._tool_touches_more(geometry, q):
+        touching = geometry.collides_many(np.array(configurations))  # the depths only where touching
+        for q, collides in zip(configurations, touching, strict=True):
+            if collides and self._tool_touches_more(geometry, q):
                 raise Collision(MSG_SHAPE_TOUCHES)
         return geometry
 
-    def _tool_touches_more(self, geometry: CellGeometry, q: np.ndarray) -> bool:
+    def _tool_touches_more(self, geometry: CellCheck, q: np.ndarray) -> bool:
         """The new tool makes a contact at q: a new obstacle, a new link on one, or one deeper (an obstacle
         the arm already touches must not stop the tool from changing)."""
         before, after = self.geometry.contacts(q), geometry.contacts(q)
@@ -125,7 +121,12 @@ class Environment:
         touches nothing new and nothing deeper."""
         return ContactGuard(self.geometry, q_from).check(q_to)
 
-    def set_tool(self, shape: ToolShape, tool: Tool, geometry: CellGeometry) -> None:
+    def touching(self, q: np.ndarray) -> list[str] | None:
+        """What the arm or its tool would touch at q: the obstacles' names ([] for the floor or the arm
+        itself), or None when nothing is touched."""
+        return self.geometry.touching(q)
+
+    def set_tool(self, shape: ToolShape, tool: Tool, geometry: CellCheck) -> None:
         self.tool_shape, self._tool, self.geometry = shape, tool, geometry
 
     def _commit(self, obstacles: dict[str, Obstacle], shape: ToolShape, tool: Tool) -> None:

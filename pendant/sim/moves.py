@@ -20,7 +20,7 @@ from pendant.controller.errors import (
 )
 from pendant.controller.system_types import RobotAction
 from pendant.controller.types import InterpolationType, MotionParams, MotionType, Pose, Position
-from pendant.kinematics.obstacles import CellGeometry
+from pendant.kinematics.cell_check import CellCheck
 from pendant.kinematics.transforms import inverse, position_to_matrix
 from pendant.sim.planner import Plan, Planner
 
@@ -45,7 +45,7 @@ class Start:
     T_flange_tool: np.ndarray
     T_origbase_zero: np.ndarray
     freezes: int  # freezes so far: one more by the time the plan is made means "cancelled"
-    cell: CellGeometry | None = None  # obstacles and the tool's shape
+    cell: CellCheck | None = None  # obstacles and the tool's shape
 
 
 @dataclass(frozen=True)

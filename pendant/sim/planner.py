@@ -25,9 +25,9 @@ from pendant.controller.types import (
     MotionParams,
 )
 from pendant.kinematics import ArmModel
+from pendant.kinematics.cell_check import CellCheck
 from pendant.kinematics.contact import ContactGuard
 from pendant.kinematics.limits import JOINT_MAX_ACCEL_RAD_S2, JOINT_MAX_SPEED_RAD_S
-from pendant.kinematics.obstacles import CellGeometry
 from pendant.kinematics.transforms import inverse
 from pendant.sim import profile
 from pendant.sim.paths import CartesianPath, JointPath, SampledJointPath, SplineJointPath
@@ -132,7 +132,7 @@ class Planner:
         T_flange_tool: np.ndarray,
         tool_radius: float,
         unreachable_message: str,
-        cell: CellGeometry | None = None,
+        cell: CellCheck | None = None,
         blends_rad: list[float] | None = None,
     ) -> Plan:
         """Joint-space motion from q_start to one target (a straight, synchronised move: all joints start
@@ -201,7 +201,7 @@ class Planner:
         tool_radius: float,
         unreachable_message: str,
         q_final: np.ndarray | None = None,
-        cell: CellGeometry | None = None,
+        cell: CellCheck | None = None,
         blends_m: list[float] | None = None,
     ) -> Plan:
         """A straight TCP line (orientation slerped) from the current TCP through `tcp_targets` (T_base_tcp,
@@ -275,28 +275,40 @@ class Planner:
         return out
 
     def _check_collisions(
-        self, qs: np.ndarray, tcp: np.ndarray, tool_radius: float, cell: CellGeometry | None = None
+        self, qs: np.ndarray, tcp: np.ndarray, tool_radius: float, cell: CellCheck | None = None
     ) -> None:
         """Collision at the samples that are 2 degrees / 5 mm apart (and always at the last one): the arm
         with itself and the floor, and with the cell's obstacles and the tool's shape. An obstacle the arm
         already touches at the start may stay touched, no deeper (the contact rule, kinematics/contact.py)."""
         if np.any(tcp[:, 2] - tool_radius < FLOOR_Z_M):
             raise Collision()
-        guard = ContactGuard(cell, qs[0]) if cell is not None and not cell.empty else None
         last_q, last_p = qs[0], tcp[0]
         n = len(qs)
+        checked = []
         for k in range(1, n):
             far = (
                 np.max(np.abs(qs[k] - last_q)) >= CHECK_JOINT_STEP_RAD
                 or np.linalg.norm(tcp[k] - last_p) >= CHECK_TCP_STEP_M
             )
             if far or k == n - 1 or k == 1:
-                if self.arm.in_collision(qs[k]):
-                    raise Collision()
-                worse = guard.check(qs[k]) if guard is not None else None
-                if worse is not None:
-                    raise Collision(f"{MSG_COLLISION}: the arm {worse.describe()}")
+                checked.append(k)
                 last_q, last_p = qs[k], tcp[k]
+        if not checked:
+            return
+        if cell is None:
+            if any(self.arm.in_collision(qs[k]) for k in checked):
+                raise Collision()
+            return
+        touching = cell.collides_many(qs[checked])  # one C++ call for the whole path
+        if not np.any(touching):
+            return
+        # Something touches: the contact rule, sample by sample in path order (depths only where touching).
+        guard = ContactGuard(cell, qs[0])
+        for k, collides in zip(checked, touching, strict=True):
+            worse = guard.check(qs[k], bool(collides))
+            if worse is not None:
+                why = "" if worse.itself else f": the arm {worse.describe()}"
+                raise Collision(f"{MSG_COLLISION}{why}")
 
     def _time_scaling(
         self,

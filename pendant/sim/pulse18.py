@@ -302,7 +302,7 @@ class Pulse18Operations:
         for k in range(1, JOG_SCAN_STEPS + 1):
             fraction = k / JOG_SCAN_STEPS
             q = self.arm.ik(target(fraction) @ T_tool_flange, q_near)
-            if q is None or self.arm.in_collision(q) or (guard is not None and guard.check(q) is not None):
+            if q is None or (guard.check(q) is not None if guard is not None else self.arm.in_collision(q)):
                 break
             reach, q_near = fraction, q
         last_error: ControllerError = Unreachable(MSG_JOG_BLOCKED)

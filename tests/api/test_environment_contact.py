@@ -19,8 +19,8 @@ from pendant.api import create_app
 from pendant.eventlog import EventLog
 from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
-from tests.api.server import free_port
-from tests.remote.uvicorn_thread import serve_in_thread
+from tests.support.ports import free_port
+from tests.support.threads import serve_in_thread
 
 CURL_TIMEOUT_S = 10
 README_WALL = {  # Rozum's SDK README example 10's plane: x = -0.5 m, 13 mm into the wrist at power-on

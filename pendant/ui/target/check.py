@@ -63,10 +63,12 @@ def check_joint_target(
 
 def _check_from(cell: CellModel, q_from: np.ndarray, q: np.ndarray) -> TargetCheck:
     """The contact rule at the target (against where the arm is), then along the path to it."""
-    at_target = ContactGuard(cell, q_from).check(q)
+    at_target = ContactGuard(cell.check, q_from).check(q)
     worse = at_target if at_target is not None else cell.path_worse(q_from, q)
     if worse is None:
         return TargetCheck(q)
+    if worse.itself:  # on the path only: the target itself was checked first
+        return TargetCheck(q, f"{MSG_COLLISION}: the path to the target passes through the arm or the floor")
     if worse.obstacle is FLOOR:
         return TargetCheck(q, f"{MSG_COLLISION}: the tool would touch the floor")
     if worse.allowed_m is not None:

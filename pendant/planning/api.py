@@ -1,0 +1,124 @@
+"""`POST /pendant/plan`: a collision-free joint path to a target, for scripts; it moves nothing.
+
+A pendant extension on the API port (under /pendant/, never forwarded to a controller). The cell, the tool and
+the start (unless the body gives "from") are read from the controller as it is now; the answer's waypoints go
+to PUT /poses/run as they are. One plan at a time (a plan takes a core for up to its budget).
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+
+import numpy as np
+from fastapi import APIRouter, Request, Response
+from pydantic import ValidationError
+from starlette.concurrency import run_in_threadpool
+
+from pendant.api.docs import error
+from pendant.api.errors import error_response
+from pendant.controller.errors import BadRequest, ControllerError, PreconditionFailed
+from pendant.controller.protocol import Controller
+from pendant.kinematics import ArmModel
+from pendant.planning.joint_planner import MARGIN_M, plan_joint_path
+from pendant.planning.request import Cell, PlanRequest, cell_of, checked_angles, target_angles
+
+PLAN_PATH = "/pendant/plan"
+MAX_MESSAGE_CHARS = 300
+MSG_BUSY = "another plan is being made; try again when it is done"
+_DESCRIPTION = (
+    'Body: {"target": {"angles": [six, degrees]}} or {"target": {"position": {"point": ..., '
+    '"rotation": ...}}} '
+    '(the controller\'s zero point frame and tool); optionally "from": {"angles": [...]} (default: where '
+    'the arm is) and "budget_s" (default 1, at most 10). The path keeps '
+    f"{MARGIN_M * 1e3:g} mm from the obstacles where it can and is re-checked every 0.5 degree per joint. "
+    'Answer: {"waypoints": [{"angles": [...]}, ...], "planning_ms": ..., "length_deg": ...}: send the '
+    "waypoints as one PUT /poses/run. It moves nothing. See docs/planning.md."
+)
+_EXAMPLE = {"target": {"angles": [60, -90, 90, -90, -90, 0]}, "budget_s": 1.0}
+
+
+def _bad_request(problem: ValidationError | ValueError) -> Response:
+    if isinstance(problem, ValidationError):
+        first = problem.errors()[0]
+        where = ".".join(str(part) for part in first["loc"])
+        text = f"{where}: {first['msg']}" if where else str(first["msg"])
+    else:
+        text = str(problem)
+    return error_response(BadRequest(text[:MAX_MESSAGE_CHARS]))
+
+
+def plan_router(controller: Controller, arm: ArmModel) -> APIRouter:
+    """A router with POST /pendant/plan for this controller and arm model."""
+    router = APIRouter(tags=["pendant"])
+    one_at_a_time = threading.Lock()
+
+    def read_cell() -> Cell:
+        return Cell(
+            controller.get_obstacles(),
+            controller.get_tool_shape(),
+            controller.get_tool(),
+            controller.get_base(),
+        )
+
+    @router.post(
+        PLAN_PATH,
+        summary="Plan a collision-free joint path to a target (moves nothing)",
+        description=_DESCRIPTION,
+        openapi_extra={
+            "requestBody": {
+                "required": True,
+                "content": {
+                    "application/json": {"schema": PlanRequest.model_json_schema(), "example": _EXAMPLE}
+                },
+            }
+        },
+        responses={
+            200: {"description": "The path's waypoints (degrees), the planning time and the path's length"},
+            **error(
+                400, "Malformed body", "target.angles: List should have at least 6 items after validation"
+            ),
+            **error(
+                412,
+                "Cannot be planned",
+                "the target itself is inside 'fixture'",
+                "the start itself is inside 'fixture'",
+                "no path found in 1 s",
+            ),
+            **error(429, "A plan is being made", MSG_BUSY),
+        },
+    )
+    async def post_plan(request: Request) -> Response:
+        try:
+            body = PlanRequest.model_validate(json.loads(await request.body()))
+        except (ValidationError, ValueError) as problem:
+            return _bad_request(problem)
+        return await run_in_threadpool(_plan, body)
+
+    def _plan(body: PlanRequest) -> Response:
+        if not one_at_a_time.acquire(blocking=False):
+            return error_response(_Busy(MSG_BUSY))
+        try:
+            cell = read_cell()
+            check = cell_of(arm, cell)
+            start_deg = body.start.angles if body.start is not None else controller.get_pose().angles
+            q_start = checked_angles(arm, check, start_deg, "start")
+            q_goal = target_angles(arm, check, cell, body.target, q_start)
+            path = plan_joint_path(check, q_start, q_goal, budget_s=body.budget_s)
+        except ControllerError as refused:
+            return error_response(refused)
+        finally:
+            one_at_a_time.release()
+        answer = {
+            "waypoints": [{"angles": [round(a, 6) for a in np.degrees(q).tolist()]} for q in path.waypoints],
+            "planning_ms": round(path.planning_s * 1e3, 3),
+            "length_deg": round(float(np.degrees(path.length_rad)), 3),
+            "margin_mm": round(path.margin_m * 1e3, 3),
+        }
+        return Response(json.dumps(answer), media_type="application/json")
+
+    return router
+
+
+class _Busy(PreconditionFailed):
+    status_code = 429
