@@ -29,7 +29,7 @@ import yaml
 from pendant.paths import deploy_dir
 
 LOOPBACK = "127.0.0.1"
-START_TIMEOUT_S = 60.0
+START_TIMEOUT_S = 120.0  # three pendants starting at once on a loaded 2-core machine
 STOP_TIMEOUT_S = 10.0
 
 

@@ -40,8 +40,9 @@ def test_events_survive_a_restart_and_a_kill(tmp_path: Path) -> None:
     assert before[0]["kind"] == "error" and str(before[0]["source"]).startswith("API 127.0.0.1")
 
     with running_pendant("--data", str(tmp_path)) as base:
-        again = events(base, kind="command,error")
+        quit_line, *again = events(base, kind="command,error")
         assert again == before, "the same events, ids and times after a restart"
+        assert quit_line["source"] == "pendant" and str(quit_line["message"]).startswith("Quitting (SIGTERM)")
         assert httpx.put(f"{base}/signal/output/1/high", timeout=10).status_code == 200
         newest = events(base, limit=1, kind="command")[0]
         assert newest["message"] == "PUT /signal/output/1/high -> 200"
@@ -49,7 +50,8 @@ def test_events_survive_a_restart_and_a_kill(tmp_path: Path) -> None:
         os.kill(_pid_on(base), signal.SIGKILL)  # no clean shutdown: what the page showed must still be there
     with running_pendant("--data", str(tmp_path)) as base:
         assert [e["message"] for e in events(base, kind="command")] == [
-            "PUT /signal/output/1/high -> 200",
+            "PUT /signal/output/1/high -> 200",  # no "Quitting" after it: killed with -9, it said nothing
+            str(quit_line["message"]),
             "PUT /pose -> 200",
         ]
 
