@@ -23,7 +23,7 @@ ANGLE_TOL_DEG = 0.5  # the runner's own arrival tolerance
 
 @pytest.fixture
 def beyond(sim: SimController, clock: FakeClock) -> Waypoint:
-    """A waypoint at J1 +60 degrees taught before the box was put up; the arm then at J1 -60, the box between."""
+    """A waypoint at J1 +60 degrees taught before the box went up; the arm then at J1 -60, the box between."""
     waypoint = teach(sim, clock, BOX.target_deg, "beyond")
     sim.set_pose(Pose(angles=list(BOX.start_deg)), MotionParams(speed=100.0))
     settle(sim, clock)
