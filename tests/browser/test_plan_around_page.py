@@ -10,7 +10,7 @@ import numpy as np
 from PIL import Image
 
 from pendant.planning.scenes import BOX
-from tests.support.jog_measure import open_as_operator, wait_idle
+from tests.support.jog_measure import ensure_operator, wait_idle
 
 from .conftest import ARTIFACTS, Pendant
 
@@ -36,7 +36,7 @@ def test_plan_around_a_box_shows_the_path_and_move_runs_it_to_the_target(page, p
     added = pendant.api.put("/environment", json=BOX.obstacles[0].model_dump(mode="json"))
     assert added.status_code == 200, added.text
     try:
-        open_as_operator(page, pendant.ui_url)
+        ensure_operator(page)  # the fixture opened the page: this one takes control
         page.get_by_role("tab", name="Target").click()
         page.get_by_role("button", name="Move J").wait_for(timeout=SHOWN_WITHIN_S * 1000)
         before = course_pixels(page)
