@@ -351,9 +351,11 @@ def main(argv: Sequence[str] | None = None) -> int:
 
         return check_main(args[1:])
     if args[:1] == ["run"]:  # `pendant run PROGRAM.json ...`: a saved program, no browser
+        from pendant.kinematics import ArmModel
+        from pendant.planning.live import ControllerPlanner
         from pendant.program.headless import main as run_program
 
-        return run_program(args[1:])
+        return run_program(args[1:], lambda model: ControllerPlanner(ArmModel.load(model)))
     if args[:1] in (["diff"], ["history"]):  # a program's changes and versions (docs/history.md)
         from pendant.program import history_cli
 

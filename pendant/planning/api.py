@@ -20,8 +20,9 @@ from pendant.api.errors import error_response
 from pendant.controller.errors import BadRequest, ControllerError, PreconditionFailed
 from pendant.controller.protocol import Controller
 from pendant.kinematics import ArmModel
-from pendant.planning.joint_planner import MARGIN_M, plan_joint_path
-from pendant.planning.request import Cell, PlanRequest, cell_of, checked_angles, target_angles
+from pendant.planning.joint_planner import MARGIN_M
+from pendant.planning.live import plan_on
+from pendant.planning.request import PlanRequest
 
 PLAN_PATH = "/pendant/plan"
 MAX_MESSAGE_CHARS = 300
@@ -52,14 +53,6 @@ def plan_router(controller: Controller, arm: ArmModel) -> APIRouter:
     """A router with POST /pendant/plan for this controller and arm model."""
     router = APIRouter(tags=["pendant"])
     one_at_a_time = threading.Lock()
-
-    def read_cell() -> Cell:
-        return Cell(
-            controller.get_obstacles(),
-            controller.get_tool_shape(),
-            controller.get_tool(),
-            controller.get_base(),
-        )
 
     @router.post(
         PLAN_PATH,
@@ -99,12 +92,8 @@ def plan_router(controller: Controller, arm: ArmModel) -> APIRouter:
         if not one_at_a_time.acquire(blocking=False):
             return error_response(_Busy(MSG_BUSY))
         try:
-            cell = read_cell()
-            check = cell_of(arm, cell)
-            start_deg = body.start.angles if body.start is not None else controller.get_pose().angles
-            q_start = checked_angles(arm, check, start_deg, "start")
-            q_goal = target_angles(arm, check, cell, body.target, q_start)
-            path = plan_joint_path(check, q_start, q_goal, budget_s=body.budget_s)
+            start_deg = body.start.angles if body.start is not None else None
+            path = plan_on(controller, arm, body.target, start_deg=start_deg, budget_s=body.budget_s)
         except ControllerError as refused:
             return error_response(refused)
         finally:

@@ -15,7 +15,8 @@ from __future__ import annotations
 import itertools
 import math
 import time
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 
 import numpy as np
 from ompl import base as ob
@@ -39,6 +40,9 @@ SEARCH_SHARE = 0.6
 SIMPLIFY_UNTIL = 0.85
 MSG_NO_PATH = "no path found in {budget:g} s"
 MSG_NO_CLEAR_PATH = "no path found that stays clear under the dense re-check"
+MSG_CANCELLED = "the plan was cancelled"
+
+Cancelled = Callable[[], bool]  # asked during the search: True ends it (Freeze pressed meanwhile)
 
 ou.setLogLevel(ou.LogLevel.LOG_ERROR)  # OMPL's info lines ("Created 12 states") would flood the log
 
@@ -57,6 +61,10 @@ class PlannedPath:
         return float(np.sum(np.linalg.norm(np.diff(self.waypoints, axis=0), axis=1)))
 
 
+class PlanCancelled(PreconditionFailed):
+    """The search was ended by its `cancelled` hook before it found a path."""
+
+
 @dataclass(frozen=True)
 class PlannerSettings:
     """How the search runs. `tuned=False` is OMPL's defaults (its default planner, its 1 % edge resolution,
@@ -66,6 +74,7 @@ class PlannerSettings:
     margin_m: float = MARGIN_M
     tuned: bool = True
     range_rad: float = RANGE_RAD  # RRT-Connect's step; 0: OMPL's own (a fifth of the space's extent)
+    cancelled: Cancelled | None = None  # polled by the search; True ends the plan (PlanCancelled)
 
 
 def path_is_clear(check: CellCheck, waypoints: np.ndarray, step_rad: float = RECHECK_STEP_RAD) -> bool:
@@ -81,11 +90,14 @@ def plan_joint_path(
     q_goal: np.ndarray,
     budget_s: float = DEFAULT_BUDGET_S,
     settings: PlannerSettings | None = None,
+    cancelled: Cancelled | None = None,
 ) -> PlannedPath:
     """A collision-free joint path from q_start to q_goal, both inside the limits, q_goal clear and q_start
     clear or in a contact the rule lets it leave (the caller checks them and says why not).
-    PreconditionFailed when no path is found within `budget_s`."""
+    PreconditionFailed when no path is found within `budget_s`; PlanCancelled when `cancelled()` said so."""
     settings = settings or PlannerSettings()
+    if cancelled is not None:
+        settings = replace(settings, cancelled=cancelled)
     began = time.perf_counter()
     padded = check.with_margin(settings.margin_m) if settings.margin_m > 0.0 else check
     if check.collides(q_start):  # in contact: back out of it first, then plan from there
@@ -169,7 +181,19 @@ def _search(
     for k in range(dimension):
         start[k], goal[k] = float(q_start[k]), float(q_goal[k])
     setup.setStartAndGoalStates(start, goal)
-    setup.solve(max(0.0, began + SEARCH_SHARE * budget_s - time.perf_counter()))
+    search_s = max(0.0, began + SEARCH_SHARE * budget_s - time.perf_counter())
+    if settings.cancelled is None:
+        setup.solve(search_s)
+    else:
+        hook = settings.cancelled
+        setup.solve(
+            ob.plannerOrTerminationCondition(
+                ob.PlannerTerminationCondition(lambda: bool(hook())),
+                ob.timedPlannerTerminationCondition(search_s),
+            )
+        )
+        if hook():
+            raise PlanCancelled(MSG_CANCELLED)
     if not setup.haveExactSolutionPath():
         return None, None
     raw = _states(setup.getSolutionPath(), dimension)

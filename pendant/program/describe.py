@@ -52,6 +52,8 @@ def describe_step(step: Step) -> str:
             if step.offset is not None:
                 text += _offset(step.offset)
             text += f" @ {step.speed:g}%"
+            if step.planned:
+                text += ", planned around obstacles"
             if step.blend_mm:
                 text += f", blend {step.blend_mm:g} mm"
             if step.actions:

@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from pendant.access import TOKEN_HEADER
@@ -24,6 +24,7 @@ from pendant.program.describe import describe_step
 from pendant.program.export import TOKEN_ENV
 from pendant.program.files import ProgramFileError, ProgramStore, parse_program
 from pendant.program.models import Program
+from pendant.program.motion import PathPlanner
 from pendant.program.plan import PlanError
 from pendant.program.runner import ProgramRunner, RunProgress, RunState
 from pendant.program.tree import lines
@@ -91,7 +92,9 @@ class ProgressPrinter:
         print(f"[loop {progress.loop}/{loops}] step {index + 1}/{len(self._listed)}: {what}", flush=True)
 
 
-def main(argv: Sequence[str] | None = None) -> int:
+def main(argv: Sequence[str] | None = None, planner_for: Callable[[str], PathPlanner] | None = None) -> int:
+    """`pendant run`; `planner_for(model)` plans the program's planned Move J steps (given by the CLI:
+    the planner sits above the program package)."""
     args = parse_args(argv)
     path: Path = args.program
     try:
@@ -103,7 +106,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(str(error), file=sys.stderr)
         return EXIT_REFUSED
     controller = make_controller(args)
-    runner = ProgramRunner(controller, load=ProgramStore(path.parent).load)
+    planner = planner_for(args.model) if planner_for is not None else None
+    runner = ProgramRunner(controller, load=ProgramStore(path.parent).load, planner=planner)
     runner.add_listener(ProgressPrinter(program))
     where = args.robot or f"simulated {args.model}"
     print(f"Running {program.name!r} ({path}) on {where}", flush=True)

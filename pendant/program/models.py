@@ -11,7 +11,16 @@ from __future__ import annotations
 from enum import StrEnum
 from typing import Annotated, Literal
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Field,
+    SerializerFunctionWrapHandler,
+    ValidationError,
+    model_serializer,
+    model_validator,
+)
 from pydantic_core import ErrorDetails
 
 from pendant.controller.types import (
@@ -138,6 +147,24 @@ class MoveStep(_Frozen):
     offset: Offset | None = None  # a relative move: the waypoint shifted by this
     blend_mm: Annotated[float, Field(ge=0.0, le=MAX_BLEND_MM, allow_inf_nan=False)] = 0.0
     actions: tuple[WaypointAction, ...] = ()  # done on arrival
+    # Planned: the path around the cell's obstacles is found when the step runs (pendant.planning), from
+    # where the arm is then; only its target is saved. Move J only.
+    planned: bool = False
+
+    @model_validator(mode="after")
+    def _planned_is_joint(self) -> MoveStep:
+        if self.planned and self.motion is not MotionType.JOINT:
+            raise ValueError("only a Move J can be planned around obstacles (a Move L goes straight)")
+        return self
+
+    @model_serializer(mode="wrap")
+    def _without_unplanned(self, handler: SerializerFunctionWrapHandler) -> dict[str, object]:
+        """`planned` is saved only when set: a program without planned moves saves as before, and an older
+        pendant still opens it."""
+        data: dict[str, object] = handler(self)
+        if not self.planned:
+            data.pop("planned", None)
+        return data
 
 
 class PathPoint(_Frozen):

@@ -12,6 +12,11 @@ A recorded path (a Path step's run) always goes as one `/run/linear/positions` r
 (pendant.program.blended); on a controller without it (404) it plays stop-and-go, one linear move per
 waypoint, and `notice` tells the page. Interrupted, it resumes at the waypoint it was heading for: from where
 the arm stopped (on the path), straight to that waypoint, then blended through the rest.
+
+A planned Move J asks its `PathPlanner` (pendant.planning.live.ControllerPlanner, given by whoever builds the
+runner: program sits below planning) for a path from where the arm is to its target, in the cell as it is
+then, and runs the waypoints as one /poses/run; its actions follow stop-and-set. Interrupted, it plans again
+on resume, from where the arm stopped.
 """
 
 from __future__ import annotations
@@ -25,7 +30,7 @@ import numpy as np
 
 from pendant.controller import Controller, ControllerError, MotionStatus
 from pendant.controller.errors import Unsupported
-from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS, SignalLevel
+from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS, Pose, Position, SignalLevel
 from pendant.program.blended import FALLBACK_NOTE, BlendedRun
 from pendant.program.models import (
     GripperAction,
@@ -51,6 +56,18 @@ FAILED_STATES = {
     MotionStatus.EMERGENCY: "the arm is in EMERGENCY",
     MotionStatus.ZERO_GRAVITY: "the arm was relaxed (ZERO_GRAVITY)",
 }
+
+
+MSG_NO_PLANNER = "this run cannot plan around obstacles (no planner was given to it)"
+
+
+class PathPlanner(Protocol):
+    """Joint waypoints (degrees) from where the arm is to `goal`, around the controller's obstacles, the
+    last one reaching `goal`; ControllerError saying why there is none. `cancelled()` ends the search."""
+
+    def __call__(
+        self, controller: Controller, goal: Pose | Position, cancelled: Callable[[], bool]
+    ) -> list[Pose]: ...
 
 
 class BlendedPath(Protocol):
@@ -93,6 +110,7 @@ class NodeExecutor:
         freeze: Callable[[], None],
         blended: BlendedPath | None = None,
         notice: Callable[[str], None] = lambda text: None,
+        planner: PathPlanner | None = None,
     ) -> None:
         self._controller = controller
         self._t = timing
@@ -101,6 +119,7 @@ class NodeExecutor:
         self._blended = blended
         self._paths = BlendedRun(controller)  # recorded paths, whatever `blended` is
         self._notice = notice
+        self._planner = planner
 
     def check(self, target: int = 0) -> None:
         if self._interrupted():
@@ -173,6 +192,8 @@ class NodeExecutor:
         A recorded path runs whole (a Step plays all of it)."""
         if group.path:
             return self._path(group, start, heading)
+        if group.planned:
+            return self._planned(group, heading)
         end = start + 1 if only_one else len(group.targets)
         targets = group.targets[start:end]
         try:
@@ -200,6 +221,29 @@ class NodeExecutor:
         except ControllerError as error:
             raise StepFailed(error.message, at) from error
         return last
+
+    def _planned(self, group: MoveGroup, heading: Callable[[int], None]) -> int:
+        """A planned Move J (one target): plan from here, run the path in one request, then its actions."""
+        target = group.targets[0]
+        goal = target.pose if target.pose is not None else target.position
+        assert goal is not None
+        self.check()
+        if self._planner is None:
+            raise StepFailed(MSG_NO_PLANNER)
+        heading(0)
+        try:
+            via = self._planner(self._controller, goal, self._interrupted)
+        except ControllerError as error:
+            self.check()  # a pause or stop ended the search: not a failure
+            raise StepFailed(f"no path around the obstacles to {target.name}: {error.message}") from error
+        controller = self._controller
+        try:
+            self._move(group, (target,), 0, heading, lambda _: controller.run_poses(via, group.params))
+            for action in target.actions:
+                self._action(action, 0)
+        except ControllerError as error:
+            raise StepFailed(error.message) from error
+        return 0
 
     def _one_linear_move(self, group: MoveGroup) -> None:
         positions = [t.position for t in group.targets]

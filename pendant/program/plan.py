@@ -70,12 +70,16 @@ class MoveGroup:
 
     `velocity_m_s` set: a recorded path (a Path step), LINEAR at that TCP speed, each corner rounded within
     its target's blend, sent as one /run/linear/positions (pendant.program.blended); never joined with
-    other moves."""
+    other moves.
+
+    `planned`: one planned Move J; its path around the obstacles is found when it runs, never joined
+    with other moves."""
 
     targets: tuple[Target, ...]
     motion: MotionType
     speed: float
     velocity_m_s: float | None = None
+    planned: bool = False
 
     @property
     def path(self) -> bool:
@@ -210,6 +214,8 @@ class _Compiler:
             and isinstance(last, MoveGroup)
             and not last.path
             and not node.path
+            and not last.planned
+            and not node.planned
             and last.motion is node.motion
             and last.speed == node.speed
             and last.by_angles == node.by_angles
@@ -225,7 +231,8 @@ class _Compiler:
 
         match step:
             case MoveStep():
-                return MoveGroup((self.target(program, step, line),), step.motion, step.speed)
+                target = self.target(program, step, line)
+                return MoveGroup((target,), step.motion, step.speed, planned=step.planned)
             case GripperStep() | OutputStep() | WaitInputStep() | WaitStep():
                 return Single(line, step)
             case CommentStep():

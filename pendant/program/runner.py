@@ -20,7 +20,7 @@ from pendant.controller import Controller, ControllerError
 from pendant.program.describe import describe_step
 from pendant.program.interpreter import Interpreter, NodeFailed, Outcome
 from pendant.program.models import Program
-from pendant.program.motion import POLL_S, BlendedPath, Interrupted, NodeExecutor, Timing
+from pendant.program.motion import POLL_S, BlendedPath, Interrupted, NodeExecutor, PathPlanner, Timing
 from pendant.program.plan import Loader, compile_program, line_count
 from pendant.program.tree import lines
 
@@ -73,7 +73,8 @@ class ProgramRunner:
     """Executes programs on `controller`; one run at a time. Thread-safe: pause/stop from any thread.
 
     `load` opens the programs that Call steps name; `blended` is a controller path that takes waypoint
-    actions inside one blended request (else they are done stop-and-set)."""
+    actions inside one blended request (else they are done stop-and-set); `planner` finds the paths of
+    planned Move J steps (without one, such a step fails saying so)."""
 
     def __init__(
         self,
@@ -84,6 +85,7 @@ class ProgramRunner:
         poll_s: float = POLL_S,
         load: Loader | None = None,
         blended: BlendedPath | None = None,
+        planner: PathPlanner | None = None,
     ) -> None:
         self._controller = controller
         self.load = load
@@ -102,6 +104,7 @@ class ProgramRunner:
             self._freeze_quietly,
             blended,
             notice=lambda text: self._publish(notice=text),
+            planner=planner,
         )
 
     # --- observing ---------------------------------------------------------------------------------

@@ -19,6 +19,7 @@ from pendant.program.editing import EditError, ProgramEditing
 from pendant.program.export import export_script
 from pendant.program.files import ProgramFileError, ProgramStore, dump_program, parse_program, sanitize_name
 from pendant.program.models import Program
+from pendant.program.motion import PathPlanner
 from pendant.program.runner import ProgramRunner, RunProgress
 from pendant.program.versions import VersionedStore
 
@@ -69,10 +70,12 @@ class ProgramWorkspace(ProgramEditing):
         runner.add_listener(lambda _: self._notify(Change.RUN))
 
     @classmethod
-    def for_controller(cls, controller: Controller, folder: str | Path | None = None) -> ProgramWorkspace:
+    def for_controller(
+        cls, controller: Controller, folder: str | Path | None = None, planner: PathPlanner | None = None
+    ) -> ProgramWorkspace:
         """The workspace a pendant creates once: programs in `folder` (default: $PENDANT_PROGRAMS_DIR, else
-        ./programs) with their git history, runs on the real clock."""
-        return cls(VersionedStore(folder), ProgramRunner(controller))
+        ./programs) with their git history, runs on the real clock; `planner` plans planned Move J steps."""
+        return cls(VersionedStore(folder), ProgramRunner(controller, planner=planner))
 
     # --- observing ---------------------------------------------------------------------------------
     @property

@@ -28,6 +28,7 @@ from pendant.eventlog import EventKind, EventLog
 from pendant.kinematics import ArmModel
 from pendant.monitoring import PendantMetrics
 from pendant.monitoring import data_dir as resolve_data_dir
+from pendant.planning.live import ControllerPlanner
 from pendant.program import ProgramWorkspace
 from pendant.teach.recording import PathRecorder
 from pendant.telemetry import Telemetry, recordings_dir
@@ -126,7 +127,7 @@ class PendantUI:
         recordings = recordings_dir(resolve_data_dir(data_dir, programs_dir))  # --data, env, beside programs
         self.telemetry = Telemetry(controller, clock, recordings_folder=recordings)
         self.events.on_record(self.telemetry.log_event)
-        self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
+        self.programs = ProgramWorkspace.for_controller(controller, programs_dir, ControllerPlanner(arm))
         # Each version's author: the operator's browser (only the operator may save).
         self.programs.versions.who = lambda: self.desk.name(self.desk.operator)
         self.programs.on_change(lambda change: self.activity.program_changed(self.programs, change))

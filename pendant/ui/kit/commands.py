@@ -54,6 +54,7 @@ class CommandRunner:
         self.on_submit: OnSubmit | None = None
         self.on_stop: OnStop | None = None  # e.g. the held jog stays stopped until released
         self.motion_block: MotionBlock = lambda: None
+        self.stops_sent = 0  # how many stops were pressed: work begun before one (a plan) is dropped
         # Words a refusal of a motion needs besides the controller's own (the arm is in ERROR: Recover).
         self.explain: Callable[[str], str] = lambda message: message
         self._pool = ThreadPoolExecutor(max_workers=2, thread_name_prefix="pendant-command")
@@ -84,6 +85,8 @@ class CommandRunner:
         urgent: bool = False,
         motion: bool = False,
     ) -> Future[object]:
+        if urgent:
+            self.stops_sent += 1
         if urgent and self.on_stop is not None:
             self.on_stop(label, client)  # before the stop goes out: a jog confirmation then cannot undo it
         reason = None if urgent else self.refusal(client, label, motion=motion)

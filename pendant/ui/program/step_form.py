@@ -81,6 +81,11 @@ class StepForm:
             self.frame = gui.add_dropdown("Offset frame", options=[f.value for f in Frame])
             self.blend = gui.add_number("Blend mm", initial_value=0.0, min=0.0, max=500.0, step=1.0)
             self.arrival = gui.add_dropdown("At arrival", options=list(ARRIVAL_OPTIONS))
+            self.planned = gui.add_checkbox(
+                "Plan around obstacles",
+                initial_value=False,
+                hint="Move J only: the path around the cell's obstacles is found each time the step runs",
+            )
             # Single steps
             self.gripper = gui.add_dropdown("Gripper", options=[a.value for a in GripperAction])
             self.do_port = gui.add_dropdown("Output", options=[f"DO{p}" for p in OUTPUT_PORTS])
@@ -127,6 +132,7 @@ class StepForm:
                 self.frame,
                 self.blend,
                 self.arrival,
+                self.planned,
             ),
             GripperStep: (self.gripper, self.timeout),
             OutputStep: (self.do_port, self.level),
@@ -171,6 +177,7 @@ class StepForm:
             # Which fields a relative move uses: shown only for one.
             for handle in (self.offset_mm, self.offset_deg, self.frame):
                 handle.visible = offset is not None
+            self.planned.visible = step.motion is MotionType.JOINT  # a Move L goes straight
         names = self._host.shared.program.waypoint_names() or ["-"]
         for dropdown in (self.goes_to, *self.corners):
             if list(dropdown.options) != names:
@@ -187,6 +194,7 @@ class StepForm:
                 self.frame.value = o.frame.value
                 self.blend.value = step.blend_mm
                 self.arrival.value = _arrival(step.actions[0] if step.actions else None)
+                self.planned.value = step.planned
             case GripperStep():
                 self.gripper.value = step.action.value
                 self.timeout.value = step.timeout_ms
@@ -251,6 +259,7 @@ class StepForm:
                     offset=offset,
                     blend_mm=float(self.blend.value),
                     actions=_arrival_actions(str(self.arrival.value)),
+                    planned=bool(self.planned.value) and self.motion.value == MotionType.JOINT.value,
                 )
             case GripperStep():
                 updated = GripperStep(

@@ -21,6 +21,7 @@ from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.scene.cell import ObstacleDrawing
 from pendant.ui.target.check import TargetCheck, check_flange_target, check_joint_target
 from pendant.ui.target.hand_guide import HandGuide
+from pendant.ui.target.plan_section import PlanSection
 
 GHOST_OK_RGBA = (0.25, 0.55, 1.0, 0.35)
 GHOST_BAD_RGBA = (0.95, 0.15, 0.15, 0.45)
@@ -65,7 +66,7 @@ class TargetPanel:
         # The operator's edits (viser's thread pool) and the refresh's rechecks (a new cell) take turns: a
         # check made against the old cell must not land after the recheck against the new one.
         self._checking = threading.RLock()
-        self.locked = False  # a viewer's page: Move J / Move L stay disabled whatever the target
+        self._locked = False  # a viewer's page: Move J / Move L stay disabled whatever the target
         self.check = TargetCheck(None, "No target yet")
         self.following = True  # the target is where the arm is (see the class doc)
         self._ghost_q: np.ndarray | None = None  # where the ghost stands: the last target IK could solve
@@ -88,6 +89,7 @@ class TargetPanel:
         self.from_current = target.gui.add_button("Target = current", icon=viser.Icon.TARGET)
         self.move_j = target.gui.add_button("Move J", disabled=True)
         self.move_l = target.gui.add_button("Move L", disabled=True)
+        self.plan = PlanSection(target, arm, runner, self, current_tool)
         self._show_ghost(self.check)
 
         @self._gizmo.on_update
@@ -176,8 +178,9 @@ class TargetPanel:
         return self.check
 
     def recheck(self) -> None:
-        """The cell changed: check the operator's target against it again."""
+        """The cell changed: check the operator's target against it again (a plan must be made again)."""
         with self._checking:
+            self.plan.forget()
             if not self.following and self.check.q is not None:
                 self._target_joints(self.check.q)
 
@@ -211,8 +214,18 @@ class TargetPanel:
         return matrix_to_position(inverse(T_base_zero) @ self._arm.fk(q) @ T_flange_tool)
 
     # --- display ------------------------------------------------------------------------------------
+    @property
+    def locked(self) -> bool:
+        return self._locked
+
+    @locked.setter
+    def locked(self, locked: bool) -> None:
+        self._locked = locked
+        self.plan.refresh(self.check)
+
     def _show(self, *, move_gizmo: bool) -> None:
         check = self.check
+        self.plan.refresh(check)  # first: a plan to the former target stops playing before the ghost moves
         self._show_ghost(check)
         if self.following:
             text = "Drag the gizmo or move a slider to set a target."
@@ -253,6 +266,16 @@ class TargetPanel:
             visible = self.ghost_shown == ok
             ghost.show_visual = visible
             if visible and q is not None:
+                cfg = np.zeros(len(ghost.get_actuated_joint_names()))
+                cfg[:6] = q
+                ghost.update_cfg(cfg)
+
+    def show_planned_ghost(self, q: np.ndarray) -> None:
+        """The blue ghost at `q`, a point of the planned path (Plan around plays it)."""
+        self.ghost_shown = True
+        for ok, ghost in self._ghosts.items():
+            ghost.show_visual = ok
+            if ok:
                 cfg = np.zeros(len(ghost.get_actuated_joint_names()))
                 cfg[:6] = q
                 ghost.update_cfg(cfg)

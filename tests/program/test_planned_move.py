@@ -1,0 +1,81 @@
+"""A planned Move J step: its path around the cell's obstacles is found when the step runs (from where the arm
+is, in the cell as it is then) and run as one blended /poses/run; the same step unplanned is refused naming
+the obstacle. Files stay as they were for programs without planned moves."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from pydantic import ValidationError
+
+from pendant.controller import MotionParams, MotionType, Pose
+from pendant.kinematics import ArmModel
+from pendant.planning.live import ControllerPlanner
+from pendant.planning.scenes import BOX
+from pendant.program import MoveStep, ProgramRunner, RunState, Waypoint
+from pendant.program.files import dump_program, parse_program
+from pendant.program.motion import MSG_NO_PLANNER
+from pendant.sim import FakeClock, SimController
+from tests.program.conftest import POLL_S, move, program_of, settle, teach
+
+ANGLE_TOL_DEG = 0.5  # the runner's own arrival tolerance
+
+
+@pytest.fixture
+def beyond(sim: SimController, clock: FakeClock) -> Waypoint:
+    """A waypoint at J1 +60 degrees taught before the box went up; the arm then at J1 -60, the box between."""
+    waypoint = teach(sim, clock, BOX.target_deg, "beyond")
+    sim.set_pose(Pose(angles=list(BOX.start_deg)), MotionParams(speed=100.0))
+    settle(sim, clock)
+    sim.add_obstacle(BOX.obstacles[0])
+    return waypoint
+
+
+def _runner(sim: SimController, clock: FakeClock, *, planner: bool = True) -> ProgramRunner:
+    plans = ControllerPlanner(ArmModel.load("pulse75")) if planner else None
+    return ProgramRunner(sim, sleep=clock.advance, now=clock.now, poll_s=POLL_S, planner=plans)
+
+
+def test_a_planned_move_j_goes_around_the_box_where_the_unplanned_one_is_refused_naming_it(
+    sim: SimController, clock: FakeClock, beyond: Waypoint
+) -> None:
+    refused = _runner(sim, clock).run(program_of(move(beyond, speed=100.0)))
+    assert refused.state is RunState.FAILED
+    assert "Collision" in refused.message and "'box'" in refused.message, refused.message
+    assert np.allclose(sim.get_pose().angles, BOX.start_deg, atol=1e-6)  # refused: nothing moved
+
+    done = _runner(sim, clock).run(program_of(move(beyond, speed=100.0, planned=True)))
+    assert done.state is RunState.FINISHED, done.message
+    assert np.allclose(sim.get_pose().angles, BOX.target_deg, atol=ANGLE_TOL_DEG)
+
+
+def test_a_planned_move_to_a_waypoint_inside_the_box_fails_saying_so_and_nothing_moves(
+    sim: SimController, clock: FakeClock, beyond: Waypoint
+) -> None:
+    inside = Waypoint(name="inside", pose=Pose(angles=[0.0, *BOX.start_deg[1:]]), position=beyond.position)
+    result = _runner(sim, clock).run(program_of(move(inside, planned=True)))
+    assert result.state is RunState.FAILED
+    assert "the target itself is inside 'box'" in result.message, result.message
+    assert np.allclose(sim.get_pose().angles, BOX.start_deg, atol=1e-6)
+
+
+def test_without_a_planner_a_planned_step_fails_saying_so(
+    sim: SimController, clock: FakeClock, beyond: Waypoint
+) -> None:
+    result = _runner(sim, clock, planner=False).run(program_of(move(beyond, planned=True)))
+    assert result.state is RunState.FAILED
+    assert MSG_NO_PLANNER in result.message
+    assert np.allclose(sim.get_pose().angles, BOX.start_deg, atol=1e-6)
+
+
+def test_the_flag_is_saved_only_when_set_and_a_file_without_it_loads_unplanned(beyond: Waypoint) -> None:
+    unplanned = program_of(move(beyond))
+    assert b"planned" not in dump_program(unplanned)  # as an older pendant saved it, and can open it
+    planned = program_of(move(beyond, planned=True))
+    loaded = parse_program(dump_program(planned), "planned.json")
+    step = loaded.steps[0]
+    assert isinstance(step, MoveStep) and step.planned
+    again = parse_program(dump_program(unplanned), "unplanned.json").steps[0]
+    assert isinstance(again, MoveStep) and not again.planned
+    with pytest.raises(ValidationError, match="only a Move J can be planned"):
+        MoveStep(waypoint="beyond", motion=MotionType.LINEAR, planned=True)
