@@ -35,6 +35,7 @@ from pendant.monitoring import PendantMetrics
 from pendant.monitoring import data_dir as resolve_data_dir
 from pendant.program import ProgramWorkspace
 from pendant.program.runner import RunState
+from pendant.sim import SimController
 from pendant.teach.recording import PathRecorder
 from pendant.telemetry import ArmState, Telemetry, recordings_dir
 from pendant.ui.dashboard.events import render_events
@@ -44,9 +45,10 @@ from pendant.ui.dashboard.plots import PlotData, plot_data
 from pendant.ui.kit.cell_state import CellState, read_cell_state
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.kit.gui_target import GuiTarget
-from pendant.ui.kit.snapshot import Snapshot, read_snapshot
+from pendant.ui.kit.snapshot import Snapshot, carry_last_known, read_snapshot
 from pendant.ui.page.activity import ActivityLog, LoggedJogger
 from pendant.ui.page.client_page import page_first
+from pendant.ui.page.recovery import Recovery
 from pendant.ui.page.roles import ControlDesk
 from pendant.ui.page.session import ClientSession
 from pendant.ui.page.ws_guard import guarded_viser_server
@@ -144,6 +146,14 @@ class PendantUI:
         self.programs.on_change(lambda change: self.activity.program_changed(self.programs, change))
         self.runner.motion_block = self._motion_block
         self.runner.explain = self._explain
+        self.recovery = Recovery(  # the banner's view, shared by every browser
+            self.events,
+            arm,
+            simulator=isinstance(controller, SimController),
+            cell=lambda: self.cell_model,
+            current_q=lambda: self.latest.q,
+        )
+        self.programs.runner.explain_failure = self.recovery.explain_step_failure
         if self.programs.store.restore_problem is not None:
             self.events.record(EventKind.ERROR, "program", self.programs.store.restore_problem)
         self.scene = ArmScene(self.server, arm.urdf_path)
@@ -188,6 +198,7 @@ class PendantUI:
             cell_state=lambda: self.cell_state,
             cells_dir=self.cells_dir,
             recorder=self.recorder,
+            recovery=self.recovery,
             desk=self.desk,
             telemetry=self.telemetry,
             events=self.events,
@@ -245,6 +256,9 @@ class PendantUI:
             self.scene.show(snapshot.q, opening, T_base_tcp, snapshot.taken_at)
             self.tool_shape.show(self.cell_state.tool_shape, self.arm.fk(snapshot.q))
         self.recorder.add(snapshot.taken_at, snapshot.q, snapshot.position, snapshot.outputs, snapshot.inputs)
+        snapshot = carry_last_known(self.latest, snapshot)  # a fault shows where the arm last was, greyed
+        runs = self.programs.runner
+        self.recovery.update(snapshot, self.cell_state, runs.progress, can_resume=runs.can_resume)
         self.activity.state_changed(self.latest, snapshot)
         self.latest = snapshot
         for session in self._sessions():

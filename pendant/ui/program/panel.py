@@ -14,6 +14,7 @@ from concurrent.futures import Future
 
 import viser
 
+from pendant.cell.geometry import CellModel
 from pendant.controller import Controller, SignalLevel
 from pendant.controller.types import INPUT_PORTS, OUTPUT_PORTS
 from pendant.kinematics import ArmModel
@@ -69,8 +70,10 @@ class ProgramPanel:
         runner: CommandRunner,
         *,
         arm: ArmModel | None = None,
+        current_cell: Callable[[], CellModel | None] = lambda: None,
     ) -> None:
         self.target = target
+        self.current_cell = current_cell  # Go to names what is in the way
         self.shared = shared
         self.commands = runner
         self.selected: int | None = None

@@ -8,8 +8,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from pendant.cell.geometry import CellModel
-from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSITION
+from pendant.controller.errors import MSG_UNREACHABLE_POSITION
 from pendant.kinematics import ArmModel
+from pendant.ui.kit.collision_words import name_collision
 
 
 @dataclass(frozen=True)
@@ -36,28 +37,11 @@ def check_flange_target(
     return check_joint_target(arm, q, cell, q_from)
 
 
-def _names(names: list[str]) -> str:
-    return ", ".join(repr(n) for n in names)
-
-
 def check_joint_target(
     arm: ArmModel, q: np.ndarray, cell: CellModel | None = None, q_from: np.ndarray | None = None
 ) -> TargetCheck:
     """`cell`: the controller's obstacles and tool shape; `q_from`: where the arm is, to check the path."""
     if not arm.within_limits(q):
         return TargetCheck(q, "Unreachable Pose")
-    if arm.in_collision(q):
-        return TargetCheck(q, MSG_COLLISION)
-    if cell is None:
-        return TargetCheck(q)
-    if cell.collides(q):
-        hit = cell.touching(q)
-        where = f"the target touches {_names(hit)}" if hit else "the tool would touch the floor"
-        return TargetCheck(q, f"{MSG_COLLISION}: {where}", tuple(hit))
-    if q_from is not None:
-        hit = cell.path_touching(q_from, q)
-        if hit:
-            return TargetCheck(
-                q, f"{MSG_COLLISION}: the path to the target passes through {_names(hit)}", tuple(hit)
-            )
-    return TargetCheck(q)
+    named = name_collision(arm, q, cell, q_from)  # the words every tab uses (kit/collision_words.py)
+    return TargetCheck(q, named.reason, named.obstacles)
