@@ -257,6 +257,8 @@ class PendantUI:
             self.tool_shape.show(self.cell_state.tool_shape, self.arm.fk(snapshot.q))
         self.recorder.add(snapshot.taken_at, snapshot.q, snapshot.position, snapshot.outputs, snapshot.inputs)
         snapshot = carry_last_known(self.latest, snapshot)  # a fault shows where the arm last was, greyed
+        if snapshot.motion_status != self.latest.motion_status and snapshot.online:
+            self.refresh_cell()  # the failure behind a new state, read now: the banner says why at once
         runs = self.programs.runner
         self.recovery.update(snapshot, self.cell_state, runs.progress, can_resume=runs.can_resume)
         self.activity.state_changed(self.latest, snapshot)
@@ -419,9 +421,7 @@ class PendantUI:
         no cause."""
         state = self.latest.motion_status
         if state in (MotionStatus.ERROR, MotionStatus.MOTION_FAILED):
-            return (
-                f"The arm is in {state.value}: press Recover under the status first (controller: {message})"
-            )
+            return f"The arm is in {state.value}: press Recover in the banner first (controller: {message})"
         return message
 
     @staticmethod

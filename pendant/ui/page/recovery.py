@@ -184,9 +184,9 @@ class Recovery:
         view = banner_view(snapshot, state, progress, simulator=self.simulator, can_resume=can_resume)
         if view is not None:
             previous = self.view
-            same = previous is not None and (previous.key, previous.detail) == (view.key, view.detail)
-            view = labelled(replace(view, since=previous.since if same and previous else self._clock()))
-            if not same:
+            ongoing = previous is not None and previous.key == view.key  # a reason read later: same since
+            view = labelled(replace(view, since=previous.since if ongoing and previous else self._clock()))
+            if not ongoing or (previous is not None and previous.detail != view.detail):
                 cause = f"{view.title}: {view.detail}" if view.detail else view.title
                 self._events.record(EventKind.ERROR, "banner", f"{cause} (next: {view.next_step})")
         elif self.view is not None:

@@ -100,7 +100,7 @@ class ClientSession:
             if recovery is not None
             else None
         )
-        self.status = StatusPanel(target, mode_line, runner)
+        self.status = StatusPanel(target, mode_line, runner, recover_in_banner=self.banner is not None)
         self.control = ControlPanel(target, desk, client_id, url_token, remote)
         self.tabs = target.gui.add_tab_group()
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):

@@ -130,10 +130,14 @@ RECOVERABLE = {MotionStatus.ERROR, MotionStatus.MOTION_FAILED}
 
 class StatusPanel:
     """The status, then one row: Protective stop (any browser may stop, like Freeze) or, once the arm is
-    stopped in error, Recover (the operator's), in the same place: the one Recover of the page."""
+    stopped in error, Recover (the operator's), in the same place. `recover_in_banner`: the page's banner
+    offers Recover (page/banner.py), so this one stays hidden: one Recover on the page."""
 
-    def __init__(self, target: GuiTarget, mode_line: str, runner: CommandRunner) -> None:
+    def __init__(
+        self, target: GuiTarget, mode_line: str, runner: CommandRunner, *, recover_in_banner: bool = False
+    ) -> None:
         self._mode_line = mode_line
+        self._recover_in_banner = recover_in_banner
         self._html = target.gui.add_html(render_status(Snapshot(taken_at=0.0), mode_line))
         self.stop = target.gui.add_button(
             "Protective stop", color="orange", icon=viser.Icon.HAND_OFF, hint=PROTECTIVE_STOP_HINT
@@ -157,8 +161,8 @@ class StatusPanel:
     def show(self, snapshot: Snapshot) -> None:
         self._snapshot = snapshot
         recoverable = snapshot.motion_status in RECOVERABLE
-        if self.recover.visible != recoverable:
-            self.recover.visible = recoverable
+        if self.recover.visible != (recoverable and not self._recover_in_banner):
+            self.recover.visible = recoverable and not self._recover_in_banner
         if self.stop.visible == recoverable:
             self.stop.visible = not recoverable
         self._render()
