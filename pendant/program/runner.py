@@ -96,8 +96,8 @@ class ProgramRunner:
         self._listeners: list[Listener] = []
         self._worker: threading.Thread | None = None
         # A failed step's reason in the page's words (a bare "Collision detected" gets the obstacle named):
-        # given the program, the failed line and the controller's reason.
-        self.explain_failure: Callable[[Program, int, str], str] = lambda program, line, reason: reason
+        # given the program, the failed lines (first, last: a blended group refused whole) and the reason.
+        self.explain_failure: Callable[[Program, int, int, str], str] = lambda program, first, last, why: why
         self._executor = NodeExecutor(
             controller,
             Timing(sleep, now, poll_s),
@@ -278,7 +278,7 @@ class ProgramRunner:
 
     def _explained(self, program: Program, failure: NodeFailed) -> str:
         try:
-            return self.explain_failure(program, failure.line, failure.reason)
+            return self.explain_failure(program, failure.line, failure.last_line, failure.reason)
         except Exception:  # words only: a broken explanation must not hide the failure itself
             log.exception("explaining a failed step failed")
             return failure.reason

@@ -10,14 +10,18 @@ from collections.abc import Callable
 
 import numpy as np
 
+from pendant.cell.geometry import CellModel
 from pendant.controller import MotionStatus, Pose
-from pendant.controller.cell_types import BoxObstacle
+from pendant.controller.cell_types import BoxObstacle, ToolShape
 from pendant.controller.types import Point, Position, Rotation
+from pendant.eventlog import EventLog
 from pendant.eventquery import EventQuery
 from pendant.kinematics import ArmModel
+from pendant.program import MoveStep, Program, Waypoint
 from pendant.sim import Fault, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.kit.collision_words import link_words, name_collision
+from pendant.ui.page.recovery import Recovery
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser, fire
 
@@ -159,3 +163,26 @@ def test_a_self_collision_names_the_two_links(sim: SimController) -> None:
     assert named.reason is not None and " would touch " in named.reason
     assert link_words([("link2_1", "link5_0")]) == "Collision detected: link2 would touch link5"
     assert link_words([("floor", "link6_0")]) == "Collision detected: link6 would touch the floor"
+
+
+def test_a_blended_group_refused_whole_names_the_step_in_the_way(sim: SimController) -> None:
+    """The controller refuses a blended path whole, at its first line: the page finds the move whose target
+    is in the box, names the box, and keeps that pose for the banner's red ghost."""
+    poses = {"A": [20.0, -90.0, 90.0, -90.0, -90.0, 0.0], "B": [-20.0, -80.0, 80.0, -90.0, -90.0, 0.0]}
+    zero = Position(point=Point(x=0, y=0, z=0), rotation=Rotation(roll=0, pitch=0, yaw=0))
+    program = Program(
+        name="blended",
+        waypoints=tuple(Waypoint(name=n, pose=Pose(angles=a), position=zero) for n, a in poses.items()),
+        steps=tuple(MoveStep(waypoint=n, speed=50.0) for n in poses),
+    )
+    q_b = np.radians(poses["B"])
+    cell = CellModel(sim.arm, [box("Box", sim.arm.fk(q_b)[:3, 3], side=0.08)], ToolShape(shape=[]))
+    recovery = Recovery(
+        EventLog(), sim.arm, simulator=True, cell=lambda: cell, current_q=lambda: np.radians(poses["A"])
+    )
+    assert recovery.explain_step_failure(program, 0, 1, "Collision detected") == (
+        "Collision detected: the target touches 'Box'"
+    )
+    assert recovery.refused_q is not None and np.allclose(recovery.refused_q, q_b)
+    assert recovery.refused_obstacles == ("Box",)
+    assert recovery.explain_step_failure(program, 0, 1, "Robot does not respond") == "Robot does not respond"

@@ -196,18 +196,26 @@ class Recovery:
         self.view = view
         return view
 
-    def explain_step_failure(self, program: Program, line: int, reason: str) -> str:
-        """The runner's hook: a bare collision of a move step gets what is in the way named, and the red
-        ghost of that step's pose (with the obstacles it hits) is kept for the banner to draw."""
+    def explain_step_failure(self, program: Program, first: int, last: int, reason: str) -> str:
+        """The runner's hook: a bare collision of a move (or of a blended group of moves, lines `first` to
+        `last`) gets what is in the way named, and the red ghost of that pose (with the obstacles it hits)
+        is kept for the banner to draw."""
         listed = lines(program.steps)
-        step = listed[line].step if 0 <= line < len(listed) else None
-        if not isinstance(step, MoveStep) or step.offset is not None:
-            return reason
-        try:
-            q = np.radians(np.asarray(program.waypoint(step.waypoint).pose.angles, dtype=float))
-        except KeyError:
-            return reason
-        named = explain_collision(reason, self._arm, q, self._cell(), self._current_q())
-        if named.reason != reason:
-            self.refused_q, self.refused_obstacles = q, named.obstacles
-        return named.reason or reason
+        q_from = self._current_q()
+        cell = self._cell()
+        for line in range(first, min(last, len(listed) - 1) + 1):
+            step = listed[line].step
+            if not isinstance(step, MoveStep) or step.offset is not None:
+                continue
+            try:
+                q = np.radians(np.asarray(program.waypoint(step.waypoint).pose.angles, dtype=float))
+            except KeyError:
+                continue
+            named = explain_collision(reason, self._arm, q, cell, q_from)
+            if named.reason == reason:
+                return reason  # not a bare collision: nothing to name
+            if named.obstacles or (named.reason is not None and " would touch " in named.reason):
+                self.refused_q, self.refused_obstacles = q, named.obstacles
+                return named.reason or reason
+            q_from = q
+        return reason  # the page's model finds nothing in the way (the controller samples finer)
