@@ -20,13 +20,10 @@ class RefusedPose:
     """Hidden until `show`; `shown_q` says where the red ghost stands (None: hidden)."""
 
     def __init__(self, target: GuiTarget, urdf_path: Path | None, root: str) -> None:
-        self._ghost = (
-            ViserUrdf(target, urdf_path, root_node_name=root, mesh_color_override=REFUSED_RGBA)
-            if urdf_path is not None
-            else None
-        )
-        if self._ghost is not None:
-            self._ghost.show_visual = False
+        self._target = target
+        self._urdf_path = urdf_path
+        self._root = root
+        self._ghost: ViserUrdf | None = None  # loaded on the first refusal: every browser gets its meshes
         self._hits = ObstacleDrawing(target.scene, f"{root}_hits", only_touching=True)
         self.shown_q: np.ndarray | None = None
         self.hits: tuple[str, ...] = ()
@@ -36,6 +33,10 @@ class RefusedPose:
             return
         self.shown_q, self.hits = q.copy(), tuple(touching)
         self._hits.show(obstacles, touching)
+        if self._ghost is None and self._urdf_path is not None:
+            self._ghost = ViserUrdf(
+                self._target, self._urdf_path, root_node_name=self._root, mesh_color_override=REFUSED_RGBA
+            )
         if self._ghost is not None:
             cfg = np.zeros(len(self._ghost.get_actuated_joint_names()))
             cfg[:6] = q
