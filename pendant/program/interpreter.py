@@ -93,6 +93,21 @@ class Interpreter:
                 self.stack.append(Frame(node.then if target == 0 else node.otherwise))
         self.stack[-1].index, self.stack[-1].target = path[-1]
 
+    def skip(self) -> None:
+        """Step over the node the stack points at (the one that failed): the next run starts after it. A
+        failed loop check (the frame's end) leaves that loop."""
+        frame = self.stack[-1]
+        if frame.index >= len(frame.nodes):
+            if len(self.stack) > 1:
+                self.stack.pop()
+                self.stack[-1].index += 1
+            return
+        node = frame.nodes[frame.index]
+        if isinstance(node, MoveGroup) and frame.target + 1 < len(node.targets):
+            frame.target += 1
+        else:
+            frame.index, frame.target = frame.index + 1, 0
+
     # --- running -------------------------------------------------------------------------------------
     def run(self, executor: NodeExecutor, *, single_step: bool = False) -> Outcome:
         """Execute until the end (or one leaf, in single-step mode). Raises Interrupted (the stack keeps the

@@ -97,6 +97,9 @@ class ProgramRunner:
         self._stop_requested = False
         self._listeners: list[Listener] = []
         self._worker: threading.Thread | None = None
+        # A failed step's reason in the page's words (a bare "Collision detected" gets the obstacle named):
+        # given the program, the failed lines (first, last: a blended group refused whole) and the reason.
+        self.explain_failure: Callable[[Program, int, int, str], str] = lambda program, first, last, why: why
         self._executor = NodeExecutor(
             controller,
             Timing(sleep, now, poll_s),
@@ -148,6 +151,14 @@ class ProgramRunner:
         with self._lock:
             if self._run is None or self._progress.state not in (RunState.PAUSED, RunState.FAILED):
                 return self._progress
+        return self._execute(single_step=False)
+
+    def skip(self) -> RunProgress:
+        """Continue a failed run at the step after the one that failed (that step is not done)."""
+        with self._lock:
+            if self._run is None or self._progress.state is not RunState.FAILED:
+                return self._progress
+            self._run.interpreter.skip()
         return self._execute(single_step=False)
 
     @property
@@ -265,8 +276,15 @@ class ProgramRunner:
             step_index=failure.line,
             failed_step=failure.line,
             loop=run.interpreter.loop,
-            message=f"{what} failed: {failure.reason}",
+            message=f"{what} failed: {self._explained(run.program, failure)}",
         )
+
+    def _explained(self, program: Program, failure: NodeFailed) -> str:
+        try:
+            return self.explain_failure(program, failure.line, failure.last_line, failure.reason)
+        except Exception:  # words only: a broken explanation must not hide the failure itself
+            log.exception("explaining a failed step failed")
+            return failure.reason
 
     def _interrupted(self, run: _Run) -> RunProgress:
         line = run.interpreter.line or 0

@@ -276,6 +276,10 @@ class ProgramWorkspace(ProgramEditing):
         """Continue a paused run, or a failed one at the step that failed."""
         self.runner.start(self.runner.resume)
 
+    def start_skip(self) -> None:
+        """Continue a failed run at the step after the one that failed."""
+        self.runner.start(self.runner.skip)
+
     def pause(self) -> None:
         self.runner.pause()
 

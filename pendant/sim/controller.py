@@ -337,10 +337,18 @@ class SimController(MotionCommands, Pulse18Operations):
             self._motions.integrate_thermal(self._now())
             self._motions.servos.stator_c[:] = stator_c
 
-    def reset(self) -> None:
-        """Back to the power-on state: home pose, IDLE, IO low, default tool and base, cool servos."""
+    def reset(self, *, keep_cell: bool = False) -> None:
+        """Back to the power-on state: home pose, IDLE, IO low, default tool and base, cool servos, no
+        obstacle. `keep_cell`: only the fault goes (as when a real arm's emergency stop is released and it
+        is recovered): the arm stays where it stopped, with its obstacles, tool shape, tool, base and IO."""
         with self._lock:
-            self._power_on()
+            if not keep_cell:
+                self._power_on()
+                return
+            self._motions.stop(self._now())
+            self._freezes += 1  # what was being planned is dropped, as by a fault
+            self._mode = Mode.ACTIVE
+            self._failures.clear()
 
     def gripper_opening(self) -> float:
         """0 closed .. 1 open, at this instant (for the UI; answers in every state)."""

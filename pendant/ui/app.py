@@ -30,6 +30,7 @@ from pendant.monitoring import PendantMetrics
 from pendant.monitoring import data_dir as resolve_data_dir
 from pendant.planning.live import ControllerPlanner
 from pendant.program import ProgramWorkspace
+from pendant.sim import SimController
 from pendant.teach.recording import PathRecorder
 from pendant.telemetry import Telemetry, recordings_dir
 from pendant.ui.dashboard.feed import DashboardFeed
@@ -40,11 +41,12 @@ from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.kit.controller_reader import ControllerReader
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.motion_gate import PROGRAM_RUNNING, explain_in_error, program_block
-from pendant.ui.kit.snapshot import Snapshot
+from pendant.ui.kit.snapshot import Snapshot, carry_last_known
 from pendant.ui.page.activity import ActivityLog, LoggedJogger
 from pendant.ui.page.browsers import Browsers, read_handshake
 from pendant.ui.page.pacing import TickWork, run_ticks
 from pendant.ui.page.page_server import serve_page
+from pendant.ui.page.recovery import Recovery
 from pendant.ui.page.roles import ControlDesk
 from pendant.ui.page.session import ClientSession
 from pendant.ui.robot.safety_panel import read_identity
@@ -133,6 +135,14 @@ class PendantUI:
         self.programs.on_change(lambda change: self.activity.program_changed(self.programs, change))
         self.runner.motion_block = program_block(self.programs)
         self.runner.explain = explain_in_error(lambda: self.latest.motion_status)
+        self.recovery = Recovery(  # the banner's view, shared by every browser
+            self.events,
+            arm,
+            simulator=isinstance(controller, SimController),
+            cell=lambda: self.cell_model,
+            current_q=lambda: self.latest.q,
+        )
+        self.programs.runner.explain_failure = self.recovery.explain_step_failure
         if self.programs.store.restore_problem is not None:
             self.events.record(EventKind.ERROR, "program", self.programs.store.restore_problem)
         self.scene = ArmScene(self.server, arm.urdf_path)
@@ -172,6 +182,7 @@ class PendantUI:
             cell_state=lambda: self.cell_state,
             cells_dir=self.cells_dir,
             recorder=self.recorder,
+            recovery=self.recovery,
             desk=self.desk,
             telemetry=self.telemetry,
             events=self.events,
@@ -216,6 +227,11 @@ class PendantUI:
             self.scene.show(snapshot.q, opening, T_base_tcp, snapshot.taken_at)
             self.tool_shape.show(self.cell_state.tool_shape, self.arm.fk(snapshot.q))
         self.recorder.add(snapshot.taken_at, snapshot.q, snapshot.position, snapshot.outputs, snapshot.inputs)
+        snapshot = carry_last_known(self.latest, snapshot)  # a fault shows where the arm last was, greyed
+        if snapshot.motion_status != self.latest.motion_status and snapshot.online:
+            self.refresh_cell()  # the failure behind a new state, read now: the banner says why at once
+        runs = self.programs.runner
+        self.recovery.update(snapshot, self.cell_state, runs.progress, can_resume=runs.can_resume)
         self.activity.state_changed(self.latest, snapshot)
         self.latest = snapshot
         for session in self._sessions():

@@ -118,3 +118,32 @@ def test_reset_brings_back_the_start(client: TestClient) -> None:
     assert {path: client.get(path).text for path in start} == start
     assert client.get("/signal/input/1").json() == "LOW"
     assert client.get("/status/motion").json() == "IDLE"
+
+
+def test_reset_keeping_the_cell_clears_only_the_fault(client: TestClient) -> None:
+    """What the banner's "Reset simulator (keeps the cell)" sends after an emergency: the arm stays where it
+    stopped, the obstacles stay; a plain reset still empties the cell."""
+    box = {
+        "obstacleType": "BOX",
+        "name": "fixture",
+        "sides": {"x": 0.1, "y": 0.1, "z": 0.1},
+        "centerPosition": {
+            "point": {"x": 0.5, "y": -0.4, "z": 0.1},
+            "rotation": {"roll": 0, "pitch": 0, "yaw": 0},
+        },
+    }
+    assert client.put("/environment", json=box).status_code == 200
+    home = client.get("/pose").json()["angles"]
+    moved = [home[0] + 20.0, *home[1:]]
+    client.put("/relax")
+    assert_empty_ok(client.put("/sim/pose", json={"angles": moved}))
+    client.put("/sim/fault/emergency")
+    assert_empty_ok(client.put("/sim/reset", params={"keep_cell": "true"}))
+    assert client.get("/status/motion").json() == "IDLE"
+    assert [o["name"] for o in client.get("/environment").json()] == ["fixture"]
+    assert angles_close(client.get("/pose").json()["angles"], moved)
+    assert client.get("/status/failure").json() == []
+
+    assert_empty_ok(client.put("/sim/reset"))
+    assert client.get("/environment").json() == []
+    assert angles_close(client.get("/pose").json()["angles"], home)

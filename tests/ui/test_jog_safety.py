@@ -74,20 +74,21 @@ def test_no_jog_or_move_from_the_page_while_a_program_runs(
         programs.stop()
 
 
-def test_a_jog_in_error_names_the_error_and_recover_under_the_banner_clears_it(
+def test_a_jog_in_error_names_the_error_and_recover_in_the_banner_clears_it(
     ui: ClientSession, pendant_ui: PendantUI, operator: FakeBrowser, sim: SimController, clock: FakeClock
 ) -> None:
-    assert not ui.status.recover.visible
+    assert ui.banner is not None and ui.banner.view is None
     sim.inject_fault(Fault.ERROR)
     pendant_ui.refresh()
-    assert "ERROR" in ui.status.content and ui.status.recover.visible
+    assert "ERROR" in ui.status.content and ui.banner.buttons[0].visible
+    assert ui.banner.buttons[0].label == "Recover"
     confirm_hold(button(ui, "J1+"), operator)
     (note,) = operator.notifications
     assert "The arm is in ERROR" in note and "Recover" in note, note
-    fire(ui.status.recover, operator)
+    fire(ui.banner.buttons[0], operator)
     wait_for(lambda: sim.get_motion_status() is MotionStatus.IDLE, "Recover did not clear the error")
     pendant_ui.refresh()
-    assert not ui.status.recover.visible
+    assert ui.banner.view is None and not ui.banner.buttons[0].visible
 
 
 def test_the_pad_says_when_the_tcp_limit_slows_a_joint_jog(

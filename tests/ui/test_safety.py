@@ -56,7 +56,7 @@ def test_any_browser_may_stop_and_the_dashboard_lists_why(
     pendant_ui: PendantUI, ui: ClientSession, sim: SimController
 ) -> None:
     viewer = FakeBrowser(VIEWER)
-    assert ui.status.stop.visible and not ui.status.recover.visible
+    assert ui.status.stop.visible and ui.banner is not None and ui.banner.view is None
     fire(ui.status.stop, viewer)  # like Freeze: stopping is never refused
     wait_for(lambda: sim.get_motion_status() is MotionStatus.ERROR, "the protective stop")
     pendant_ui.refresh()
@@ -64,14 +64,15 @@ def test_any_browser_may_stop_and_the_dashboard_lists_why(
     assert "Protective stop (POST /stop)" in ui.failures.content
     assert "STOP_2" in ui.failures.content
     assert viewer.notifications == []
-    # Recover takes the Stop's place under the status: one Recover in the whole page.
-    assert ui.status.recover.visible and not ui.status.stop.visible
+    # Recover is the banner's (under Freeze): one Recover in the whole page.
+    assert ui.banner is not None and [b.label for b in ui.banner.buttons if b.visible] == ["Recover"]
+    assert not ui.status.recover.visible and not ui.status.stop.visible
     assert "Recover" not in ui.robot_buttons
 
-    fire(ui.status.recover, FakeBrowser(OPERATOR))
+    fire(ui.banner.buttons[0], FakeBrowser(OPERATOR))
     wait_for(lambda: sim.get_motion_status() is MotionStatus.IDLE, "the recovery")
     pendant_ui.refresh()
-    assert ui.status.stop.visible and not ui.status.recover.visible
+    assert ui.status.stop.visible and ui.banner.view is None
 
 
 def test_the_robot_tab_binds_the_stop_to_an_input_level(ui: ClientSession, sim: SimController) -> None:

@@ -74,7 +74,7 @@ def test_unreachable_drag_target_is_red_says_why_and_cannot_run(
 def test_colliding_slider_target_is_refused(ui: ClientSession) -> None:
     q = np.radians([0.0, -90.0, 170.0, -90.0, -90.0, 0.0])  # forearm folded into the upper arm
     check = ui.target_panel.set_joint_target(q)
-    assert check.reason == MSG_COLLISION
+    assert check.reason == f"{MSG_COLLISION}: link1 would touch link3"  # the two links named
     assert ui.target_panel.ghost_shown is False
     assert ui.target_panel.move_j.disabled
 

@@ -116,13 +116,15 @@ def sim_router(sim: SimController) -> APIRouter:
         "/reset",
         summary="Simulator: reset",
         description=(
-            "Back to the start: home pose, IDLE, no fault, default tool and base, outputs and inputs LOW."
+            "Back to the start: home pose, IDLE, no fault, default tool and base, outputs and inputs LOW, no "
+            "obstacle. With keep_cell=true only the fault goes: the arm stays where it stopped, with its "
+            "obstacles, tool shape, tool, base and IO (a real arm's emergency stop released and recovered)."
         ),
         response_class=TextResponse,
         responses=docs.empty_ok(),
     )
-    async def reset() -> TextResponse:
-        sim.reset()
+    async def reset(keep_cell: bool = False) -> TextResponse:
+        sim.reset(keep_cell=keep_cell)
         return empty_result()
 
     return router

@@ -138,7 +138,7 @@ def freeze(runner: CommandRunner, client: viser.ClientHandle | None, label: str 
 
 
 def add_robot_commands(target: GuiTarget, runner: CommandRunner) -> dict[str, viser.GuiButtonHandle]:
-    """Home, Relax and Pack (Recover is under the status, where the error shows)."""
+    """Home, Relax and Pack (Recover is in the banner under Freeze, where the error shows)."""
     actions: dict[str, Callable[[Controller], object]] = {
         "Home": lambda c: c.set_pose(
             Pose(angles=list(HOME_POSE_DEG)), MotionParams(speed=HOME_SPEED_PERCENT)

@@ -24,7 +24,7 @@ def explain_in_error(motion_status: Callable[[], MotionStatus | None]) -> Callab
         state = motion_status()
         if state in (MotionStatus.ERROR, MotionStatus.MOTION_FAILED):
             return (
-                f"The arm is in {state.value}: press Recover under the status first (controller: {message})"
+                f"The arm is in {state.value}: press Recover in the banner first (controller: {message})"
             )
         return message
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -36,6 +36,26 @@ class Snapshot:
     error: str | None = None  # the controller's message when the last reading failed
     latency_s: float | None = None
     online: bool = False  # the controller answered (an emergency 503 or a 500 is an answer too)
+    last_known: LastKnown | None = None  # when q is None (a fault): the last reading that had it
+
+
+@dataclass(frozen=True)
+class LastKnown:
+    """The arm's last known joints and TCP, shown greyed while the controller cannot say (EMERGENCY)."""
+
+    q: np.ndarray
+    position: Position | None
+    taken_at: float
+
+
+def carry_last_known(previous: Snapshot, current: Snapshot) -> Snapshot:
+    """`current`, remembering where the arm last was when it cannot read it now (q stays None: nothing
+    takes a last known pose for a live one but the status readout)."""
+    if current.q is not None:
+        return current
+    if previous.q is not None:
+        return replace(current, last_known=LastKnown(previous.q, previous.position, previous.taken_at))
+    return replace(current, last_known=previous.last_known)
 
 
 def read_snapshot(controller: Controller, *, with_io: bool, robot_id: str, tool_name: str) -> Snapshot:

@@ -29,6 +29,8 @@ from pendant.ui.kit.cell_state import CellState
 from pendant.ui.kit.commands import CommandRunner, add_freeze_button, add_robot_commands
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.snapshot import Snapshot
+from pendant.ui.page.banner import Banner
+from pendant.ui.page.recovery import Recovery
 from pendant.ui.page.roles import ControlDesk, ControlPanel
 from pendant.ui.page.status_panel import StatusPanel
 from pendant.ui.program.panel import ProgramPanel
@@ -84,12 +86,21 @@ class ClientSession:
         cell_state: Callable[[], CellState] = CellState,
         cells_dir: Path = Path("cells"),
         recorder: PathRecorder | None = None,
+        recovery: Recovery | None = None,
     ) -> None:
         self.target = target
         self.client_id = client_id
         self._desk = desk
         self.freeze = add_freeze_button(target, runner)
-        self.status = StatusPanel(target, mode_line, runner)
+        sim = controller if isinstance(controller, SimController) else None
+        self.banner = (  # under Freeze: what is wrong and the way out (recovery.py)
+            Banner(
+                target, recovery, runner, programs, sim=sim, urdf_path=arm.urdf_path, cell_state=cell_state
+            )
+            if recovery is not None
+            else None
+        )
+        self.status = StatusPanel(target, mode_line, runner, recover_in_banner=self.banner is not None)
         self.control = ControlPanel(target, desk, client_id, url_token, remote)
         self.tabs = target.gui.add_tab_group()
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
@@ -98,7 +109,7 @@ class ClientSession:
         with self.tabs.add_tab("Target", viser.Icon.TARGET):
             self.target_panel = TargetPanel(target, arm, runner, current_q, current_tool, current_cell)
         with self.tabs.add_tab("Program", viser.Icon.LIST_NUMBERS):
-            self.program = ProgramPanel(target, programs, runner, arm=arm)
+            self.program = ProgramPanel(target, programs, runner, arm=arm, current_cell=current_cell)
         with self.tabs.add_tab("Cell", viser.Icon.BOX):
             self.cell = CellPanel(target, runner, cells_dir, cell_state)
         with self.tabs.add_tab("IO", viser.Icon.PLUG):
@@ -189,6 +200,8 @@ class ClientSession:
         self.program.close()
 
     def show(self, snapshot: Snapshot, *, with_io: bool) -> None:
+        if self.banner is not None:
+            self.banner.show()
         self.status.show(snapshot)
         self.jog.show(snapshot)
         if with_io:  # 5 Hz is enough for these, and spares every browser six sliders' worth of messages

@@ -81,20 +81,7 @@ def render_status(snapshot: Snapshot, mode_line: str, system: str = "", protecti
         )
     if snapshot.error:
         parts.append(f'<div style="color:#e03131">{html.escape(snapshot.error)}</div>')
-    if snapshot.q is not None:
-        cells = "".join(
-            f'<td style="text-align:right;padding:0 4px">J{i + 1}<br><b>{math.degrees(v):.1f}°</b></td>'
-            for i, v in enumerate(snapshot.q)
-        )
-        parts.append(f'<table style="width:100%;font-size:0.85em"><tr>{cells}</tr></table>')
-    if snapshot.position is not None:
-        p, r = snapshot.position.point, snapshot.position.rotation
-        parts.append(
-            '<div style="font-size:0.85em;font-family:monospace">'
-            f"X {p.x * 1000:.1f} Y {p.y * 1000:.1f} Z {p.z * 1000:.1f} mm<br>"
-            f"R {math.degrees(r.roll):.1f} P {math.degrees(r.pitch):.1f} "
-            f"Y {math.degrees(r.yaw):.1f} °</div>"
-        )
+    parts.append(_where(snapshot))
     opening = snapshot.gripper_opening
     gripper = "unknown" if opening is None else "open" if opening > 0.5 else "closed"
     parts.append(
@@ -108,16 +95,49 @@ def render_status(snapshot: Snapshot, mode_line: str, system: str = "", protecti
     return inset("".join(parts))
 
 
+def _where(snapshot: Snapshot) -> str:
+    """Joints and TCP; in a fault (no reading), the last known ones greyed, with their age."""
+    q, position, note, style = snapshot.q, snapshot.position, "", ""
+    last = snapshot.last_known
+    if q is None and last is not None:
+        q, position = last.q, last.position
+        age = max(0.0, snapshot.taken_at - last.taken_at)
+        note = f'<div id="last-known" style="font-size:0.8em;color:#868e96">last known, {age:.0f} s ago</div>'
+        style = "color:#adb5bd;"
+    parts = [note]
+    if q is not None:
+        cells = "".join(
+            f'<td style="text-align:right;padding:0 4px">J{i + 1}<br><b>{math.degrees(v):.1f}°</b></td>'
+            for i, v in enumerate(q)
+        )
+        parts.append(
+            f'<table id="joints" style="width:100%;font-size:0.85em;{style}"><tr>{cells}</tr></table>'
+        )
+    if position is not None:
+        p, r = position.point, position.rotation
+        parts.append(
+            f'<div id="tcp" style="font-size:0.85em;font-family:monospace;{style}">'
+            f"X {p.x * 1000:.1f} Y {p.y * 1000:.1f} Z {p.z * 1000:.1f} mm<br>"
+            f"R {math.degrees(r.roll):.1f} P {math.degrees(r.pitch):.1f} "
+            f"Y {math.degrees(r.yaw):.1f} °</div>"
+        )
+    return "".join(parts)
+
+
 # States Recover clears: in them the button under the banner is Recover, otherwise the protective Stop.
 RECOVERABLE = {MotionStatus.ERROR, MotionStatus.MOTION_FAILED}
 
 
 class StatusPanel:
     """The status, then one row: Protective stop (any browser may stop, like Freeze) or, once the arm is
-    stopped in error, Recover (the operator's), in the same place: the one Recover of the page."""
+    stopped in error, Recover (the operator's), in the same place. `recover_in_banner`: the page's banner
+    offers Recover (page/banner.py), so this one stays hidden: one Recover on the page."""
 
-    def __init__(self, target: GuiTarget, mode_line: str, runner: CommandRunner) -> None:
+    def __init__(
+        self, target: GuiTarget, mode_line: str, runner: CommandRunner, *, recover_in_banner: bool = False
+    ) -> None:
         self._mode_line = mode_line
+        self._recover_in_banner = recover_in_banner
         self._html = target.gui.add_html(render_status(Snapshot(taken_at=0.0), mode_line))
         self.stop = target.gui.add_button(
             "Protective stop", color="orange", icon=viser.Icon.HAND_OFF, hint=PROTECTIVE_STOP_HINT
@@ -141,8 +161,8 @@ class StatusPanel:
     def show(self, snapshot: Snapshot) -> None:
         self._snapshot = snapshot
         recoverable = snapshot.motion_status in RECOVERABLE
-        if self.recover.visible != recoverable:
-            self.recover.visible = recoverable
+        if self.recover.visible != (recoverable and not self._recover_in_banner):
+            self.recover.visible = recoverable and not self._recover_in_banner
         if self.stop.visible == recoverable:
             self.stop.visible = not recoverable
         self._render()

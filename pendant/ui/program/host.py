@@ -12,6 +12,7 @@ from typing import Protocol
 
 import viser
 
+from pendant.cell.geometry import CellModel
 from pendant.controller import Controller
 from pendant.program import ProgramWorkspace
 from pendant.program.tree import Line
@@ -25,6 +26,7 @@ class ProgramHost(Protocol):
     commands: CommandRunner
     selected: int | None  # the selected step's line in the list
     syncing: bool  # set while redrawing: viser calls back for values the panel sets
+    current_cell: Callable[[], CellModel | None]  # the controller's cell, to name what is in the way
 
     def allowed(self, client: viser.ClientHandle | None, label: str) -> bool: ...
 

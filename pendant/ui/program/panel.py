@@ -14,6 +14,7 @@ from concurrent.futures import Future
 
 import viser
 
+from pendant.cell.geometry import CellModel
 from pendant.controller import Controller
 from pendant.kinematics import ArmModel
 from pendant.program import Change, EditError, ProgramWorkspace, describe_step
@@ -46,8 +47,10 @@ class ProgramPanel:
         runner: CommandRunner,
         *,
         arm: ArmModel | None = None,
+        current_cell: Callable[[], CellModel | None] = lambda: None,
     ) -> None:
         self.target = target
+        self.current_cell = current_cell  # Go to names what is in the way
         self.shared = shared
         self.commands = runner
         self.selected: int | None = None

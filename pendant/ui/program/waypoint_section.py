@@ -8,9 +8,12 @@ import viser
 from viser.extras import ViserUrdf
 
 from pendant.controller import Controller, MotionParams, MotionType
+from pendant.controller.errors import Collision, ControllerError
 from pendant.kinematics import ArmModel
 from pendant.program import EditError, MoveStep, Step, Waypoint
+from pendant.ui.kit.collision_words import explain_collision
 from pendant.ui.program.host import ProgramHost
+from pendant.ui.scene.refused import RefusedPose
 
 GHOST_RGBA = (0.2, 0.75, 0.35, 0.35)
 GO_TO_SPEED_PERCENT = 20.0
@@ -45,6 +48,11 @@ class WaypointSection:
             )
             if arm is not None and arm.urdf_path is not None
             else None
+        )
+        self._arm = arm
+        # A Go to refused for a collision: a red ghost there, the obstacle in red (cleared by the next one).
+        self.refused = RefusedPose(
+            host.target, arm.urdf_path if arm is not None else None, "/program_refused"
         )
         self.chooser.on_update(self._on_choose)
         self.rename.on_click(lambda e: host.edit("Rename", e.client, self._rename))
@@ -95,14 +103,32 @@ class WaypointSection:
         )
         params = MotionParams(speed=GO_TO_SPEED_PERCENT, motion_type=motion)
         label = f"Go to {waypoint.name}"
-        if motion is MotionType.JOINT:
-            self._host.commands.submit(
-                label, lambda c: c.set_pose(waypoint.pose, params), client, motion=True
-            )
-        else:
-            self._host.commands.submit(
-                label, lambda c: c.set_position(waypoint.position, params), client, motion=True
-            )
+        q = np.radians(np.asarray(waypoint.pose.angles, dtype=float))
+
+        def go(c: Controller) -> None:
+            self.refused.hide()
+            try:
+                if motion is MotionType.JOINT:
+                    c.set_pose(waypoint.pose, params)
+                else:
+                    c.set_position(waypoint.position, params)
+            except Collision as error:
+                raise self._named(error, q, c) from error
+
+        self._host.commands.submit(label, go, client, motion=True)
+
+    def _named(self, error: Collision, q: np.ndarray, controller: Controller) -> Collision:
+        """The refusal with what is in the way named (kit/collision_words.py), and the red ghost shown."""
+        if self._arm is None:
+            return error
+        cell = self._host.current_cell()
+        try:
+            here: np.ndarray | None = np.radians(np.asarray(controller.get_pose().angles, dtype=float))
+        except ControllerError:
+            here = None
+        named = explain_collision(error.message, self._arm, q, cell, here)
+        self.refused.show(q, cell.obstacles if cell is not None else [], named.obstacles)
+        return Collision(named.reason)
 
     # --- display ------------------------------------------------------------------------------------
     def redraw(self, selected: Step | None) -> None:

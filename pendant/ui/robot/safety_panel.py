@@ -1,6 +1,6 @@
 """The arm's safety state: its system state (`/status`, shown in the status line), the Robot tab's
 stop-on-input binding, free drive and identity, and the Dashboard's failure list. The protective Stop and
-Recover sit under the status (status_panel.py)."""
+Recover: under the status and in the banner (page/status_panel.py, page/banner.py)."""
 
 from __future__ import annotations
 

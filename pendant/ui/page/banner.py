@@ -1,0 +1,130 @@
+"""The banner under Freeze: the one place a browser is told that something is wrong, why, since when, and
+which button gets it going again (see recovery.py for what it says). Every tab reads it; none invents its
+own error line.
+
+Its buttons are slots: their words and actions follow the shared view. A click acts on what the button
+showed when it was pressed, and goes through the page's command runner (so the event log records the
+operator's choice, and a viewer is refused as for any command)."""
+
+from __future__ import annotations
+
+import html
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import viser
+
+from pendant.program import ProgramWorkspace
+from pendant.sim import SimController
+from pendant.ui.kit.cell_state import CellState
+from pendant.ui.kit.commands import CommandRunner, notify_refusal
+from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.page.recovery import Action, BannerView, Recovery
+from pendant.ui.program.refusals import USER_ERRORS
+from pendant.ui.scene.refused import RefusedPose
+
+BANNER_ORDER = -999.0  # right under Freeze (-1000), above the status
+MAX_BUTTONS = 3
+_COLOURS: dict[Action, str] = {Action.RECOVER: "red", Action.STOP_PROGRAM: "gray", Action.SIM_RESET: "orange"}
+
+
+def render_banner(view: BannerView) -> str:
+    since = time.strftime("%H:%M:%S", time.localtime(view.since))
+    detail = f'<div id="banner-detail">{html.escape(view.detail)}</div>' if view.detail else ""
+    return (
+        f'<div id="recovery-banner" style="background:{view.colour};color:white;border-radius:6px;'
+        'padding:8px 10px;margin:4px 0">'
+        f'<div><b id="banner-title" style="font-size:1.15em">{html.escape(view.title)}</b>'
+        f' <span id="banner-since" style="opacity:0.85;font-size:0.85em">since {since}</span></div>'
+        f'{detail}<div id="banner-next" style="font-weight:bold;margin-top:4px">'
+        f"{html.escape(view.next_step)}</div></div>"
+    )
+
+
+class Banner:
+    """One browser's banner: hidden while all is well."""
+
+    def __init__(
+        self,
+        target: GuiTarget,
+        recovery: Recovery,
+        runner: CommandRunner,
+        programs: ProgramWorkspace,
+        *,
+        sim: SimController | None = None,
+        urdf_path: Path | None = None,
+        cell_state: Callable[[], CellState] = CellState,
+    ) -> None:
+        self._recovery = recovery
+        self._runner = runner
+        self._programs = programs
+        self._sim = sim
+        self._cell_state = cell_state
+        gui = target.gui
+        self._html = gui.add_html("", order=BANNER_ORDER, visible=False)
+        self.buttons: list[viser.GuiButtonHandle] = []
+        for k in range(MAX_BUTTONS):
+            button = gui.add_button("", order=BANNER_ORDER + 0.1 * (k + 1), visible=False)
+            button.on_click(lambda event, k=k: self._clicked(k, event.client))
+            self.buttons.append(button)
+        self.refused = RefusedPose(target, urdf_path, "/banner_refused")
+        self.view: BannerView | None = None  # what this browser shows now
+        self._content = ""
+
+    def show(self) -> None:
+        view = self._recovery.view
+        content = render_banner(view) if view is not None else ""
+        if content != self._content:
+            self._html.content = content
+            self._html.visible = view is not None
+            self._content = content
+        actions = view.actions if view is not None else ()
+        for k, button in enumerate(self.buttons):
+            shown = k < len(actions)
+            if shown and view is not None:
+                label = view.labels[k]
+                if button.label != label:
+                    button.label = label
+                    button.color = _COLOURS.get(actions[k], "green" if k == 0 else None)
+            if button.visible != shown:
+                button.visible = shown
+        self.view = view
+        q = self._recovery.refused_q
+        if q is None:
+            self.refused.hide()
+        else:
+            self.refused.show(q, self._cell_state().obstacles, self._recovery.refused_obstacles)
+
+    def _clicked(self, index: int, client: viser.ClientHandle | None) -> None:
+        view = self.view
+        if view is None or index >= len(view.actions):
+            return
+        self.act(view.actions[index], view.labels[index], client)
+
+    def act(self, action: Action, label: str, client: viser.ClientHandle | None) -> None:
+        """Do what a banner button says (tests call it directly with client None)."""
+        runner, programs = self._runner, self._programs
+        said = f"{label} (banner)"
+        match action:
+            case Action.RECOVER:
+                runner.submit(said, lambda c: c.recover(), client)
+            case Action.LEAVE_FREE_DRIVE:
+                runner.submit(said, lambda c: c.zg_off(), client)
+            case Action.FINISH_UNTWISTING:
+                runner.submit(said, lambda c: c.finish_untwisting(), client)
+            case Action.SIM_RESET:
+                sim = self._sim
+                if sim is not None:
+                    runner.submit(said, lambda _: sim.reset(keep_cell=True), client)
+            case Action.STOP_PROGRAM:  # stopping is never refused, and never waits behind a command
+                runner.submit(said, lambda _: programs.stop(), client, urgent=True)
+            case Action.RETRY | Action.SKIP:
+                if runner.refusal(client, said) is not None:
+                    return
+                try:
+                    programs.start_resume() if action is Action.RETRY else programs.start_skip()
+                except USER_ERRORS as error:
+                    notify_refusal(client, f"{label} refused", str(error))
+                else:
+                    runner.record(said, client)
