@@ -163,6 +163,11 @@ class ArmModel:
         with self._pin_lock:
             return self._pin.collision.moving_shapes(q)
 
+    def moving_shape_names(self) -> list[str]:
+        """The URDF names of `moving_shapes`' shapes, in the same order (for messages)."""
+        with self._pin_lock:
+            return self._pin.collision.moving_shape_names()
+
     def colliding_pairs(self, q: np.ndarray) -> list[tuple[str, str]]:
         """The (geometry, geometry) name pairs in contact at q ("floor" for the floor), for messages."""
         q = _joint_vector(q)
