@@ -4,6 +4,7 @@
             [--connect-timeout 1] [--read-timeout 3] [--no-ui [--time-scale K]]
     pendant check URL [--timeout S]
     pendant run PROGRAM.json [--robot URL] [--loops N]
+    pendant preflight PROGRAM.json [--robot URL] [--cell CELL.json] [--input N=HIGH ...] [--json]
 
 serves the pendant's page and the PULSE REST API (the simulator's, or a proxy to the real arm at --robot);
 with --no-ui, the API alone on the controller's own port (its clock K times the wall clock with
@@ -28,6 +29,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from fastapi import APIRouter
 from starlette.types import ASGIApp
 
 from pendant import __version__
@@ -242,7 +244,7 @@ def make_api_app(
         from pendant.remote import RemoteController, create_proxy_app
 
         assert isinstance(controller, RemoteController)
-        return create_proxy_app(
+        proxy = create_proxy_app(
             settings.robot_url,
             settings=settings,
             controller=controller,
@@ -251,14 +253,26 @@ def make_api_app(
             metrics=metrics,
             store=store,
         )
+        proxy.include_router(_preflight_router(settings, controller))
+        return proxy
     from pendant.api import create_app
 
     app = create_app(controller, access=access)
     app.include_router(health_router(settings, controller, started_at))
+    app.include_router(_preflight_router(settings, controller))
     if metrics is None:
         metrics = PendantMetrics(controller, mode="sim", model=settings.model, robot_url=None)
     add_monitoring(app, metrics, store)
     return app
+
+
+def _preflight_router(settings: Settings, controller: Controller) -> APIRouter:
+    """POST /pendant/preflight: the program checked on a twin of this controller (nothing moves)."""
+    from pendant.planning.router import preflight_router
+    from pendant.program import programs_dir
+
+    folder = Path(settings.programs_dir) if settings.programs_dir else programs_dir()
+    return preflight_router(controller, settings.model, folder)
 
 
 def start_ui(
@@ -337,6 +351,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         from pendant.program.headless import main as run_program
 
         return run_program(args[1:])
+    if args[:1] == ["preflight"]:  # `pendant preflight PROGRAM.json ...`: checked on the twin, nothing moves
+        from pendant.planning.command import main as preflight_program
+
+        return preflight_program(args[1:])
     settings = with_access_token(parse_settings(argv))
     started_at = time.monotonic()
     controller = make_controller(settings)

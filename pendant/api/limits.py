@@ -26,6 +26,8 @@ DOCUMENT_BODY_LIMIT = 8 * KIB
 RUN_BODY_LIMIT = 128 * KIB
 # Anything else (reads and commands without a body, unknown paths): nothing is expected.
 DEFAULT_BODY_LIMIT = 1 * KIB
+# POST /pendant/preflight: a program (a file holds at most 5 MB) and a cell (at most 1 MB).
+PREFLIGHT_BODY_LIMIT = 6_000_000
 
 BODY_LIMITS: dict[tuple[str, str], int] = {
     ("PUT", "/position"): DOCUMENT_BODY_LIMIT,
@@ -44,6 +46,7 @@ BODY_LIMITS: dict[tuple[str, str], int] = {
     ("PUT", "/run/linear/poses"): RUN_BODY_LIMIT,
     ("PUT", "/run/joint/positions"): RUN_BODY_LIMIT,
     ("PUT", "/run/joint/poses"): RUN_BODY_LIMIT,
+    ("POST", "/pendant/preflight"): PREFLIGHT_BODY_LIMIT,
 }
 
 
