@@ -21,7 +21,7 @@ from pendant.controller.types import SignalLevel
 from pendant.planning.clearance import Clearance, Closest
 from pendant.planning.refusal import explain
 from pendant.planning.report import AssumedInput, FirstFailure, PreflightReport, StepCheck
-from pendant.planning.twin import Twin, TwinSeed
+from pendant.planning.twin import Twin, TwinSeed, TwinSetupError
 from pendant.program.describe import describe_step
 from pendant.program.models import CommentStep, LoopMode, LoopStep, Program, Step, WaitInputStep, children
 from pendant.program.plan import Loader, PlanError
@@ -165,8 +165,6 @@ def preflight(
     if not 0 <= loop_passes <= MAX_LOOP_PASSES:
         raise PreflightRefused(f"while/until loop passes must be 0 to {MAX_LOOP_PASSES} (got {loop_passes})")
     began = time.perf_counter()
-    from pendant.planning.twin import TwinSetupError
-
     try:
         twin = _CheckedTwin(seed, model, inputs or {})
     except TwinSetupError as error:
@@ -206,8 +204,12 @@ def preflight(
     checks = []
     for index, step in enumerate(listed):
         log = observer.logs.get(index)
-        closest = _closest(clearance, log.samples) if log is not None else None
         failed = index == failed_line
+        samples = [] if log is None else list(log.samples)
+        refusal = twin.last_refusal
+        if failed and refusal is not None and refusal.q is not None:
+            samples.append(refusal.q)  # where it would collide: the step's closest approach
+        closest = _closest(clearance, samples)
         if log is None:
             note = (
                 "a comment"

@@ -82,6 +82,11 @@ class DiagnosingPlanner(Planner):
                 self.last = self._line_problem(q_start, tcp_targets, T_flange_tool)
             raise
 
+    def note_limits(self, targets: list[np.ndarray]) -> None:
+        """A command refused before planning: keep which target joint is past its limit, if one is."""
+        if self.last is None:
+            self.last = self._limits(targets)
+
     def _limits(self, targets: list[np.ndarray]) -> Refusal | None:
         for q in targets:
             outside = np.flatnonzero((q < self.arm.lower) | (q > self.arm.upper))

@@ -13,8 +13,16 @@ import numpy as np
 
 from pendant.controller import Controller
 from pendant.controller.cell_types import Obstacle, ToolShape
-from pendant.controller.errors import ControllerError, Unsupported
-from pendant.controller.types import INPUT_PORTS, OUTPUT_PORTS, Pose, Position, SignalLevel, Tool
+from pendant.controller.errors import ControllerError, Unreachable, Unsupported
+from pendant.controller.types import (
+    INPUT_PORTS,
+    OUTPUT_PORTS,
+    MotionParams,
+    Pose,
+    Position,
+    SignalLevel,
+    Tool,
+)
 from pendant.planning.refusal import DiagnosingPlanner, Refusal
 from pendant.sim import FakeClock, SimController
 
@@ -97,6 +105,18 @@ class Twin(SimController):
     def last_refusal(self) -> Refusal | None:
         """Why the last planned move was refused (None when it was not, or the planner never saw it)."""
         return self._diagnosing.last
+
+    # A pose past a joint limit is refused before the planner sees it: name the joint here.
+    def run_poses(self, poses: list[Pose], params: MotionParams) -> None:
+        self._diagnosing.last = None
+        try:
+            super().run_poses(poses, params)
+        except Unreachable:
+            self._diagnosing.note_limits([np.radians(p.angles) for p in poses])
+            raise
+
+    def set_pose(self, pose: Pose, params: MotionParams) -> None:
+        self.run_poses([pose], params)
 
     def advance(self, dt: float) -> None:
         self.fake_clock.advance(max(0.0, dt))

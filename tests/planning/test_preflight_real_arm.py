@@ -82,6 +82,7 @@ def test_a_move_through_a_box_fails_there_naming_the_box_and_the_arm_is_sent_onl
     assert failure["line"] == 3 and failure["obstacle"] == BOX_NAME
     assert f"'{BOX_NAME}'" in failure["reason"] and "% of the move" in failure["reason"]
     assert report["summary"].startswith("Step 3 (Move J to right")
+    assert report["steps"][2]["min_clearance_mm"] <= 0  # where it would touch
     marks = [(s["ok"], s["checked"]) for s in report["steps"]]
     assert marks == [(True, True), (True, True), (False, True), (False, False), (False, False)]
     # The arm was only read: no command reached it, and it is where it was with the cell it had.
