@@ -27,6 +27,8 @@ from pendant.program.models import CommentStep, LoopMode, LoopStep, Program, Ste
 from pendant.program.plan import Loader, PlanError
 from pendant.program.runner import ProgramRunner, RunProgress, RunState
 from pendant.program.tree import lines
+from pendant.sim.planner import Plan
+from pendant.sim.timeline import Motion
 
 # Clearance is computed at this many points of each step's path at most (spread along it), so a long
 # program stays inside its time budget; the planner itself checks every 2 degrees / 5 mm for collisions.
@@ -36,6 +38,8 @@ MAX_CLEARANCE_SAMPLES = 16
 MAX_SIMULATED_S = 4 * 3600.0
 MAX_LOOP_PASSES = 1000
 _MOVED_RAD = 1e-6
+# Arm positions kept from a stretch of polls taken in one step (the clearance is computed at a few of them).
+SAMPLES_PER_SKIP = 6
 
 
 class PreflightRefused(Exception):
@@ -104,6 +108,7 @@ class _Observer:
         self.started = twin.now()
         self.deadline = self.started + deadline_s
         self.last_q: np.ndarray | None = None
+        self.seen_plans: set[int] = set()
 
     def on_progress(self, progress: RunProgress) -> None:
         if progress.state is RunState.RUNNING and progress.step_index is not None:
@@ -131,24 +136,62 @@ class _Observer:
         return self.twin.now() - self.started
 
     def sleep(self, dt: float) -> None:
-        """The runner's sleep: sample the arm, then move the twin's time on."""
+        """The runner's sleep: sample the arm, then move the twin's time on.
+
+        While the arm is on its way to a single target nothing the runner reads changes, so the polls until
+        it arrives are taken in one step, on the same grid: the runner sees what it would poll by poll."""
         self._sample()
-        if self.twin.now() + dt > self.deadline:
+        now = self.twin.now()
+        polls = 1
+        motion = self.twin.running_motion()
+        # (a blended run is polled poll by poll: the runner tells which waypoint the arm heads for from where
+        # it is, and so which step the time goes to)
+        if motion is not None and dt > 0 and (motion.plan is None or len(motion.plan.waypoint_s) <= 1):
+            boundary = min((t for t in _boundaries(motion) if t > now + dt), default=now)
+            polls = max(1, math.floor((boundary - now) / dt))
+            for k in np.linspace(0, polls - 1, min(polls, SAMPLES_PER_SKIP))[1:]:
+                self._keep(motion.q_at(now + float(k) * dt))
+        if now + polls * dt > self.deadline:
             raise _TooLong
-        self.twin.advance(dt)
+        self.twin.advance(polls * dt)
 
     def _sample(self, force: bool = False) -> None:
         if self.line is None:
             return
-        log = self.logs[self.line]
-        q = self.twin.joint_positions()
+        self._keep(self.twin.joint_positions(), force)
+        motion = self.twin.running_motion()
+        if motion is not None and motion.plan is not None and id(motion.plan) not in self.seen_plans:
+            self.seen_plans.add(id(motion.plan))
+            log = self.logs[self.line]
+            speed, joint = _peak_speed(motion.plan)
+            if speed > log.peak_speed:
+                log.peak_speed, log.peak_joint = speed, joint
+
+    def _keep(self, q: np.ndarray, force: bool = False) -> None:
+        assert self.line is not None
         if force or self.last_q is None or float(np.max(np.abs(q - self.last_q))) > _MOVED_RAD:
-            log.samples.append(q)
+            self.logs[self.line].samples.append(q)
             self.last_q = q
-        speed = self.twin.joint_speed_now()
-        fastest = int(np.argmax(speed))
-        if speed[fastest] > log.peak_speed:
-            log.peak_speed, log.peak_joint = float(speed[fastest]), fastest
+
+
+def _boundaries(motion: Motion) -> list[float]:
+    """When the running command passes its waypoints and ends (clock times)."""
+    marks = (
+        [] if motion.plan is None else [motion.t0 + motion.plan.time_at(s) for s in motion.plan.waypoint_s]
+    )
+    return [*marks, motion.t_end]
+
+
+def _peak_speed(plan: Plan) -> tuple[float, int]:
+    """The fastest joint speed (rad/s) along a planned motion, and which joint: |dq/ds| ds/dt at its grid."""
+    scaling = plan.scaling
+    speeds = np.array(
+        [np.abs(plan.path.derivatives(s)[1]) * v for s, v in zip(scaling.s, scaling.v, strict=True)]
+    )
+    if speeds.size == 0:
+        return 0.0, 0
+    joint = int(np.argmax(np.max(speeds, axis=0)))
+    return float(np.max(speeds[:, joint])), joint
 
 
 def preflight(

@@ -9,10 +9,12 @@ problem is and at which configuration, and `explain` turns that into a sentence 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from enum import StrEnum
 
 import numpy as np
+from pydantic import BaseModel
 
 from pendant.controller.errors import Collision, Unreachable
 from pendant.controller.types import MotionParams
@@ -27,6 +29,22 @@ from pendant.sim.planner import FLOOR_Z_M, Plan, Planner
 LINE_PROBES = 200
 # Between two probes 1/200 of a line apart no joint turns this much unless IK changed branch.
 BRANCH_JUMP_RAD = math.radians(20.0)
+
+
+MAX_REMEMBERED_PLANS = 4096
+
+
+def _key(value: object) -> object:
+    """A hashable stand-in for a planner argument (arrays by value, models by their fields)."""
+    if isinstance(value, np.ndarray):
+        return (value.shape, value.tobytes())
+    if isinstance(value, list | tuple):
+        return tuple(_key(item) for item in value)
+    if isinstance(value, dict):
+        return tuple(sorted((name, _key(item)) for name, item in value.items()))
+    if isinstance(value, BaseModel):
+        return repr(value)
+    return value  # floats, strings, None, a CellGeometry (by identity: a cell change makes a new one)
 
 
 class Problem(StrEnum):
@@ -48,18 +66,33 @@ class Refusal:
 
 
 class DiagnosingPlanner(Planner):
-    """The simulator's planner, remembering in `last` why its last refused move was refused."""
+    """The simulator's planner, remembering in `last` why its last refused move was refused.
+
+    Plans are also remembered by their inputs: a loop's passes repeat the same moves from the same places,
+    and planning them again (the collision checks) would cost most of a pre-flight's time."""
 
     def __init__(self, arm: ArmModel) -> None:
         super().__init__(arm)
         self.last: Refusal | None = None
+        self._plans: dict[tuple[object, ...], Plan] = {}
+
+    def _remembered(self, key: tuple[object, ...], plan: Callable[[], Plan]) -> Plan:
+        found = self._plans.get(key)
+        if found is None:
+            found = plan()
+            if len(self._plans) < MAX_REMEMBERED_PLANS:
+                self._plans[key] = found
+        return found
 
     def joint(  # type: ignore[override]
         self, q_start: np.ndarray, targets: list[np.ndarray], *args: object, **kwargs: object
     ) -> Plan:
         self.last = None
+        key = ("joint", _key(q_start), _key(targets), _key(args), _key(kwargs))
         try:
-            return super().joint(q_start, targets, *args, **kwargs)  # type: ignore[arg-type]
+            return self._remembered(
+                key, lambda: super(DiagnosingPlanner, self).joint(q_start, targets, *args, **kwargs)
+            )  # type: ignore[arg-type]
         except Unreachable:
             if self.last is None:
                 self.last = self._limits(targets) or Refusal(Problem.JOINT_LIMIT)
@@ -75,8 +108,22 @@ class DiagnosingPlanner(Planner):
         **kwargs: object,
     ) -> Plan:
         self.last = None
+        key = (
+            "linear",
+            _key(q_start),
+            _key(tcp_targets),
+            _key(params),
+            _key(T_flange_tool),
+            _key(args),
+            _key(kwargs),
+        )
         try:
-            return super().linear(q_start, tcp_targets, params, T_flange_tool, *args, **kwargs)  # type: ignore[arg-type]
+            return self._remembered(
+                key,
+                lambda: super(DiagnosingPlanner, self).linear(
+                    q_start, tcp_targets, params, T_flange_tool, *args, **kwargs
+                ),  # type: ignore[arg-type]
+            )
         except Unreachable:
             if self.last is None:
                 self.last = self._line_problem(q_start, tcp_targets, T_flange_tool)

@@ -25,6 +25,7 @@ from pendant.controller.types import (
 )
 from pendant.planning.refusal import DiagnosingPlanner, Refusal
 from pendant.sim import FakeClock, SimController
+from pendant.sim.timeline import Motion
 
 
 @dataclass(frozen=True)
@@ -124,10 +125,10 @@ class Twin(SimController):
     def now(self) -> float:
         return self.fake_clock.now()
 
-    def joint_speed_now(self) -> np.ndarray:
-        """|dq/dt| (rad/s) of the motion running now (zeros at rest)."""
+    def running_motion(self) -> Motion | None:
+        """The queued command running now (a move or a gripper action), or None at rest."""
         t = self.now()
         for motion in self.queued_motions():
             if motion.t0 <= t < motion.t_end:
-                return np.abs(motion.state_at(t)[1])
-        return np.zeros(6)
+                return motion
+        return None
