@@ -22,16 +22,16 @@ def waypoint(name: str, angles: tuple[float, ...]) -> Waypoint:
 
 
 def swing_program() -> Program:
-    """Left, gripper, right (through the home pose), wait, back left: ~5 s at 30 %."""
+    """Left, gripper, right (through the home pose), wait, back left: ~12 s at 15 %."""
     return Program(
         name="swing",
         waypoints=(waypoint("left", LEFT_DEG), waypoint("right", RIGHT_DEG)),
         steps=(
-            MoveStep(waypoint="left", speed=30.0),
+            MoveStep(waypoint="left", speed=15.0),
             GripperStep(action=GripperAction.CLOSE, timeout_ms=300),
-            MoveStep(waypoint="right", speed=30.0),
+            MoveStep(waypoint="right", speed=15.0),
             WaitStep(ms=400),
-            MoveStep(waypoint="left", speed=30.0),
+            MoveStep(waypoint="left", speed=15.0),
         ),
     )
 
