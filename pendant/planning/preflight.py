@@ -40,6 +40,8 @@ MAX_LOOP_PASSES = 1000
 _MOVED_RAD = 1e-6
 # Arm positions kept from a stretch of polls taken in one step (the clearance is computed at a few of them).
 SAMPLES_PER_SKIP = 6
+# Where the arm was when, for the page's playback: plenty for hours of program (then it stops growing).
+MAX_TIMELINE = 20_000
 
 
 class PreflightRefused(Exception):
@@ -109,6 +111,7 @@ class _Observer:
         self.deadline = self.started + deadline_s
         self.last_q: np.ndarray | None = None
         self.seen_plans: set[int] = set()
+        self.timeline: list[tuple[float, int, np.ndarray]] = []  # (s from the start, line, q): playback
 
     def on_progress(self, progress: RunProgress) -> None:
         if progress.state is RunState.RUNNING and progress.step_index is not None:
@@ -150,7 +153,8 @@ class _Observer:
             boundary = min((t for t in _boundaries(motion) if t > now + dt), default=now)
             polls = max(1, math.floor((boundary - now) / dt))
             for k in np.linspace(0, polls - 1, min(polls, SAMPLES_PER_SKIP))[1:]:
-                self._keep(motion.q_at(now + float(k) * dt))
+                t = now + float(k) * dt
+                self._keep(motion.q_at(t), t)
         if now + polls * dt > self.deadline:
             raise _TooLong
         self.twin.advance(polls * dt)
@@ -158,7 +162,7 @@ class _Observer:
     def _sample(self, force: bool = False) -> None:
         if self.line is None:
             return
-        self._keep(self.twin.joint_positions(), force)
+        self._keep(self.twin.joint_positions(), self.twin.now(), force)
         motion = self.twin.running_motion()
         if motion is not None and motion.plan is not None and id(motion.plan) not in self.seen_plans:
             self.seen_plans.add(id(motion.plan))
@@ -167,11 +171,13 @@ class _Observer:
             if speed > log.peak_speed:
                 log.peak_speed, log.peak_joint = speed, joint
 
-    def _keep(self, q: np.ndarray, force: bool = False) -> None:
+    def _keep(self, q: np.ndarray, t: float, force: bool = False) -> None:
         assert self.line is not None
         if force or self.last_q is None or float(np.max(np.abs(q - self.last_q))) > _MOVED_RAD:
             self.logs[self.line].samples.append(q)
             self.last_q = q
+            if len(self.timeline) < MAX_TIMELINE:
+                self.timeline.append((t - self.started, self.line, q))
 
 
 def _boundaries(motion: Motion) -> list[float]:
@@ -245,11 +251,11 @@ def preflight(
             failed_line + 1, describe_step(listed[failed_line]), failure_reason, failure_obstacle
         )
     checks = []
+    refusal = twin.last_refusal
     for index, step in enumerate(listed):
         log = observer.logs.get(index)
         failed = index == failed_line
         samples = [] if log is None else list(log.samples)
-        refusal = twin.last_refusal
         if failed and refusal is not None and refusal.q is not None:
             samples.append(refusal.q)  # where it would collide: the step's closest approach
         closest = _closest(clearance, samples)
@@ -290,6 +296,8 @@ def preflight(
         first_failure=failure,
         notes=tuple(notes),
         elapsed_s=time.perf_counter() - began,
+        timeline=tuple(observer.timeline),
+        failure_q=None if failed_line is None or refusal is None else refusal.q,
     )
 
 

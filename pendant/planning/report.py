@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from pendant.controller.types import SignalLevel
 
 
@@ -78,6 +80,10 @@ class PreflightReport:
     first_failure: FirstFailure | None = None
     notes: tuple[str, ...] = field(default=())
     elapsed_s: float = 0.0  # wall time the check took
+    # For the page's playback (not in the JSON): (seconds from the start, 0-based line, joint angles rad),
+    # and where the first failure would touch (joint angles), when it is a collision.
+    timeline: tuple[tuple[float, int, np.ndarray], ...] = ()
+    failure_q: np.ndarray | None = None
 
     @property
     def ok(self) -> bool:

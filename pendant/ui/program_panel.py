@@ -41,6 +41,7 @@ from pendant.program.models import DEFAULT_INPUT_TIMEOUT_MS
 from pendant.program.tree import Line
 from pendant.ui.commands import CommandRunner, notify_refusal
 from pendant.ui.gui_target import GuiTarget
+from pendant.ui.program_check_panel import CheckSection
 from pendant.ui.program_file_panel import FileSection
 from pendant.ui.program_refusals import USER_ERRORS
 from pendant.ui.program_run_panel import RunSection
@@ -90,6 +91,7 @@ class ProgramPanel:
         self.history = gui.add_button_group("History", options=("Undo", "Redo"))
 
         self.run_section = RunSection(self)
+        self.check_section = CheckSection(self, arm)
         self.form = StepForm(self)
         self.waypoints = WaypointSection(self, arm)
         self.file_section = FileSection(self)
@@ -137,6 +139,7 @@ class ProgramPanel:
         """Stop following the workspace (the browser left)."""
         self.shared.remove_listener(self._listener)
         self.scene.close()
+        self.check_section.close()
 
     # --- shared by the sections ----------------------------------------------------------------------
     def allowed(self, client: viser.ClientHandle | None, label: str) -> bool:
@@ -341,7 +344,7 @@ class ProgramPanel:
                 else ""
             )
             # "4\." is not a Markdown list item: the list can never renumber itself around a bold line.
-            text = f"{mark} {i + 1}\\. {'&emsp;' * line.depth}{_label(line)}"
+            text = f"{mark} {i + 1}\\. {'&emsp;' * line.depth}{_label(line)}{self.check_section.mark(i)}"
             rows.append(f"**{text}**" if mark else text)
         self.steps_view.content = "  \n".join(rows) if rows else "_No steps: jog the arm and press Record._"
         self.scene.show(self.shared.program, self.selected, current)
