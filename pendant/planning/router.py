@@ -37,6 +37,14 @@ class PreflightOptions(BaseModel):
     while_loop_passes: Annotated[int, Field(ge=0, le=MAX_LOOP_PASSES)] = 1
 
 
+_BODY_DOC: dict[str, object] = {
+    "description": 'A program document as saved, or {"program": ..., "cell": ..., "inputs": {"1": "HIGH"}, '
+    '"while_loop_passes": 1}',
+    "required": True,
+    "content": {"application/json": {"schema": {"type": "object"}}},
+}
+
+
 def _refusal(status: int, message: str) -> Response:
     return Response(json.dumps(message), status_code=status, media_type="text/plain")
 
@@ -91,7 +99,11 @@ def preflight_router(controller: Controller, model: str, programs_dir: Path) -> 
             one_at_a_time.release()
         return Response(json.dumps(report.as_json()), media_type="application/json")
 
-    @router.post(PREFLIGHT_PATH, summary="Check a program on the digital twin (nothing moves)")
+    @router.post(
+        PREFLIGHT_PATH,
+        summary="Check a program on the digital twin (nothing moves)",
+        openapi_extra={"requestBody": _BODY_DOC},
+    )
     async def post_preflight(request: Request) -> Response:
         from starlette.concurrency import run_in_threadpool
 
