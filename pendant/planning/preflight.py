@@ -146,18 +146,19 @@ class _Observer:
         self._sample()
         now = self.twin.now()
         polls = 1
+        period = dt + self.twin.seed.poll_reads_s  # the sleep, then the poll's reads
         motion = self.twin.running_motion()
         # (a blended run is polled poll by poll: the runner tells which waypoint the arm heads for from where
         # it is, and so which step the time goes to)
         if motion is not None and dt > 0 and (motion.plan is None or len(motion.plan.waypoint_s) <= 1):
-            boundary = min((t for t in _boundaries(motion) if t > now + dt), default=now)
-            polls = max(1, math.floor((boundary - now) / dt))
+            boundary = min((t for t in _boundaries(motion) if t > now + period), default=now)
+            polls = max(1, math.floor((boundary - now) / period))
             for k in np.linspace(0, polls - 1, min(polls, SAMPLES_PER_SKIP))[1:]:
-                t = now + float(k) * dt
+                t = now + float(k) * period
                 self._keep(motion.q_at(t), t)
-        if now + polls * dt > self.deadline:
+        if now + polls * period > self.deadline:
             raise _TooLong
-        self.twin.advance(polls * dt)
+        self.twin.advance(polls * period)
 
     def _sample(self, force: bool = False) -> None:
         if self.line is None:

@@ -84,45 +84,55 @@ class DiagnosingPlanner(Planner):
                 self._plans[key] = found
         return found
 
-    def joint(  # type: ignore[override]
-        self, q_start: np.ndarray, targets: list[np.ndarray], *args: object, **kwargs: object
+    def joint(
+        self,
+        q_start: np.ndarray,
+        targets: list[np.ndarray],
+        params: MotionParams,
+        T_flange_tool: np.ndarray,
+        tool_radius: float,
+        unreachable_message: str,
+        cell: CellGeometry | None = None,
+        blends_rad: list[float] | None = None,
     ) -> Plan:
         self.last = None
-        key = ("joint", _key(q_start), _key(targets), _key(args), _key(kwargs))
+        inputs = (q_start, targets, params, T_flange_tool, tool_radius, unreachable_message, cell, blends_rad)
         try:
             return self._remembered(
-                key, lambda: super(DiagnosingPlanner, self).joint(q_start, targets, *args, **kwargs)
-            )  # type: ignore[arg-type]
+                ("joint", *map(_key, inputs)), lambda: super(DiagnosingPlanner, self).joint(*inputs)
+            )
         except Unreachable:
             if self.last is None:
                 self.last = self._limits(targets) or Refusal(Problem.JOINT_LIMIT)
             raise
 
-    def linear(  # type: ignore[override]
+    def linear(
         self,
         q_start: np.ndarray,
         tcp_targets: list[np.ndarray],
         params: MotionParams,
         T_flange_tool: np.ndarray,
-        *args: object,
-        **kwargs: object,
+        tool_radius: float,
+        unreachable_message: str,
+        q_final: np.ndarray | None = None,
+        cell: CellGeometry | None = None,
+        blends_m: list[float] | None = None,
     ) -> Plan:
         self.last = None
-        key = (
-            "linear",
-            _key(q_start),
-            _key(tcp_targets),
-            _key(params),
-            _key(T_flange_tool),
-            _key(args),
-            _key(kwargs),
+        inputs = (
+            q_start,
+            tcp_targets,
+            params,
+            T_flange_tool,
+            tool_radius,
+            unreachable_message,
+            q_final,
+            cell,
+            blends_m,
         )
         try:
             return self._remembered(
-                key,
-                lambda: super(DiagnosingPlanner, self).linear(
-                    q_start, tcp_targets, params, T_flange_tool, *args, **kwargs
-                ),  # type: ignore[arg-type]
+                ("linear", *map(_key, inputs)), lambda: super(DiagnosingPlanner, self).linear(*inputs)
             )
         except Unreachable:
             if self.last is None:

@@ -7,6 +7,9 @@ instead of sleeping, so a minute of program takes milliseconds of planning.
 
 from __future__ import annotations
 
+import dataclasses
+import statistics
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,6 +30,8 @@ from pendant.planning.refusal import DiagnosingPlanner, Refusal
 from pendant.sim import FakeClock, SimController
 from pendant.sim.timeline import Motion
 
+POLL_READ_TRIES = 5
+
 
 @dataclass(frozen=True)
 class TwinSeed:
@@ -40,11 +45,14 @@ class TwinSeed:
     outputs: dict[int, SignalLevel]
     inputs: dict[int, SignalLevel]
     notes: tuple[str, ...] = ()  # what could not be read (an older firmware without a cell), in words
+    # How long the runner's two reads of a poll (motion status, where the arm is) take on this link: a run
+    # polls every 50 ms plus this, and so notices the end of each motion that much later.
+    poll_reads_s: float = 0.0
 
     def with_cell(self, obstacles: list[Obstacle], tool_shape: ToolShape | None) -> TwinSeed:
         """The same arm in another cell (a cell file); the tool shape kept when the file has none."""
         shape = self.tool_shape if tool_shape is None else tool_shape
-        return TwinSeed(self.pose, self.tool, shape, self.base, tuple(obstacles), self.outputs, self.inputs)
+        return dataclasses.replace(self, obstacles=tuple(obstacles), tool_shape=shape)
 
 
 def read_seed(controller: Controller) -> TwinSeed:
@@ -58,6 +66,7 @@ def read_seed(controller: Controller) -> TwinSeed:
         obstacles, shape = (), ToolShape(shape=[])
         notes.append("this controller has no cell operations (older firmware): checked without obstacles")
     return TwinSeed(
+        poll_reads_s=_poll_reads_s(controller),
         pose=controller.get_pose(),
         tool=controller.get_tool(),
         tool_shape=shape,
@@ -67,6 +76,17 @@ def read_seed(controller: Controller) -> TwinSeed:
         inputs={port: controller.get_input(port) for port in INPUT_PORTS},
         notes=tuple(notes),
     )
+
+
+def _poll_reads_s(controller: Controller) -> float:
+    """The median time of a runner's poll reads (GET /status/motion and GET /pose) over a few tries."""
+    times = []
+    for _ in range(POLL_READ_TRIES):
+        started = time.perf_counter()
+        controller.get_motion_status()
+        controller.get_pose()
+        times.append(time.perf_counter() - started)
+    return statistics.median(times)
 
 
 class TwinSetupError(Exception):

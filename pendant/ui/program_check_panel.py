@@ -85,11 +85,14 @@ class CheckSection:
                 hint="Run without a passing pre-flight (logged)",
                 visible=self.shared.gate.required,
             )
-        self.check.on_click(lambda e: host.with_controller("Check", e.client, self._check))
+        self.check.on_click(lambda e: self._start_check(e.client))
         self.override.on_click(lambda e: self._confirm_override(e.client))
         self.playback.on_update(self._on_playback)
 
     # --- the check -------------------------------------------------------------------------------------
+    def _start_check(self, client: viser.ClientHandle | None) -> None:
+        self._host.with_controller("Check", client, self._check)  # off the UI thread; `pending` to wait on
+
     def _check(self, controller: Controller) -> PreflightReport | None:
         workspace = self._host.shared
         program = workspace.program

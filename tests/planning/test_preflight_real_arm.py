@@ -6,7 +6,6 @@ from __future__ import annotations
 import collections
 import json
 import subprocess
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -28,6 +27,10 @@ from tests.support.waiting import wait_until
 
 CYCLE_TIME_TOLERANCE = 0.03  # the bound: within 3 % of the run's
 CLI_TIMEOUT_S = 60.0
+# The arm's clock: real time, on the simulator's scaled clock (any scale but 1), which stands still while the
+# simulator plans a move, as the twin's does: the run's cycle time is then the arm's motion and the runner's
+# polling, not how long this loaded machine takes to plan.
+ARM_TIME_SCALE = "1.0001"
 
 
 class Rig:
@@ -57,11 +60,15 @@ class Rig:
 @pytest.fixture(scope="module")
 def rig() -> Iterator[Rig]:
     with (
-        running_pendant() as arm_url,
+        running_pendant("--time-scale", ARM_TIME_SCALE) as arm_url,
         counting_forwarder(arm_url) as (forwarder, counts),
         running_pendant("--robot", forwarder) as pendant_url,
     ):
         yield Rig(arm_url, pendant_url, counts)
+
+
+def arm_clock(rig: Rig) -> float:
+    return float(httpx.get(f"{rig.arm_url}/sim/clock", timeout=10).json()["time"])
 
 
 def program_json() -> dict[str, object]:
@@ -99,10 +106,10 @@ def test_without_the_box_it_passes_with_the_cycle_time_of_a_real_run(rig: Rig) -
     assert set(rig.counts) == {"GET"}
     assert all(s["ok"] and s["checked"] for s in report["steps"])
 
-    runner = ProgramRunner(RemoteController(rig.pendant_url))
-    started = time.monotonic()
+    runner = ProgramRunner(RemoteController(rig.arm_url))
+    started = arm_clock(rig)
     result = runner.run(swing_program())
-    real_cycle = time.monotonic() - started
+    real_cycle = arm_clock(rig) - started
 
     assert result.state is RunState.FINISHED, result.message
     error = abs(report["cycle_time_s"] - real_cycle) / real_cycle
