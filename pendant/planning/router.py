@@ -16,6 +16,7 @@ from typing import Annotated
 
 from fastapi import APIRouter, Request, Response
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from starlette.concurrency import run_in_threadpool
 
 from pendant.cell.file import Cell
 from pendant.controller import Controller, ControllerError
@@ -70,7 +71,7 @@ def preflight_router(controller: Controller, model: str, programs_dir: Path) -> 
     router = APIRouter(tags=["pendant"])
     one_at_a_time = threading.Lock()
 
-    # A plain `def`: FastAPI runs it in its thread pool, so the check never blocks the event loop.
+    # Run in the thread pool (the body is read first, on the event loop): a check never blocks the loop.
     def run_preflight(body: bytes) -> Response:
         try:
             options = _options(body)
@@ -105,8 +106,6 @@ def preflight_router(controller: Controller, model: str, programs_dir: Path) -> 
         openapi_extra={"requestBody": _BODY_DOC},
     )
     async def post_preflight(request: Request) -> Response:
-        from starlette.concurrency import run_in_threadpool
-
         return await run_in_threadpool(run_preflight, await request.body())
 
     return router
