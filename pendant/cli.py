@@ -6,6 +6,7 @@
     pendant run PROGRAM.json [--robot URL] [--loops N]
     pendant diff A.json B.json
     pendant history PROGRAM [--programs DIR]
+    pendant preflight PROGRAM.json [--robot URL] [--cell CELL.json] [--input N=HIGH ...] [--json]
 
 serves the pendant's page and the PULSE REST API (the simulator's, or a proxy to the real arm at --robot);
 with --no-ui, the API alone on the controller's own port (its clock K times the wall clock with
@@ -31,6 +32,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from fastapi import APIRouter
 from starlette.types import ASGIApp
 
 from pendant import __version__
@@ -261,6 +263,7 @@ def make_api_app(
             stops=stops,
         )
         proxy.include_router(plan_router(controller, ArmModel.load(settings.model)))
+        proxy.include_router(_preflight_router(settings, controller))
         return proxy
     from pendant.api import create_app
 
@@ -269,10 +272,20 @@ def make_api_app(
     app.include_router(
         plan_router(controller, getattr(controller, "arm", None) or ArmModel.load(settings.model))
     )
+    app.include_router(_preflight_router(settings, controller))
     if metrics is None:
         metrics = PendantMetrics(controller, mode="sim", model=settings.model, robot_url=None)
     add_monitoring(app, metrics, store)
     return app
+
+
+def _preflight_router(settings: Settings, controller: Controller) -> APIRouter:
+    """POST /pendant/preflight: the program checked on a twin of this controller (nothing moves)."""
+    from pendant.planning.router import preflight_router
+    from pendant.program import programs_dir
+
+    folder = Path(settings.programs_dir) if settings.programs_dir else programs_dir()
+    return preflight_router(controller, settings.model, folder)
 
 
 def start_ui(
@@ -360,6 +373,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         from pendant.program import history_cli
 
         return (history_cli.diff_main if args[0] == "diff" else history_cli.history_main)(args[1:])
+    if args[:1] == ["preflight"]:  # `pendant preflight PROGRAM.json ...`: checked on the twin, nothing moves
+        from pendant.planning.command import main as preflight_program
+
+        return preflight_program(args[1:])
     settings = with_access_token(parse_settings(argv))
     started_at = time.monotonic()
     controller = make_controller(settings)

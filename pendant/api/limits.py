@@ -32,11 +32,15 @@ from pendant.controller.operations import (
 
 # Each operation's limit comes from the operations table (a document 8 KiB, a run 128 KiB, else 1 KiB).
 __all__ = ["BODY_LIMITS", "DEFAULT_BODY_LIMIT", "DOCUMENT_BODY_LIMIT", "RUN_BODY_LIMIT", "BodySizeLimit"]
+# The pendant's own routes beside the PULSE operations: a program to pre-flight (a file holds at most 5 MB)
+# with its cell (at most 1 MB).
+PENDANT_BODY_LIMITS: dict[tuple[str, str], int] = {("POST", "/pendant/preflight"): 6_000_000}
 
 
 def body_limit(method: str, path: str) -> int:
     """The largest body, in bytes, a request to `method path` may carry."""
-    return BODY_LIMITS.get((method, path.rstrip("/") or "/"), DEFAULT_BODY_LIMIT)
+    key = (method, path.rstrip("/") or "/")
+    return BODY_LIMITS.get(key) or PENDANT_BODY_LIMITS.get(key, DEFAULT_BODY_LIMIT)
 
 
 def too_large_message(limit: int) -> str:

@@ -174,6 +174,11 @@ class ArmModel:
         an arm with a cell adds the contact rule, see pendant.cell.geometry.CellAwareArm)."""
         return self.in_collision
 
+    def moving_shape_names(self) -> list[str]:
+        """The URDF names of `moving_shapes`' shapes, in the same order (for messages)."""
+        with self._pin_lock:
+            return self._pin.collision.moving_shape_names()
+
     def colliding_pairs(self, q: np.ndarray) -> list[tuple[str, str]]:
         """The (geometry, geometry) name pairs in contact at q ("floor" for the floor), for messages."""
         q = joint_vector(q)

@@ -87,6 +87,11 @@ class ArmCollision:
             if objects[i].parentJoint != UNIVERSE_JOINT
         ]
 
+    def moving_shape_names(self) -> list[str]:
+        """The names of `moving_shapes`' shapes, in the same order ("link3_1": link3's second shape)."""
+        objects = self.geometry_model.geometryObjects
+        return [objects[i].name for i in range(len(objects)) if objects[i].parentJoint != UNIVERSE_JOINT]
+
     @property
     def pair_count(self) -> int:
         return len(self.geometry_model.collisionPairs)

@@ -1,4 +1,5 @@
-"""Planning on the pendant's side: collision-free joint paths (OMPL) over the shared cell check."""
+"""Planning ahead of the arm: collision-free joint paths (OMPL) over the shared cell check, the digital
+twin, pre-flight checks of programs and the Run gate."""
 
 from __future__ import annotations
 

@@ -98,6 +98,8 @@ def test_on_a_controller_without_run_operations_the_tab_says_the_path_played_sto
         panel = ProgramPanel(server, workspace, commands, arm=sim.arm)
         try:
             workspace.insert_step(step)
+            fire(panel.check_section.check, FakeClient())  # a real arm: Run waits for a passing check
+            assert panel.pending is not None and panel.pending.result(timeout=WAIT_S).ok
             fire(panel.run, FakeClient())
             workspace.runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]
             assert workspace.progress.state is RunState.FINISHED

@@ -60,6 +60,10 @@ class CommandRunner:
         self._pool = ThreadPoolExecutor(max_workers=2, thread_name_prefix="pendant-command")
         self._urgent = ThreadPoolExecutor(max_workers=1, thread_name_prefix="pendant-freeze")
 
+    @property
+    def controller(self) -> Controller:
+        return self._controller
+
     def refusal(self, client: viser.ClientHandle | None, label: str, *, motion: bool = False) -> str | None:
         """Why `client` may not send `label` (and tell it so), or None; `motion`: it moves the arm."""
         reason = self.gate(client) if client is not None else None

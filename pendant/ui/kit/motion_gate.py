@@ -23,9 +23,7 @@ def explain_in_error(motion_status: Callable[[], MotionStatus | None]) -> Callab
     def explain(message: str) -> str:
         state = motion_status()
         if state in (MotionStatus.ERROR, MotionStatus.MOTION_FAILED):
-            return (
-                f"The arm is in {state.value}: press Recover in the banner first (controller: {message})"
-            )
+            return f"The arm is in {state.value}: press Recover in the banner first (controller: {message})"
         return message
 
     return explain

@@ -11,6 +11,7 @@ from concurrent.futures import Future
 from typing import Protocol
 
 import viser
+from viser.extras import ViserUrdf
 
 from pendant.cell.geometry import CellModel
 from pendant.controller import Controller
@@ -41,6 +42,23 @@ class ProgramHost(Protocol):
         ...
 
     def selected_line(self) -> Line | None: ...
+
+    def redraw_program(self) -> None:
+        """Redraw the step list (the Check's marks changed)."""
+        ...
+
+    def start_run(self, label: str, client: viser.ClientHandle | None) -> None:
+        """Run, Run from or Step, as the run section's buttons do."""
+        ...
+
+    def run_allowed(self, label: str, client: viser.ClientHandle | None) -> bool:
+        """The Run gate on a real arm: a passing pre-flight of the program as it is now, or an override."""
+        ...
+
+    @property
+    def ghost(self) -> ViserUrdf | None:
+        """The tab's translucent ghost arm (the Check's playback moves it)."""
+        ...
 
     def select_line(self, index: int | None) -> None: ...
 

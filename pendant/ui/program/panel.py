@@ -13,6 +13,7 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import Future
 
 import viser
+from viser.extras import ViserUrdf
 
 from pendant.cell.geometry import CellModel
 from pendant.controller import Controller
@@ -21,6 +22,7 @@ from pendant.program import Change, EditError, ProgramWorkspace, describe_step
 from pendant.program.tree import Line
 from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.program.check_section import CheckSection
 from pendant.ui.program.file_section import FileSection
 from pendant.ui.program.history_section import HistorySection
 from pendant.ui.program.new_step import ADD_OPTIONS, STRUCTURE_OPTIONS, new_step, waypoint_here
@@ -71,6 +73,7 @@ class ProgramPanel:
         self.history = gui.add_button_group("History", options=("Undo", "Redo"))
 
         self.run_section = RunSection(self)
+        self.check_section = CheckSection(self, arm)
         self.form = StepForm(self)
         self.waypoints = WaypointSection(self, arm)
         self.file_section = FileSection(self)
@@ -120,6 +123,7 @@ class ProgramPanel:
         self.shared.remove_listener(self._listener)
         self.scene.close()
         self.history_section.close()
+        self.check_section.close()
 
     # --- shared by the sections ----------------------------------------------------------------------
     def allowed(self, client: viser.ClientHandle | None, label: str) -> bool:
@@ -234,6 +238,16 @@ class ProgramPanel:
         self.selected = int(value.split(".", 1)[0]) - 1 if value != NO_STEP else None
         self.redraw_program()
 
+    def start_run(self, label: str, client: viser.ClientHandle | None) -> None:
+        self.run_section.start(label, client)
+
+    def run_allowed(self, label: str, client: viser.ClientHandle | None) -> bool:
+        return self.check_section.allows(label, client)
+
+    @property
+    def ghost(self) -> ViserUrdf | None:
+        return self.waypoints.ghost
+
     def redraw_program(self) -> None:
         listed = self.shared.lines()
         if self.selected is not None and not 0 <= self.selected < len(listed):
@@ -280,7 +294,7 @@ class ProgramPanel:
                 else ""
             )
             # "4\." is not a Markdown list item: the list can never renumber itself around a bold line.
-            text = f"{mark} {i + 1}\\. {'&emsp;' * line.depth}{_label(line)}"
+            text = f"{mark} {i + 1}\\. {'&emsp;' * line.depth}{_label(line)}{self.check_section.mark(i)}"
             rows.append(f"**{text}**" if mark else text)
         self.steps_view.content = "  \n".join(rows) if rows else "_No steps: jog the arm and press Record._"
         self.scene.show(self.shared.program, self.selected, current)

@@ -49,9 +49,12 @@ class RunSection:
             lambda e: commands.submit("Stop", lambda _: host.shared.stop(), e.client, urgent=True)
         )
 
+    def start(self, label: str, client: viser.ClientHandle | None) -> None:
+        self._start(label, client)
+
     def _start(self, label: str, client: viser.ClientHandle | None) -> None:
         host = self._host
-        if not host.allowed(client, label):
+        if not host.allowed(client, label) or not host.run_allowed(label, client):
             return
         shared = host.shared
         state = shared.progress.state

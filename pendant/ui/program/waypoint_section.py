@@ -153,6 +153,11 @@ class WaypointSection:
             self.name.value = name
         self._show_ghost()
 
+    @property
+    def ghost(self) -> ViserUrdf | None:
+        """The tab's translucent ghost arm (the Check's playback moves it too)."""
+        return self._ghost
+
     def _show_ghost(self) -> None:
         if self._ghost is None:
             return
