@@ -211,7 +211,7 @@ class ProgramPanel:
 
     # --- editing ------------------------------------------------------------------------------------
     def _insert_at(self) -> int | None:
-        """Where a new step goes: after the selected line only when the operator asked for it, else the end."""
+        """Where a new step goes: after the selected line only when the operator asked so, else the end."""
         return self.selected if bool(self.insert_after.value) else None
 
     def _record(self, controller: Controller) -> None:
