@@ -26,6 +26,7 @@ PAGE_PATHS = ("/", "/index.html")
 # does not wait for its worker's last message, which may die with the page, nor for the deadman.
 STOP_JOG_PATH = "/pendant-stop-jog"
 SCRIPT_PATH = Path(__file__).with_name("client_page.js")
+ACCESSIBILITY_PATH = Path(__file__).with_name("accessibility.js")  # labels and contrast: a script of its own
 VISER_PAGE = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
 
 ProcessRequest = Callable[[ServerConnection, Request], "Response | Awaitable[Response | None] | None"]
@@ -35,7 +36,9 @@ ProcessRequest = Callable[[ServerConnection, Request], "Response | Awaitable[Res
 def page_html() -> bytes:
     """viser's page with the pendant's script as the first thing in <head>, before viser's own."""
     page = VISER_PAGE.read_bytes()
-    script = b"<script>" + SCRIPT_PATH.read_bytes() + b"</script>"
+    script = b"".join(
+        b"<script>" + path.read_bytes() + b"</script>" for path in (SCRIPT_PATH, ACCESSIBILITY_PATH)
+    )
     head = page.index(b"<head>") + len(b"<head>")
     return page[:head] + script + page[head:]
 
