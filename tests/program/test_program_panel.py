@@ -162,13 +162,16 @@ def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -
     fire(panel.select, browser, "1. Move J to P1 @ 20%")
     panel.close()  # the operator reloads: a new page, its own panel (in a scene of its own)
     elsewhere = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
-    reloaded = ProgramPanel(elsewhere, workspace, CommandRunner(sim))
+    reloaded = ProgramPanel(elsewhere, workspace, CommandRunner(sim), arm=sim.arm)
     try:
         assert reloaded.selected is None and reloaded.select.value == NO_SELECTION
+        ghost = reloaded.waypoints._ghost
+        assert ghost is not None and not ghost.show_visual  # nothing selected, nothing previewed
         teach(sim, clock, POSE_C_DEG, "ignored")
         record(reloaded, browser)
         assert [s.waypoint for s in workspace.program.steps] == ["P1", "P2", "P3"]  # type: ignore[union-attr]
         fire(reloaded.select, browser, "1. Move J to P1 @ 20%")
+        assert ghost.show_visual  # a move selected: its waypoint previewed
         record(reloaded, browser)  # a selection alone still appends
         assert workspace.program.steps[-1].waypoint == "P4"  # type: ignore[union-attr]
         fire(reloaded.select, browser, "1. Move J to P1 @ 20%")
