@@ -1,5 +1,5 @@
 """The Dashboard in a real browser: the legend shows each joint's value (not "--") with its unit, the
-event log lists what the API did, and "Join from a tablet" shows a QR code of the page's URL (on loopback: how to expose it)."""
+event log lists what the API did, and "Join from a tablet" says how to expose a pendant on loopback."""
 
 from __future__ import annotations
 
