@@ -66,14 +66,16 @@ def test_on_loopback_the_banner_stays_short(capsys: pytest.CaptureFixture[str]) 
     assert "█" not in out, "no QR code for a pendant only this machine can open"
 
 
-def test_the_page_shows_the_viewer_qr(sim: SimController) -> None:
+def test_the_page_shows_the_viewer_qr_or_how_to_expose_the_page(sim: SimController) -> None:
     page = new_page(sim, sim.arm, mode_line="sim")
     try:
         session = page.open_session(page.server)
         assert session.join is not None
         assert page.join_urls == [f"http://127.0.0.1:{page.server.get_port()}/"]
-        html = qr_html(page.join_urls)
-        assert html.count("<svg") == 1 and page.join_urls[0] in html
+        html = qr_html(page.join_urls)  # loopback: no QR code a tablet could not open, but how to expose it
+        assert "<svg" not in html and "pendant --host 0.0.0.0" in html and "loopback only" in html
+        lan = "http://192.168.1.20:8080/"
+        assert qr_html([lan]).count("<svg") == 1 and lan in qr_html([lan])
         for callback in session.join._impl.update_cb:  # pressed: the dialog opens with that QR code
             callback(viser.GuiEvent(client=None, client_id=0, target=session.join))  # type: ignore[arg-type]
     finally:

@@ -100,7 +100,7 @@ def test_an_obstacle_added_in_the_page_refuses_a_move_through_it(page, pendant: 
     fill_after(page, "Name", ("wall",))
     fill_after(page, "Position mm", WALL_MM)
     fill_after(page, "Size mm", (WALL_SIDE_MM,) * 3)
-    page.get_by_role("button", name="Add / update obstacle").click()
+    page.get_by_role("button", name="Add obstacle").click()
     try:
         deadline = time.monotonic() + SHOWN_WITHIN_S
         while [o["name"] for o in obstacles(pendant)] != ["wall"]:

@@ -1,5 +1,5 @@
 """The Dashboard in a real browser: the legend shows each joint's value (not "--") with its unit, the
-event log lists what the API did, and "Join from a tablet" shows a QR code of the page's URL."""
+event log lists what the API did, and "Join from a tablet" says how to expose a pendant on loopback."""
 
 from __future__ import annotations
 
@@ -26,6 +26,6 @@ def test_dashboard_plots_log_and_join_qr(page, pendant: Pendant) -> None:
     page.screenshot(path=str(ARTIFACTS / "dashboard.png"), full_page=True)
 
     page.get_by_role("button", name="Join from a tablet (QR)").click()
-    qr = page.locator("#join-qr svg")
-    qr.wait_for(timeout=TIMEOUT_MS)
-    assert page.locator("#join-qr").inner_text().strip() == pendant.ui_url
+    note = page.locator("#join-loopback")  # the test's pendant listens on loopback: no tablet could join
+    note.wait_for(timeout=TIMEOUT_MS)
+    assert "pendant --host 0.0.0.0" in note.inner_text()

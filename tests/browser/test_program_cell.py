@@ -85,6 +85,8 @@ def test_teach_and_run_a_pallet_pick_and_place(page, pendant: Pendant) -> None:
     if take_control.is_visible():
         take_control.click()
     page.get_by_role("tab", name="Program").click()
+    # Nested steps are built in place: each new step goes after the selected one (by default: at the end).
+    page.get_by_label("Insert after selected step", exact=True).check()
 
     for angles in CORNERS_DEG:  # the tray's corners: waypoints without a move
         move_to(pendant, angles)

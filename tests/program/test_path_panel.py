@@ -33,7 +33,7 @@ def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup
     workspace.insert_step(step)
     count = len(step.points)
     line = f"2. Path s1: {count} waypoints, 1 mm / 1° @ 100 mm/s"
-    assert list(panel.select.options)[1] == line
+    assert list(panel.select.options)[2] == line  # after "(no step selected)" and line 1
 
     drawn = {node.name: node for node in panel.scene._nodes}
     polyline = drawn[f"{ROOT}/recorded_paths"]
@@ -58,7 +58,7 @@ def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup
 
     fire(panel.order, browser, "Up")
     assert isinstance(workspace.program.steps[0], PathStep)
-    fire(panel.select, browser, panel.select.options[0])
+    fire(panel.select, browser, panel.select.options[1])
     fire(panel.order, browser, "Delete step")
     assert [type(s) for s in workspace.program.steps] == [OutputStep]
 
@@ -70,7 +70,7 @@ def test_another_tolerance_simplifies_the_kept_recording_again(setup, sim, clock
     recording = hand_drawn_s(sim, clock, folder=workspace.path_recordings)
     step = path_step(recording, name="s1").model_copy(update={"velocity_mm_s": 40.0})
     workspace.insert_step(step)
-    fire(panel.select, browser, panel.select.options[0])
+    fire(panel.select, browser, panel.select.options[1])
 
     fire(panel.form.path_tol, browser, (4.0, 4.0))
 

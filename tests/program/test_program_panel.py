@@ -25,7 +25,7 @@ from pendant.program import (
 )
 from pendant.sim import FakeClock, SimController
 from pendant.ui.kit.commands import CommandRunner
-from pendant.ui.program.panel import ProgramPanel
+from pendant.ui.program.panel import NO_SELECTION, ProgramPanel
 from tests.support.ports import free_port
 
 from .conftest import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, teach
@@ -90,13 +90,14 @@ def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path)
         teach(sim, clock, pose, "ignored")
         record(panel, browser)
     sim.reset()
-    assert list(panel.select.options) == ["1. Move J to P1 @ 20%", "2. Move J to P2 @ 20%"]
+    assert list(panel.select.options) == [NO_SELECTION, "1. Move J to P1 @ 20%", "2. Move J to P2 @ 20%"]
     assert "P2" in panel.steps_view.content
     assert len(panel.scene._markers) == 2
 
     fire(panel.select, browser, "1. Move J to P1 @ 20%")
     fire(panel.form.speed, browser, 80.0)
-    fire(panel.add, browser, "Set DO")  # after the selected step
+    fire(panel.insert_after, browser, True)
+    fire(panel.add, browser, "Set DO")  # after the selected step, as asked
     steps = workspace.program.steps
     assert isinstance(steps[0], MoveStep) and steps[0].speed == 80.0
     assert steps[1] == OutputStep(port=1, level=SignalLevel.HIGH)
@@ -140,17 +141,47 @@ def test_a_refused_upload_is_explained_and_changes_nothing(setup, sim) -> None: 
     assert "newer pendant" in browser.notifications[-1]["body"]
 
 
-# Both panels here draw into the server's one scene (in the pendant each browser has its own): the second
-# panel's redraw removes nodes the first already replaced, which viser reports as a warning.
-@pytest.mark.filterwarnings("ignore:Attempted to remove already removed node")
-def test_two_browsers_see_the_same_program(setup, server, sim) -> None:  # type: ignore[no-untyped-def]
+def test_two_browsers_see_the_same_program(setup, sim) -> None:  # type: ignore[no-untyped-def]
     panel, workspace = setup
-    other = ProgramPanel(server, workspace, CommandRunner(sim))
+    elsewhere = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)  # its own scene
+    other = ProgramPanel(elsewhere, workspace, CommandRunner(sim))
     try:
         record(panel, FakeClient())
-        assert list(other.select.options) == ["1. Move J to P1 @ 20%"]
+        assert list(other.select.options) == [NO_SELECTION, "1. Move J to P1 @ 20%"]
     finally:
         other.close()
+        elsewhere.stop()
+
+
+def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]
+    panel, workspace = setup
+    browser = FakeClient()
+    for pose in (POSE_A_DEG, POSE_B_DEG):
+        teach(sim, clock, pose, "ignored")
+        record(panel, browser)
+    fire(panel.select, browser, "1. Move J to P1 @ 20%")
+    panel.close()  # the operator reloads: a new page, its own panel (in a scene of its own)
+    elsewhere = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    reloaded = ProgramPanel(elsewhere, workspace, CommandRunner(sim), arm=sim.arm)
+    try:
+        assert reloaded.selected is None and reloaded.select.value == NO_SELECTION
+        ghost = reloaded.waypoints._ghost
+        assert ghost is not None and not ghost.show_visual  # nothing selected, nothing previewed
+        teach(sim, clock, POSE_C_DEG, "ignored")
+        record(reloaded, browser)
+        assert [s.waypoint for s in workspace.program.steps] == ["P1", "P2", "P3"]  # type: ignore[union-attr]
+        fire(reloaded.select, browser, "1. Move J to P1 @ 20%")
+        assert ghost.show_visual  # a move selected: its waypoint previewed
+        record(reloaded, browser)  # a selection alone still appends
+        assert workspace.program.steps[-1].waypoint == "P4"  # type: ignore[union-attr]
+        fire(reloaded.select, browser, "1. Move J to P1 @ 20%")
+        fire(reloaded.insert_after, browser, True)  # the visible toggle: after the selected step
+        record(reloaded, browser)
+        assert [s.waypoint for s in workspace.program.steps] == ["P1", "P5", "P2", "P3", "P4"]  # type: ignore[union-attr]
+        assert reloaded.select.value == "2. Move J to P5 @ 20%"
+    finally:
+        reloaded.close()
+        elsewhere.stop()
 
 
 def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]

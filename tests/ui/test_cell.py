@@ -21,6 +21,7 @@ from pendant.controller.cell_types import (
 from pendant.jog import JogFrame, JogRequest
 from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
+from pendant.ui.cell.panel import NEW
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 
@@ -77,7 +78,8 @@ def test_the_cell_tab_adds_renames_and_deletes_on_the_controller(
     fire(ui.cell.at, browser, (500.0, 0.0, 50.0))
     fire(ui.cell.rpy, browser, (0.0, 0.0, 30.0))
     fire(ui.cell.size, browser, (300.0, 600.0, 100.0))
-    fire(ui.cell.apply, browser)
+    assert ui.cell.apply.disabled  # "(new obstacle)": nothing to update, only Add
+    fire(ui.cell.add, browser)
     wait_for(lambda: names(sim) == ["table"], "the box on the controller")
     table = sim.get_obstacle("table")
     assert isinstance(table, BoxObstacle)
@@ -93,9 +95,42 @@ def test_the_cell_tab_adds_renames_and_deletes_on_the_controller(
     pendant_ui.refresh_cell()
     assert ui.cell.selected.value == "bench"
 
-    ui.cell.remove(browser).result(timeout=WAIT_S)  # type: ignore[union-attr]
-    assert names(sim) == []
+    fire(ui.cell.delete, browser)  # asks first
+    assert names(sim) == ["bench"] and "Delete the obstacle 'bench'?" in ui.cell.confirmation.question.content
+    fire(ui.cell.confirmation.buttons, browser, "Yes")
+    wait_for(lambda: names(sim) == [], "the obstacle deleted")
     assert browser.notifications == []
+
+
+def test_update_edits_the_selected_obstacle_and_add_never_replaces_one(
+    pendant_ui: PendantUI, ui: ClientSession, sim: SimController
+) -> None:
+    browser = FakeBrowser(OPERATOR)
+    for name, x in (("left", 400.0), ("right", 600.0)):
+        fire(ui.cell.selected, browser, NEW)
+        fire(ui.cell.name, browser, name)
+        fire(ui.cell.at, browser, (x, 300.0, 100.0))
+        ui.cell.submit(browser, add=True).result(timeout=WAIT_S)  # type: ignore[union-attr]
+        pendant_ui.refresh_cell()
+    fire(ui.cell.selected, browser, "left")
+    fire(ui.cell.at, browser, (450.0, 350.0, 100.0))  # moved, then Update: the same obstacle, moved
+    fire(ui.cell.apply, browser)
+    wait_for(lambda: sim.get_obstacle("left").centerPosition.point.x == pytest.approx(0.45), "left moved")  # type: ignore[union-attr]
+    assert names(sim) == ["left", "right"]
+
+    fire(ui.cell.add, browser)  # the selected one's name: Add would replace it, so it is refused
+    fire(ui.cell.name, browser, "right")
+    fire(ui.cell.apply, browser)  # renaming onto another obstacle's name would replace that one
+    assert browser.notifications == [
+        "Obstacle not added: an obstacle is already called 'left': pick another name",
+        "Obstacle not renamed: an obstacle is already called 'right': pick another name",
+    ]
+    assert names(sim) == ["left", "right"]
+
+    fire(ui.cell.clear, browser)  # asks first; Cancel keeps everything
+    assert "Delete all 2 obstacles?" in ui.cell.confirmation.question.content
+    fire(ui.cell.confirmation.buttons, browser, "Cancel")
+    assert names(sim) == ["left", "right"] and not ui.cell.confirmation.question.visible
 
 
 def test_a_capsule_from_the_form_keeps_its_ends_and_radius(ui: ClientSession, sim: SimController) -> None:
@@ -105,7 +140,7 @@ def test_a_capsule_from_the_form_keeps_its_ends_and_radius(ui: ClientSession, si
     fire(ui.cell.at, browser, (400.0, 300.0, 0.0))
     fire(ui.cell.end, browser, (400.0, 300.0, 600.0))
     fire(ui.cell.radius, browser, 40.0)
-    ui.cell.submit(browser).result(timeout=WAIT_S)  # type: ignore[union-attr]
+    ui.cell.submit(browser, add=True).result(timeout=WAIT_S)  # type: ignore[union-attr]
     post = sim.get_obstacle("post")
     assert isinstance(post, CapsuleObstacle)
     assert post.radius == pytest.approx(0.04)
@@ -119,11 +154,11 @@ def test_bad_fields_and_viewers_are_refused_and_the_cell_is_unchanged(
     fire(ui.cell.kind, operator, "BOX")
     fire(ui.cell.name, operator, "flat")
     fire(ui.cell.size, operator, (100.0, 0.0, 100.0))
-    assert ui.cell.submit(operator) is None
+    assert ui.cell.submit(operator, add=True) is None
     assert operator.notifications == ["Obstacle not added: a box's sides must be longer than 0 mm"]
 
     fire(ui.cell.size, operator, (100.0, 100.0, 100.0))
-    refused = ui.cell.submit(viewer)
+    refused = ui.cell.submit(viewer, add=True)
     assert refused is not None and refused.exception(timeout=WAIT_S) is not None
     assert any("refused" in n for n in viewer.notifications)
     assert names(sim) == []
@@ -176,7 +211,7 @@ def test_an_obstacle_touching_the_moving_arm_is_refused_with_the_controllers_mes
     fire(ui.cell.kind, browser, "BOX")
     fire(ui.cell.name, browser, "on the arm")
     fire(ui.cell.at, browser, tuple(float(v) for v in flange))
-    future = ui.cell.submit(browser)
+    future = ui.cell.submit(browser, add=True)
     assert future is not None and future.exception(timeout=WAIT_S) is not None
     assert any("Collision detected: the obstacle touches the arm" in n for n in browser.notifications)
     assert names(sim) == []

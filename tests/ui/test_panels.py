@@ -385,7 +385,9 @@ def test_fault_buttons_inject_the_fault_and_reset_clears_it(
     snapshot = pendant_ui.refresh()
     assert snapshot.motion_status is status and snapshot.error == message
 
-    fire(ui.sim_panel.reset, operator)
+    fire(ui.sim_panel.reset, operator)  # asks first
+    assert "Reset the simulator?" in ui.sim_panel.confirmation.question.content
+    fire(ui.sim_panel.confirmation.buttons, operator, "Yes")
     commands.wait()
     snapshot = pendant_ui.refresh()
     assert snapshot.motion_status is MotionStatus.IDLE and snapshot.error is None

@@ -15,6 +15,7 @@ from pendant.program import RunState
 from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.kit.commands import CommandRefused
+from pendant.ui.kit.view_only import VIEW_ONLY_HINT
 from pendant.ui.page.roles import MSG_NO_TOKEN, MSG_WRONG_TOKEN
 from tests.support.doubles import FakeBrowser, fire
 from tests.support.pages import new_page
@@ -100,6 +101,9 @@ def test_a_viewers_page_has_its_controls_disabled_except_freeze(local_ui: Pendan
         viewer.settings.set_tool.disabled and viewer.sim_panel is not None and viewer.sim_panel.reset.disabled
     )
     assert viewer.dashboard.record_start.disabled
+    # Greyed out and saying why on hover: the program's Record, and the pad's HTML jog buttons.
+    assert viewer.program.record.disabled and viewer.program.record.hint == VIEW_ONLY_HINT
+    assert f'title="{VIEW_ONLY_HINT}"' in viewer.jog.pad.content and " disabled" in viewer.jog.pad.content
     assert not viewer.freeze.disabled
     assert not viewer.control.take_button.disabled and viewer.control.release_button.disabled
     assert viewer.control.take_button.visible and not viewer.control.release_button.visible
@@ -113,6 +117,7 @@ def test_a_viewers_page_has_its_controls_disabled_except_freeze(local_ui: Pendan
     assert viewer.target_panel.set_joint_target(np.radians(HOME_MOVE.angles)).ok
     assert not viewer.target_panel.move_j.disabled
     assert not viewer.dashboard.record_start.disabled
+    assert viewer.program.record.hint != VIEW_ONLY_HINT and "Hold to jog" in viewer.jog.pad.content
     assert viewer.control.take_button.disabled and not viewer.control.release_button.disabled
     assert not viewer.control.take_button.visible and viewer.control.release_button.visible
 

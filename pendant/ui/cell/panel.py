@@ -1,6 +1,10 @@
 """The Cell tab: add, edit, rename and delete the controller's obstacles, place the selected one with a
 transform gizmo in the 3D view, save and load cell files.
 
+No edit surprises: "Update selected obstacle" changes only the obstacle chosen in the list (never adds one,
+never replaces another by renaming onto its name); "Add obstacle" only adds (a name in use is refused,
+since the controller would replace that obstacle); deleting one or all asks first.
+
 Every change goes to the controller (`/environment`); the scene, this list and the selected obstacle's fields
 show what it then reports, so the picture and the controller's collision checks never disagree.
 """
@@ -20,21 +24,15 @@ from pendant.cell.forms import KINDS, ObstacleForm, form_from_obstacle, obstacle
 from pendant.cell.placement import gizmo_pose, moved_form
 from pendant.controller import Controller
 from pendant.controller.cell_types import Obstacle
+from pendant.ui.cell.edits import DEFAULT_FORMS, NEW, clear_cell, edit_refusal, nudged
 from pendant.ui.cell.gizmo import ObstacleGizmo
 from pendant.ui.kit.cell_contact import contact_line
 from pendant.ui.kit.cell_state import CellState
 from pendant.ui.kit.commands import CommandRunner, notify_refusal
+from pendant.ui.kit.confirm import Confirmation
 from pendant.ui.kit.gui_target import GuiTarget
 
-NEW = "(new obstacle)"
 NO_FILES = "(no cell files)"
-DEFAULT_FORMS = {
-    "BOX": ObstacleForm(kind="BOX", name="box", at_mm=(400.0, 0.0, 100.0), size_mm=(200.0, 200.0, 200.0)),
-    "CAPSULE": ObstacleForm(
-        kind="CAPSULE", name="post", at_mm=(400.0, 300.0, 0.0), end_mm=(400.0, 300.0, 500.0), radius_mm=40.0
-    ),
-    "PLANE": ObstacleForm(kind="PLANE", name="wall", at_mm=(0.0, -500.0, 0.0), rpy_deg=(90.0, 0.0, 0.0)),
-}
 
 
 class CellPanel:
@@ -62,9 +60,17 @@ class CellPanel:
         self.size = gui.add_vector3("Size mm", initial_value=(200.0, 200.0, 200.0), step=1.0)
         self.end = gui.add_vector3("End mm", initial_value=(0.0, 0.0, 100.0), step=1.0)
         self.radius = gui.add_number("Radius mm", initial_value=50.0, min=0.0, step=1.0)
-        self.apply = gui.add_button("Add / update obstacle", icon=viser.Icon.CUBE_PLUS)
+        self.apply = gui.add_button(
+            "Update selected obstacle",
+            icon=viser.Icon.DEVICE_FLOPPY,
+            hint="Apply the fields to the obstacle chosen above",
+        )
+        self.add = gui.add_button(
+            "Add obstacle", icon=viser.Icon.CUBE_PLUS, hint="A new obstacle from the fields (a new name)"
+        )
         self.delete = gui.add_button("Delete obstacle", icon=viser.Icon.TRASH)
         self.clear = gui.add_button("Delete all obstacles", color="red")
+        self.confirmation = Confirmation(target)
         with gui.add_folder("Cell file", expand_by_default=False):
             self.file_name = gui.add_text("File name", initial_value="cell")
             self.save = gui.add_button("Save cell", icon=viser.Icon.DEVICE_FLOPPY)
@@ -76,8 +82,9 @@ class CellPanel:
         self.selected.on_update(lambda _: None if self._syncing else self._pick(self.selected.value))
         self.kind.on_update(lambda _: None if self._syncing else self._new_kind(self.kind.value))
         self.apply.on_click(lambda e: self.submit(e.client))
-        self.delete.on_click(lambda e: self.remove(e.client))
-        self.clear.on_click(lambda e: self._runner.submit("Delete all obstacles", _clear, e.client))
+        self.add.on_click(lambda e: self.submit(e.client, add=True))
+        self.delete.on_click(lambda e: self.ask_remove(e.client))
+        self.clear.on_click(lambda e: self.ask_clear(e.client))
         self.save.on_click(lambda e: self.save_file(e.client))
         self.load.on_click(lambda e: self.load_file(self.files.value, e.client))
 
@@ -88,15 +95,17 @@ class CellPanel:
 
     @property
     def commands(self) -> tuple[viser.GuiButtonHandle, ...]:
-        return (self.apply, self.delete, self.clear, self.save, self.load)
+        return (self.apply, self.add, self.delete, self.clear, self.save, self.load)
 
     def set_locked(self, locked: bool) -> None:
         """A viewer's page, or a controller without /environment: the commands are greyed out."""
         self.locked = locked
         disabled = locked or self._unsupported is not None
         for handle in self.commands:
-            if handle.disabled != disabled:
-                handle.disabled = disabled
+            # Update and Delete need an obstacle chosen: greyed out on "(new obstacle)", not a surprise.
+            needs_one = handle in (self.apply, self.delete) and self.selected.value == NEW
+            if handle.disabled != (disabled or needs_one):
+                handle.disabled = disabled or needs_one
         self._place_gizmo()
 
     # --- the form -----------------------------------------------------------------------------------
@@ -125,7 +134,7 @@ class CellPanel:
                 (self.end, form.end_mm),
             ):
                 if resend and handle.value == value:
-                    handle.value = _nudged(value)
+                    handle.value = nudged(value)
                 handle.value = value
             if resend and self.radius.value == form.radius_mm:
                 self.radius.value = form.radius_mm + 1.0
@@ -145,6 +154,7 @@ class CellPanel:
     def _pick(self, name: str) -> None:
         obstacle = self._find(name)
         self._committed = obstacle
+        self.set_locked(self.locked)  # Update and Delete follow the choice
         if obstacle is not None:
             self._load(obstacle)
         elif name == NEW:
@@ -192,14 +202,19 @@ class CellPanel:
         return next((o for o in self._state().obstacles if o.name == name), None)
 
     # --- commands -----------------------------------------------------------------------------------
-    def submit(self, client: viser.ClientHandle | None = None) -> Future[object] | None:
-        """Add the obstacle in the fields, or update the selected one (renaming it when the name changed)."""
+    def submit(self, client: viser.ClientHandle | None = None, *, add: bool = False) -> Future[object] | None:
+        """Update the selected obstacle from the fields (renaming it when the name changed); `add`: add a
+        new one instead. Refused, with the reason, when it would add or replace something unasked."""
         try:
             obstacle = obstacle_from_form(self.form())
         except ValueError as error:
-            notify_refusal(client, "Obstacle not added", str(error))
+            notify_refusal(client, "Obstacle not added" if add else "Obstacle not updated", str(error))
             return None
-        old = self.selected.value if self.selected.value != NEW else None
+        old = None if add else str(self.selected.value)
+        refusal = edit_refusal({o.name for o in self._state().obstacles}, old, obstacle.name)
+        if refusal is not None:
+            notify_refusal(client, *refusal)
+            return None
 
         def change(c: Controller) -> object:
             c.add_obstacle(obstacle)  # by name: an update replaces it
@@ -207,10 +222,24 @@ class CellPanel:
                 c.remove_obstacle(old)
             return obstacle.name
 
-        verb = "Update" if old is not None else "Add"
+        verb = "Add" if add else "Update"
         future = self._runner.submit(f"{verb} obstacle {obstacle.name!r}", change, client)
         future.add_done_callback(lambda f: self._select_when_done(f, obstacle.name))
         return future
+
+    def ask_remove(self, client: viser.ClientHandle | None = None) -> None:
+        name = self.selected.value
+        if name == NEW:
+            notify_refusal(client, "Nothing deleted", "pick an obstacle first")
+            return
+        self.confirmation.ask(f"Delete the obstacle {name!r}?", self.remove)
+
+    def ask_clear(self, client: viser.ClientHandle | None = None) -> None:
+        count = len(self._state().obstacles)
+        question = f"Delete all {count} obstacles? (A saved cell file brings them back.)"
+        self.confirmation.ask(
+            question, lambda answered_by: self._runner.submit("Delete all obstacles", clear_cell, answered_by)
+        )
 
     def remove(self, client: viser.ClientHandle | None = None) -> Future[object] | None:
         name = self.selected.value
@@ -268,6 +297,7 @@ class CellPanel:
                     self.selected.value = NEW
             finally:
                 self._syncing = False
+            self.set_locked(self.locked)  # Update and Delete follow what is chosen
         selected = self.selected.value
         obstacle = next((o for o in state.obstacles if o.name == selected), None)
         if obstacle is not None and obstacle != self._committed and not self.gizmo.dragging:
@@ -296,9 +326,3 @@ class CellPanel:
 
 def _clear(c: Controller) -> object:
     return c.remove_obstacles()
-
-
-def _nudged(value: tuple[float, float, float]) -> tuple[float, float, float]:
-    """Another value, so that setting the real one after it reaches the browser (viser sends a value only
-    when it differs from the one it believes the browser shows)."""
-    return (value[0] + 1.0, value[1], value[2])

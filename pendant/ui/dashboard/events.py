@@ -22,7 +22,7 @@ FILTER_MAX_CHARS = 200
 EVENT_COLOURS = {
     EventKind.STATE.value: "#1971c2",
     EventKind.ERROR.value: "#e03131",
-    EventKind.COMMAND.value: "#2b8a3e",
+    EventKind.COMMAND.value: "#237032",
     EventKind.REFUSED.value: "#e8590c",
     EventKind.CONTROL.value: "#9c36b5",
 }

@@ -19,6 +19,7 @@ from pendant.kinematics import ArmModel
 from pendant.kinematics.limits import JOINT_MAX_SPEED_RAD_S
 from pendant.ui.kit.html import inset
 from pendant.ui.kit.snapshot import Snapshot
+from pendant.ui.kit.view_only import VIEW_ONLY_HINT
 
 CAP_PROBE_RAD = 1e-4  # a small turn of one joint, to see how fast the TCP moves per radian
 BUTTON_STYLE = (
@@ -87,14 +88,17 @@ def render_pad(
     disabled: bool,
     note: str,
 ) -> str:
-    off = " disabled" if disabled else ""
+    # A viewer's pad: greyed out, and the tooltip says why (not buttons that look active and do nothing).
+    off = ' disabled aria-disabled="true"' if disabled else ""
+    look = BUTTON_STYLE + (";opacity:0.45;cursor:not-allowed" if disabled else "")
     rows = []
     for axis in range(6):
         name = axis_name(frame, axis)
         buttons = {
             direction: (
                 f'<button type="button" data-jog-uuid="{uuids[(axis, direction)]}" aria-label="{name}{sign}" '
-                f'title="Hold to jog {name}{sign}" style="{BUTTON_STYLE}"{off}>{symbol}</button>'
+                f'title="{VIEW_ONLY_HINT if disabled else f"Hold to jog {name}{sign}"}" style="{look}"{off}>'
+                f"{symbol}</button>"
             )
             for direction, sign, symbol in ((-1, "-", "−"), (+1, "+", "+"))
         }
@@ -104,5 +108,5 @@ def render_pad(
             f'<span style="font-size:0.85em;color:#495057">{name}</span> '
             f'<b data-jog-value="{axis}">{html.escape(values[axis])}</b></div>{buttons[+1]}</div>'
         )
-    note_html = f'<div style="font-size:0.8em;color:#e8590c" id="jog-cap-note">{html.escape(note)}</div>'
+    note_html = f'<div style="font-size:0.8em;color:#b8420c" id="jog-cap-note">{html.escape(note)}</div>'
     return inset(f'<div data-jog-stop="{stop_uuid}" id="jog-pad">{"".join(rows)}{note_html}</div>')

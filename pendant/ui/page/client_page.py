@@ -27,6 +27,7 @@ PAGE_PATHS = ("/", "/index.html")
 STOP_JOG_PATH = "/pendant-stop-jog"
 SCRIPT_PATH = Path(__file__).with_name("client_page.js")
 BANNER_SCRIPT_PATH = Path(__file__).with_name("banner_pin.js")  # the banner stays in sight
+ACCESSIBILITY_PATH = Path(__file__).with_name("accessibility.js")  # labels and contrast: a script of its own
 VISER_PAGE = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
 
 ProcessRequest = Callable[[ServerConnection, Request], "Response | Awaitable[Response | None] | None"]
@@ -37,7 +38,8 @@ def page_html() -> bytes:
     """viser's page with the pendant's scripts as the first thing in <head>, before viser's own."""
     page = VISER_PAGE.read_bytes()
     script = b"".join(
-        b"<script>" + path.read_bytes() + b"</script>" for path in (SCRIPT_PATH, BANNER_SCRIPT_PATH)
+        b"<script>" + path.read_bytes() + b"</script>"
+        for path in (SCRIPT_PATH, BANNER_SCRIPT_PATH, ACCESSIBILITY_PATH)
     )
     head = page.index(b"<head>") + len(b"<head>")
     return page[:head] + script + page[head:]

@@ -274,7 +274,7 @@ class ControlPanel:
         """One line and one button (the one this browser can use): the room above the tabs is the pad's."""
         mine = operator is not None and operator == self.client_id
         if mine:
-            text = '<b style="color:#2b8a3e">You have control</b> (operator)'
+            text = '<b style="color:#237032">You have control</b> (operator)'
         elif operator is None:
             text = "<b>Viewing</b> · nobody has control"
         else:

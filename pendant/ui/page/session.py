@@ -29,6 +29,7 @@ from pendant.ui.kit.cell_state import CellState
 from pendant.ui.kit.commands import CommandRunner, add_freeze_button, add_robot_commands
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.snapshot import Snapshot
+from pendant.ui.kit.view_only import ViewOnly
 from pendant.ui.page.banner import Banner
 from pendant.ui.page.recovery import Recovery
 from pendant.ui.page.roles import ControlDesk, ControlPanel
@@ -136,6 +137,7 @@ class ClientSession:
             self.failures = target.gui.add_html(render_failures((), None))
         self.target_panel.reset_to_current()
         self._operator_only: list[viser.GuiInputHandle] = list(self._commanding_handles())
+        self._view_only = ViewOnly()
         self.locked = False
         self._failures_html = ""
         self.apply_role(desk.operator)
@@ -182,7 +184,7 @@ class ClientSession:
         """Enable the commanding controls for the operator's browser, disable them for a viewer's."""
         self.locked = self.client_id is not None and operator != self.client_id
         for handle in self._operator_only:
-            _set_disabled(handle, self.locked)
+            self._view_only.apply(handle, self.locked)  # greyed out, the tooltip saying why
         self.target_panel.locked = self.locked
         self.jog.locked = self.locked
         self.cell.set_locked(self.locked)

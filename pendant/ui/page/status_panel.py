@@ -18,7 +18,7 @@ from pendant.ui.kit.snapshot import Snapshot
 from pendant.ui.robot.safety_panel import PROTECTIVE_STOP_HINT, render_system_state
 
 STATE_COLOURS: dict[MotionStatus | None, str] = {
-    MotionStatus.IDLE: "#2b8a3e",
+    MotionStatus.IDLE: "#237032",
     MotionStatus.RUNNING: "#1971c2",
     MotionStatus.ZERO_GRAVITY: "#9c36b5",
     MotionStatus.MOTION_FAILED: "#e8590c",

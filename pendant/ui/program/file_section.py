@@ -14,20 +14,19 @@ from collections.abc import Callable
 import viser
 
 from pendant.program.files import MAX_FILE_BYTES, ProgramFileError, sanitize_name
+from pendant.ui.kit.confirm import Confirmation
 from pendant.ui.kit.focus_request import focus_request
 from pendant.ui.kit.upload_limit import limit_uploads
 from pendant.ui.program.host import ProgramHost
 
 NO_FILE = "(no saved programs)"
 FILE_OPTIONS = ("New", "Save", "Save as", "Load", "Delete file")
-CONFIRM_OPTIONS = ("Yes", "Cancel")
 FILE_NAME_LABEL = "Save as name"
 
 
 class FileSection:
     def __init__(self, host: ProgramHost) -> None:
         self._host = host
-        self._pending: tuple[str, Callable[[], object]] | None = None  # (label, action) awaiting Yes
         self._name_asks = 0  # how many times Save asked for a name: each ask focuses the box again
         gui = host.target.gui
         with gui.add_folder("Files"):
@@ -36,8 +35,8 @@ class FileSection:
             self.file_name = gui.add_text(FILE_NAME_LABEL, initial_value="")
             self.saved = gui.add_dropdown("Saved programs", options=[NO_FILE], initial_value=NO_FILE)
             self.files = gui.add_button_group("File", options=FILE_OPTIONS)
-            self.question = gui.add_markdown("", visible=False)
-            self.confirm = gui.add_button_group("Confirm", options=CONFIRM_OPTIONS, visible=False)
+            self.confirmation = Confirmation(host.target)
+            self.question, self.confirm = self.confirmation.question, self.confirmation.buttons
             self.download = gui.add_button("Download .json", icon=viser.Icon.DOWNLOAD)
             self.export = gui.add_button("Export Python script", icon=viser.Icon.CODE)
             self.upload = gui.add_upload_button(
@@ -46,7 +45,6 @@ class FileSection:
             limit_uploads(gui, MAX_FILE_BYTES)  # no larger file is a program: refuse it before it is kept
         shared = host.shared
         self.files.on_click(lambda e: self._file_action(str(self.files.value), e.client))
-        self.confirm.on_click(lambda e: self._answer(str(self.confirm.value), e.client))
         self.download.on_click(lambda e: self._send(e.client, *shared.download()))
         self.export.on_click(
             lambda e: host.edit("Export", e.client, lambda: self._send(e.client, *shared.export()))
@@ -60,16 +58,7 @@ class FileSection:
         """Do `action` (as edit `label`) once the operator answers Yes to `question`."""
         if not self._host.allowed(client, label):
             return
-        self._pending = (label, action)
-        self.question.content = f"**{question}**"
-        self.question.visible = self.confirm.visible = True
-
-    def _answer(self, answer: str, client: viser.ClientHandle | None) -> None:
-        pending, self._pending = self._pending, None
-        self.question.visible = self.confirm.visible = False
-        if pending is not None and answer == "Yes":
-            label, action = pending
-            self._host.edit(label, client, action)
+        self.confirmation.ask(question, lambda answered_by: self._host.edit(label, answered_by, action))
 
     def _unsaved(self) -> str | None:
         shared = self._host.shared

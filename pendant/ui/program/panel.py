@@ -35,6 +35,7 @@ from pendant.ui.program.waypoint_section import WaypointSection
 log = logging.getLogger(__name__)
 
 NO_STEP = "(no steps yet: press Record)"
+NO_SELECTION = "(no step selected)"  # a new page selects nothing: Record and Add then append at the end
 EDIT_OPTIONS = ("Up", "Down", "Indent", "Outdent", "Duplicate", "Delete step")
 INDENT = "\u2003"  # an em space: Markdown keeps it, so nesting shows
 
@@ -66,6 +67,11 @@ class ProgramPanel:
         self.select = gui.add_dropdown("Step", options=[NO_STEP], initial_value=NO_STEP)
         self.record = gui.add_button(
             "Record", icon=viser.Icon.PLUS, hint="Add a move to a new waypoint where the arm is now"
+        )
+        self.insert_after = gui.add_checkbox(
+            "Insert after selected step",
+            initial_value=False,
+            hint="Off: Record and Add put the new step at the end of the program",
         )
         self.add = gui.add_button_group("Add", options=ADD_OPTIONS)
         self.add_structure = gui.add_button_group("Add ", options=STRUCTURE_OPTIONS)
@@ -188,13 +194,17 @@ class ProgramPanel:
         )
 
     # --- editing (the step an Add button makes: new_step.py) -------------------------------------------
+    def _insert_at(self) -> int | None:
+        """Where a new step goes: after the selected line only when the operator asked so, else the end."""
+        return self.selected if bool(self.insert_after.value) else None
+
     def _record(self, controller: Controller) -> None:
-        self.select_line(self.shared.record_from(controller, after=self.selected))
+        self.select_line(self.shared.record_from(controller, after=self._insert_at()))
 
     def _add(self, option: str) -> None:
         line = self.selected_line()
         step = new_step(option, self.shared, waypoint_here(line, self.waypoints.chosen()))
-        self.select_line(self.shared.insert_step(step, after=self.selected))
+        self.select_line(self.shared.insert_step(step, after=self._insert_at()))
 
     def _order(self, option: str) -> None:
         index = self.need_selection()
@@ -235,7 +245,7 @@ class ProgramPanel:
         if self.syncing or event.client is None:
             return  # viser also calls back (later, on its pool) for values we set: only a browser selects
         value = str(self.select.value)
-        self.selected = int(value.split(".", 1)[0]) - 1 if value != NO_STEP else None
+        self.selected = int(value.split(".", 1)[0]) - 1 if value not in (NO_STEP, NO_SELECTION) else None
         self.redraw_program()
 
     def start_run(self, label: str, client: viser.ClientHandle | None) -> None:
@@ -252,16 +262,14 @@ class ProgramPanel:
         listed = self.shared.lines()
         if self.selected is not None and not 0 <= self.selected < len(listed):
             self.selected = len(listed) - 1 if listed else None
-        if self.selected is None and listed:
-            self.selected = 0
         self.syncing = True
         try:
-            options = [f"{i + 1}. {INDENT * line.depth}{_label(line)}" for i, line in enumerate(listed)] or [
-                NO_STEP
-            ]
+            lines = [f"{i + 1}. {INDENT * line.depth}{_label(line)}" for i, line in enumerate(listed)]
+            # Nothing is selected until the operator picks a line (a reloaded page too): said, not guessed.
+            options = [NO_SELECTION, *lines] if lines else [NO_STEP]
             if list(self.select.options) != options:
                 self.select.options = options
-            wanted = options[self.selected] if self.selected is not None else options[0]
+            wanted = lines[self.selected] if self.selected is not None else options[0]
             if self.select.value != wanted:
                 self.select.value = wanted
             line = self.selected_line()

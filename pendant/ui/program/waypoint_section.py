@@ -1,5 +1,6 @@
 """The Program tab's "Waypoints" folder: the waypoint table. Many moves may go to one waypoint: Re-teach moves
-all of them, Rename keeps them pointing at it; Go to drives the arm there; a ghost arm previews it."""
+all of them, Rename keeps them pointing at it; Go to drives the arm there; a ghost arm previews it, only while
+a move step is selected or the operator picked a waypoint (no ghost of something nobody asked to see)."""
 
 from __future__ import annotations
 
@@ -42,6 +43,7 @@ class WaypointSection:
                 "Delete waypoint", icon=viser.Icon.TRASH, hint="Only when no step uses it"
             )
             self.preview = gui.add_checkbox("Preview (ghost)", initial_value=True)
+        self._picked = False  # the operator chose a waypoint in the table (or taught one) to look at
         self._ghost = (
             ViserUrdf(
                 host.target, arm.urdf_path, root_node_name="/program_ghost", mesh_color_override=GHOST_RGBA
@@ -75,6 +77,7 @@ class WaypointSection:
     def _on_choose(self, event: viser.GuiEvent) -> None:
         if self._host.syncing or event.client is None:
             return
+        self._picked = True
         self._show(self.chosen())
 
     # --- actions ------------------------------------------------------------------------------------
@@ -87,6 +90,7 @@ class WaypointSection:
 
     def _teach_new(self, controller: Controller) -> None:
         name = self._host.shared.add_waypoint(controller.get_pose(), controller.get_position())
+        self._picked = True
         self._show(name)
 
     def _delete(self) -> None:
@@ -139,6 +143,8 @@ class WaypointSection:
         names = program.waypoint_names() or [NO_WAYPOINT]
         if list(self.chooser.options) != names:
             self.chooser.options = names
+        if selected is not None:
+            self._picked = False  # a step chosen: its move (if any) is what the ghost shows
         if isinstance(selected, MoveStep):
             self._show(selected.waypoint)
         elif self.chooser.value not in names:
@@ -162,7 +168,9 @@ class WaypointSection:
         if self._ghost is None:
             return
         name = self.chosen()
-        visible = name is not None and bool(self.preview.value)
+        selected = self._host.selected_line()
+        asked = self._picked or (selected is not None and isinstance(selected.step, MoveStep))
+        visible = name is not None and bool(self.preview.value) and asked
         self._ghost.show_visual = visible
         if visible and name is not None:
             cfg = np.zeros(len(self._ghost.get_actuated_joint_names()))

@@ -20,17 +20,17 @@ from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.html import inset
 
 SYSTEM_STATE_COLOURS = {
-    SystemState.ACTIVE: "#2b8a3e",
+    SystemState.ACTIVE: "#237032",
     SystemState.MOTION: "#1971c2",
     SystemState.JOGGING: "#1971c2",
     SystemState.ZERO_GRAVITY: "#9c36b5",
     SystemState.INITIALIZING: "#868e96",
-    SystemState.TWISTED: "#e8590c",
+    SystemState.TWISTED: "#b8420c",
     SystemState.INITIALIZATION_FAILURE: "#e03131",
     SystemState.BROKEN: "#c92a2a",
     SystemState.EMERGENCY: "#c92a2a",
 }
-LEVEL_COLOURS = {FailureLevel.FATAL: "#c92a2a", FailureLevel.ERROR: "#e03131", FailureLevel.WARN: "#e8590c"}
+LEVEL_COLOURS = {FailureLevel.FATAL: "#c92a2a", FailureLevel.ERROR: "#e03131", FailureLevel.WARN: "#b8420c"}
 FAILURES_SHOWN = 20
 PROTECTIVE_STOP_HINT = "Protective stop: the arm stops and holds; Recover leaves it"
 

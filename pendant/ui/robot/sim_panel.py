@@ -1,4 +1,4 @@
-"""Simulator only: set the digital inputs, inject faults, reset."""
+"""Simulator only: set the digital inputs, inject faults, reset (asked first: it forgets the arm's state)."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ from pendant.controller.types import INPUT_PORTS
 from pendant.sim import Fault, SimController
 from pendant.sim.fault_kinds import FAULT_KINDS
 from pendant.ui.kit.commands import CommandRunner
+from pendant.ui.kit.confirm import Confirmation
 from pendant.ui.kit.gui_target import GuiTarget
 
 # The fault kinds table's buttons.
@@ -38,7 +39,13 @@ class SimPanel:
             )
             self.faults[fault] = button
         self.reset = target.gui.add_button("Reset simulator", icon=viser.Icon.REFRESH)
-        self.reset.on_click(lambda e: runner.submit("Reset", lambda _: self._reset(sim), e.client))
+        self.confirmation = Confirmation(target)
+        self.reset.on_click(
+            lambda _: self.confirmation.ask(
+                "Reset the simulator? The arm goes home; IO, faults, tool and base go back to power-on.",
+                lambda client: runner.submit("Reset", lambda _: self._reset(sim), client),
+            )
+        )
 
     def _set_input(self, port: int, high: bool, event: viser.GuiEvent) -> None:
         level = SignalLevel.HIGH if high else SignalLevel.LOW

@@ -1,0 +1,90 @@
+// Accessibility of viser's page (served after client_page.js, in its own <script>; see client_page.py).
+//
+// viser draws each control as a row: a <label for=ID> on the left whose ID names the row's container, not
+// the <input> (nor the slider thumb, nor the progress bar) inside. A screen reader, and Playwright's
+// get_by_label, then find no name. This script names them from their row's label, and names the icon-only
+// buttons (panel chrome, a notification's close), as the DOM changes (viser builds the panel from websocket
+// messages, so a MutationObserver, batched to one pass per animation-free timeout).
+//
+// Contrast (WCAG AA, 4.5:1 for text): Mantine's red and blue (Freeze, Stop, Record, the button rows)
+// and the dimmed label grey are darkened (orange and green keep their dark text); the rest is viser's.
+(() => {
+  "use strict";
+  const PASS_DELAY_MS = 150;
+  const AXES = ["x", "y", "z", "w"];
+  const CSS = `
+    :root, [data-mantine-color-scheme] {
+      --mantine-color-red-filled: #c92a2a !important; --mantine-color-red-filled-hover: #a51f1f !important;
+      --mantine-color-blue-filled: #1971c2 !important; --mantine-color-blue-filled-hover: #155ea3 !important;
+      --mantine-color-blue-outline: #1971c2 !important; --mantine-color-blue-text: #1971c2 !important;
+      --mantine-color-blue-light-color: #1971c2 !important;
+      --mantine-color-dimmed: #5f6770 !important;
+    }`;
+
+  function named(element) {
+    const label = element.getAttribute("aria-label");
+    return (label !== null && label.trim() !== "") || element.hasAttribute("aria-labelledby");
+  }
+
+  function name(element, text) {
+    if (!named(element)) element.setAttribute("aria-label", text);
+  }
+
+  // The row a label heads: viser's <p><label></p> sits in a fixed-width cell beside the control's cell.
+  function rowOf(label) {
+    const cell = label.closest("p") ? label.closest("p").parentElement : label.parentElement;
+    return cell ? cell.parentElement : null;
+  }
+
+  function nameRow(label) {
+    const text = label.textContent.trim();
+    const row = rowOf(label);
+    if (!text || !row) return;
+    const inputs = [...row.querySelectorAll("input:not([type=hidden]), textarea")];
+    const sliders = [...row.querySelectorAll("[role=slider]")];
+    if (inputs.length === 1) {
+      name(inputs[0], text);
+      if (inputs[0].id && label.getAttribute("for") !== inputs[0].id) label.setAttribute("for", inputs[0].id);
+    } else {
+      inputs.forEach((input, k) => name(input, `${text} ${AXES[k] || k + 1}`));
+    }
+    sliders.forEach((slider, k) => name(slider, sliders.length === 1 ? `${text} slider` : `${text} slider ${k + 1}`));
+    row.querySelectorAll("[role=progressbar]").forEach((bar) => name(bar, text));
+  }
+
+  function iconName(button) {
+    const title = button.getAttribute("title");
+    if (title) return title;
+    if (button.classList.contains("mantine-Notification-closeButton")) return "Close notification";
+    if (button.classList.contains("mantine-CloseButton-root")) return "Close";
+    const icon = button.querySelector("svg[class*='tabler-icon-']");
+    const kind = icon ? [...icon.classList].find((c) => c.startsWith("tabler-icon-") && c !== "tabler-icon") : null;
+    return kind ? kind.slice("tabler-icon-".length).replace(/-/g, " ") : "Button";
+  }
+
+  function pass() {
+    document.querySelectorAll("label[for]").forEach(nameRow);
+    document.querySelectorAll("[role=progressbar]").forEach((bar) => name(bar, "Progress"));
+    document.querySelectorAll("[role=slider]").forEach((slider) => name(slider, "Slider"));
+    document.querySelectorAll("button").forEach((button) => {
+      if (!named(button) && !button.textContent.trim()) button.setAttribute("aria-label", iconName(button));
+    });
+  }
+
+  let pending = null;
+  function schedule() {
+    if (pending === null) pending = setTimeout(() => ((pending = null), pass()), PASS_DELAY_MS);
+  }
+
+  function start() {
+    const style = document.createElement("style");
+    style.id = "pendant-accessibility";
+    style.textContent = CSS;
+    document.head.appendChild(style);
+    new MutationObserver(schedule).observe(document.body, { childList: true, subtree: true });
+    schedule();
+  }
+
+  if (document.body) start();
+  else document.addEventListener("DOMContentLoaded", start);
+})();

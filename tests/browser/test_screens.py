@@ -1,0 +1,141 @@
+"""The operator is never left guessing, in a real browser: axe-core finds no serious or critical violation on
+any tab (operator and viewer), inputs are found by their label, Record after a reload appends, the Cell tab's
+Update moves the chosen obstacle (no second one), and a viewer's controls are greyed out saying why."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterator
+from typing import Any
+
+import pytest
+from axe_playwright_python.sync_playwright import Axe
+
+from pendant.ui.kit.view_only import VIEW_ONLY_HINT
+
+from .conftest import ARTIFACTS, Pendant, running_pendant
+from .test_cell_page import obstacles, sent
+from .test_path_recording import take_control
+from .test_program_cell import choose
+from .test_program_page import move_to
+
+TABS = ("Jog", "Target", "Program", "Cell", "IO", "Robot", "Simulator", "Dashboard")
+BLOCKING_IMPACTS = ("serious", "critical")
+UI_TIMEOUT_MS = 30_000
+PAGE_LOAD_TIMEOUT_MS = 120_000  # a second software-WebGL page on a loaded machine
+SETTLE_MS = 800  # the accessibility pass runs 150 ms after the DOM settles; a software-rendered frame on top
+POSE_A_DEG = [25.0, -90.0, 90.0, -90.0, -90.0, 0.0]
+POSE_B_DEG = [-25.0, -80.0, 80.0, -90.0, -90.0, 0.0]
+POSE_C_DEG = [0.0, -100.0, 100.0, -90.0, -90.0, 0.0]
+CRATE = {
+    "obstacleType": "BOX",
+    "name": "crate",
+    "sides": {"x": 0.1, "y": 0.1, "z": 0.1},
+    "centerPosition": {
+        "point": {"x": 0.4, "y": 0.4, "z": 0.05},
+        "rotation": {"roll": 0, "pitch": 0, "yaw": 0},
+    },
+}
+MOVED_X_MM = 450.0
+SHOWN_WITHIN_S = 30.0
+
+
+@pytest.fixture(scope="module")
+def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
+    with running_pendant("--programs", str(tmp_path_factory.mktemp("programs"))) as served:
+        yield served
+
+
+def blocking_violations(page: Any) -> list[str]:
+    results = Axe().run(page)
+    return [
+        f"{v['id']} ({v['impact']}): {v['help']} at {[n['target'] for n in v['nodes'][:3]]}"
+        for v in results.response["violations"]
+        if v["impact"] in BLOCKING_IMPACTS
+    ]
+
+
+def open_tab(page: Any, name: str) -> None:
+    page.get_by_role("tab", name=name).click(no_wait_after=True)
+    page.wait_for_timeout(SETTLE_MS)
+
+
+def test_axe_finds_no_serious_or_critical_violation_on_any_tab(page: Any) -> None:
+    take_control(page)
+    found = {}
+    for tab in TABS:
+        open_tab(page, tab)
+        found[tab] = blocking_violations(page)
+    assert found == {tab: [] for tab in TABS}
+
+
+def test_inputs_are_found_by_their_label(page: Any) -> None:
+    open_tab(page, "Jog")
+    speed = page.get_by_label("Speed %", exact=True)
+    assert speed.is_visible() and speed.evaluate("e => e.tagName") == "INPUT"
+    assert page.get_by_role("slider", name="Speed % slider").is_visible()
+    open_tab(page, "Cell")
+    for label in ("Obstacle", "Kind", "Name", "Position mm x", "Position mm y", "Position mm z"):
+        assert page.get_by_label(label, exact=True).first.is_visible(), label
+
+
+def test_record_after_a_reload_appends_at_the_end(page: Any, pendant: Pendant) -> None:
+    take_control(page)
+    open_tab(page, "Program")
+    for k, pose in enumerate((POSE_A_DEG, POSE_B_DEG), start=1):
+        move_to(pendant, pose)
+        page.get_by_role("button", name="Record", exact=True).click()
+        page.get_by_text(f"{k}. Move J to P{k} @ 20%").first.wait_for(timeout=UI_TIMEOUT_MS)
+    page.reload()
+    page.get_by_role("button", name="Freeze").wait_for(timeout=UI_TIMEOUT_MS)
+    take_control(page)
+    open_tab(page, "Program")
+    # A reloaded page selects nothing, and says so.
+    page.locator("input[value='(no step selected)']:visible").first.wait_for(timeout=UI_TIMEOUT_MS)
+    move_to(pendant, POSE_C_DEG)
+    page.get_by_role("button", name="Record", exact=True).click()
+    page.get_by_text("3. Move J to P3 @ 20%").first.wait_for(timeout=UI_TIMEOUT_MS)
+    assert page.get_by_text("1. Move J to P1 @ 20%").first.is_visible()
+    page.screenshot(path=str(ARTIFACTS / "screens-record-after-reload.png"))
+
+
+def test_update_moves_the_chosen_obstacle_and_adds_none(page: Any, pendant: Pendant) -> None:
+    pendant.api.put("/environment", json=CRATE).raise_for_status()
+    try:
+        take_control(page)
+        open_tab(page, "Cell")
+        choose(page, "(new obstacle)", "crate")
+        x = page.get_by_label("Position mm x", exact=True)
+        x.fill(f"{MOVED_X_MM:.0f}")
+        x.press("Enter")
+        sent(page)
+        page.get_by_role("button", name="Update selected obstacle").click()
+        deadline = time.monotonic() + SHOWN_WITHIN_S
+        while obstacles(pendant)[0]["centerPosition"]["point"]["x"] != pytest.approx(MOVED_X_MM / 1000):
+            assert time.monotonic() < deadline, "the update did not reach the controller"
+            time.sleep(0.1)
+        assert [o["name"] for o in obstacles(pendant)] == ["crate"]  # moved, not a second one
+    finally:
+        pendant.api.delete("/environment").raise_for_status()
+
+
+def test_a_viewer_sees_its_controls_greyed_out_with_the_reason(browser: Any, page: Any) -> None:
+    take_control(page)  # this page operates; another browser watches
+    viewer = browser.new_page(viewport={"width": 1400, "height": 900})
+    try:
+        viewer.goto(page.url)
+        viewer.get_by_role("button", name="Freeze").wait_for(timeout=PAGE_LOAD_TIMEOUT_MS)
+        viewer.get_by_text("has control").first.wait_for(timeout=UI_TIMEOUT_MS)
+        jog = viewer.locator("button[aria-label='J1+']")
+        jog.wait_for(timeout=UI_TIMEOUT_MS)
+        assert jog.is_disabled() and jog.get_attribute("title") == VIEW_ONLY_HINT
+        open_tab(viewer, "Program")
+        assert viewer.get_by_role("button", name="Record", exact=True).is_disabled()
+        viewer.screenshot(path=str(ARTIFACTS / "screens-viewer.png"))
+        found = {}
+        for tab in TABS:
+            open_tab(viewer, tab)
+            found[tab] = blocking_violations(viewer)
+        assert found == {tab: [] for tab in TABS}
+    finally:
+        viewer.close()
