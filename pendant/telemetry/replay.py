@@ -127,7 +127,9 @@ def load_replay(path: Path, max_bytes: int = MAX_REPLAY_BYTES) -> Replay:
                         times.append(message.log_time)
                         angles.append(q)
                 elif channel.topic == "/events" and len(events) < MAX_EVENTS:
-                    event = ReplayEvent(0.0, _LEVELS.get(decoded.level, "INFO"), decoded.name, decoded.message)
+                    event = ReplayEvent(
+                        0.0, _LEVELS.get(decoded.level, "INFO"), decoded.name, decoded.message
+                    )
                     events.append((message.log_time, event))
                 elif channel.topic == "/program" and len(steps) < MAX_PROGRAM_STEPS:
                     step = ProgramStep(0.0, int(decoded["line"]), str(decoded["step"]), str(decoded["state"]))
@@ -144,7 +146,8 @@ def load_replay(path: Path, max_bytes: int = MAX_REPLAY_BYTES) -> Replay:
         times_s=(np.asarray(times, dtype=np.int64)[order] - start_ns) / 1e9,
         q_deg=np.asarray(angles, dtype=float)[order],
         events=tuple(
-            ReplayEvent((t - start_ns) / 1e9, e.level, e.who, e.message) for t, e in sorted(events, key=_first)
+            ReplayEvent((t - start_ns) / 1e9, e.level, e.who, e.message)
+            for t, e in sorted(events, key=_first)
         ),
         steps=tuple(
             ProgramStep((t - start_ns) / 1e9, s.line, s.step, s.state) for t, s in sorted(steps, key=_first)

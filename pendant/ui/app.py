@@ -36,7 +36,8 @@ from pendant.monitoring import data_dir as resolve_data_dir
 from pendant.program import ProgramWorkspace
 from pendant.program.runner import RunState
 from pendant.teach.recording import PathRecorder
-from pendant.telemetry import ArmState, Telemetry, recordings_dir
+from pendant.telemetry import Telemetry, arm_drawing, recordings_dir
+from pendant.ui.dashboard.arm_state import arm_state
 from pendant.ui.dashboard.events import render_events
 from pendant.ui.dashboard.join_qr import join_urls
 from pendant.ui.dashboard.panel import render_motor_table
@@ -136,7 +137,7 @@ class PendantUI:
             f"{label} by {self.activity.who(client)}"
         )
         recordings = recordings_dir(resolve_data_dir(data_dir, programs_dir))  # --data, env, beside programs
-        self.telemetry = Telemetry(controller, clock, recordings_folder=recordings)
+        self.telemetry = Telemetry(controller, clock, recordings_folder=recordings, arm=arm_drawing(arm))
         self.events.on_record(self.telemetry.log_event)
         self.programs = ProgramWorkspace.for_controller(controller, programs_dir)
         # Each version's author: the operator's browser (only the operator may save).
@@ -220,6 +221,7 @@ class PendantUI:
             self._thread.join(timeout=2.0)
         self.jogger.stop_watchdog()
         self.runner.shutdown()
+        self.telemetry.stop_recording()  # SIGTERM or Ctrl-C: a running recording's file is finished
         self.server.stop()
 
     def refresh(self, *, with_io: bool = True, flush: bool = False) -> Snapshot:
@@ -280,9 +282,7 @@ class PendantUI:
     def refresh_dashboard(self, *, sample: bool = True, table: bool = True, plots: bool = True) -> None:
         """Read the motors once for everybody and push the shared renderings to every dashboard."""
         if sample:
-            latest = self.latest
-            status = latest.motion_status.value if latest.motion_status is not None else None
-            self.telemetry.sample(ArmState(latest.position, latest.outputs, latest.inputs, status))
+            self.telemetry.sample(arm_state(self.latest, self.cell_state, self.programs))
         table_html = render_motor_table(self.telemetry.latest) if table else None
         plot_cache: dict[float, PlotData] = {}  # one per window length the browsers show
 

@@ -80,5 +80,5 @@ def test_a_file_too_big_or_not_a_recording_is_refused(
         load_replay(path, max_bytes=path.stat().st_size - 1)
     garbage = tmp_path / "pendant-20260101-000000.mcap"
     garbage.write_bytes(b"not an mcap file at all" * 10)
-    with pytest.raises(ReplayError, match="pendant-20260101-000000.mcap cannot be read"):
+    with pytest.raises(ReplayError, match=r"pendant-20260101-000000\.mcap cannot be read"):
         load_replay(garbage)
