@@ -24,7 +24,9 @@ from __future__ import annotations
 
 import argparse
 import math
+import signal
 import sys
+import threading
 import time
 from collections.abc import Sequence
 from dataclasses import replace
@@ -335,6 +337,12 @@ def serve_api(settings: Settings, app: ASGIApp) -> None:
     serve(app, settings.host, settings.api_port)
 
 
+def _exit_on_sigterm(signum: int, frame: object) -> None:
+    """uvicorn hands SIGTERM back once it has stopped serving, and by default it would end the process
+    there: exit through main's `finally` instead, as Ctrl-C does (a recording is finished, the log closed)."""
+    raise SystemExit(128 + signum)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = sys.argv[1:] if argv is None else list(argv)
     if args[:1] == ["check"]:
@@ -374,9 +382,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     # Without the page's refresh loop, a thread of its own logs the arm's state changes.
     watch = StateWatch(controller, events, metrics).start() if ui is None else None
     announce(settings)
+    on_main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _exit_on_sigterm) if on_main_thread else None
     try:
         serve_api(settings, api_app)
     finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
         if ui is not None:
             ui.stop()
         if watch is not None:
