@@ -7,6 +7,7 @@ Replay moves nothing: it holds no controller and sends no command; anybody watch
 from __future__ import annotations
 
 import html
+import math
 import threading
 import time
 from collections.abc import Callable
@@ -113,7 +114,7 @@ class ReplayPanel:
             self._jumps = {jump_label(event): event for event in notable}
             self.jump.options = (JUMP_PROMPT, *self._jumps) if self._jumps else (NO_JUMPS,)
             self.jump.value = self.jump.options[0]
-            self.time.max = max(replay.duration_s, self.time.step)
+            self.time.max = max(math.ceil(replay.duration_s * 10) / 10, self.time.step)  # tenths, as its box
             for handle in (self.time, self.play, self.pause, self.speed, self.jump, self.close_replay):
                 handle.disabled = False
             if float(self.time.value) == 0.0:
