@@ -21,7 +21,7 @@ from mcap_protobuf.decoder import DecoderFactory as ProtobufDecoderFactory
 
 from pendant.telemetry.recorder import MAX_ROWS
 
-MAX_REPLAY_BYTES = 512 * 1024 * 1024  # a two-hour recording (the longest one made) is about 100 MB
+MAX_REPLAY_BYTES = 512 * 1024 * 1024  # a two-hour recording (the longest one made) is about 60 MB
 MAX_SAMPLES = MAX_ROWS  # two hours at 10 Hz
 MAX_EVENTS = 10_000
 MAX_PROGRAM_STEPS = 50_000
