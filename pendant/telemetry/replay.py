@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -27,7 +28,7 @@ MAX_EVENTS = 10_000
 MAX_PROGRAM_STEPS = 50_000
 N_JOINTS = 6
 TOPICS = ("/joints", "/events", "/program")
-STOP_WORDS = ("stop", "freeze", "error", "fail", "refused", "collision")  # events worth a jump
+STOP_WORDS = ("stop", "freeze", "emergency", "error", "fail", "refused", "collision")  # events worth a jump
 
 
 class ReplayError(Exception):
@@ -80,16 +81,22 @@ class Replay:
         """The joint angles (radians) recorded at `t_s`."""
         return np.radians(self.q_deg[self.index_at(t_s)])
 
+    @cached_property
+    def _step_times(self) -> np.ndarray:
+        return np.array([step.t_s for step in self.steps], dtype=float)
+
+    @cached_property
+    def _event_times(self) -> np.ndarray:
+        return np.array([event.t_s for event in self.events], dtype=float)
+
     def step_at(self, t_s: float) -> ProgramStep | None:
         """The program step running at `t_s` (None: no program ran yet)."""
-        times = [step.t_s for step in self.steps]
-        i = int(np.searchsorted(times, t_s, side="right")) - 1
+        i = int(np.searchsorted(self._step_times, t_s, side="right")) - 1
         return self.steps[i] if i >= 0 else None
 
     def events_until(self, t_s: float, count: int) -> list[ReplayEvent]:
         """The last `count` events at or before `t_s`, newest first."""
-        times = [event.t_s for event in self.events]
-        end = int(np.searchsorted(times, t_s, side="right"))
+        end = int(np.searchsorted(self._event_times, t_s, side="right"))
         return list(reversed(self.events[max(0, end - count) : end]))
 
 

@@ -65,7 +65,10 @@ class ReplayPanel:
         self._target = target
         self._chosen = chosen
         self._recording_now = recording_now
-        self.ghost = GhostArm(target, urdf_path, "/replay_ghost", GHOST_RGBA) if urdf_path else None
+        self._urdf_path = urdf_path
+        self.ghost: GhostArm | None = (
+            None  # made at the first Replay: a page that never replays loads no more
+        )
         gui = target.gui
         self.start = gui.add_button(
             "Replay", icon=viser.Icon.PLAYER_PLAY, hint="Play the chosen recording back here; moves nothing"
@@ -109,6 +112,8 @@ class ReplayPanel:
             return None
         self.hold()
         with self._lock:
+            if self.ghost is None and self._urdf_path is not None:
+                self.ghost = GhostArm(self._target, self._urdf_path, "/replay_ghost", GHOST_RGBA)
             self.replay = replay
             notable = [event for event in replay.events if event.notable][:JUMPS_LISTED]
             self._jumps = {jump_label(event): event for event in notable}
