@@ -60,10 +60,11 @@ class GhostWatch:
         """Each arm joint's angle from its frame's orientation: R = R_origin · Rot(axis, q)."""
         angles = []
         for joint in urdf.actuated_joints[:6]:
-            [name] = [n for n in self.wxyz if n.endswith("/" + joint.child)]
-            relative = vtf.SO3.from_matrix(joint.origin[:3, :3]).inverse() @ vtf.SO3(
-                np.array(self.wxyz[name])
-            )
+            sent = [wxyz for name, wxyz in self.wxyz.items() if name.endswith("/" + joint.child)]
+            assert len(sent) <= 1, f"two ghost frames for {joint.child}"
+            # A node is created at identity; viser sends an orientation only when it differs.
+            wxyz = np.array(sent[0] if sent else (1.0, 0.0, 0.0, 0.0))
+            relative = vtf.SO3.from_matrix(joint.origin[:3, :3]).inverse() @ vtf.SO3(wxyz)
             angles.append(float(np.degrees(relative.log() @ np.asarray(joint.axis, dtype=float))))
         return angles
 
@@ -74,12 +75,23 @@ def time_box(page: Any) -> Any:
     return row.locator("input.mantine-NumberInput-input").first
 
 
-def test_replay_draws_the_recorded_arm_and_steps_at_the_slider_time(page: Any, pendant: Pendant) -> None:
+@pytest.fixture
+def watched_page(browser: Any, pendant: Pendant) -> Iterator[tuple[Any, GhostWatch]]:
+    """A page whose websocket is watched from its first frame (and patient: a loaded machine is slow)."""
     watch = GhostWatch()
-    page.on("websocket", lambda socket: socket.on("framereceived", watch.frame))
-    page.reload()  # the websocket opens again, now watched
+    page = browser.new_page(viewport={"width": 1400, "height": 900})
     page.set_default_timeout(UI_TIMEOUT_MS)
+    page.on("websocket", lambda socket: socket.on("framereceived", watch.frame))
+    page.goto(pendant.ui_url)
     page.get_by_role("button", name="Freeze").wait_for()
+    yield page, watch
+    page.close()
+
+
+def test_replay_draws_the_recorded_arm_and_steps_at_the_slider_time(
+    watched_page: tuple[Any, GhostWatch], pendant: Pendant
+) -> None:
+    page, watch = watched_page
     take = page.get_by_role("button", name="Take control")
     if take.is_visible():
         take.click()
