@@ -25,7 +25,9 @@ from __future__ import annotations
 
 import argparse
 import math
+import signal
 import sys
+import threading
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import replace
@@ -357,6 +359,12 @@ def serve_api(settings: Settings, app: ASGIApp, on_quit: Callable[[str], None] |
     serve(app, settings.host, settings.api_port, on_quit)
 
 
+def _exit_on_sigterm(signum: int, frame: object) -> None:
+    """uvicorn hands SIGTERM back once it has stopped serving, and by default it would end the process
+    there: exit through main's `finally` instead, as Ctrl-C does (a recording is finished, the log closed)."""
+    raise SystemExit(128 + signum)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = sys.argv[1:] if argv is None else list(argv)
     if args[:1] == ["check"]:
@@ -404,9 +412,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     announce(settings)
     from pendant.api.quitting import freeze_on_quit
 
+    on_main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _exit_on_sigterm) if on_main_thread else None
     try:
         serve_api(settings, api_app, freeze_on_quit(controller.freeze, events))  # quitting stops the arm
     finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
         if ui is not None:
             ui.stop()
         if watch is not None:

@@ -32,7 +32,8 @@ from pendant.planning.live import ControllerPlanner
 from pendant.program import ProgramWorkspace
 from pendant.sim import SimController
 from pendant.teach.recording import PathRecorder
-from pendant.telemetry import Telemetry, recordings_dir
+from pendant.telemetry import Telemetry, arm_drawing, recordings_dir
+from pendant.ui.dashboard.arm_state import arm_state
 from pendant.ui.dashboard.feed import DashboardFeed
 from pendant.ui.dashboard.join_qr import join_urls
 from pendant.ui.kit.cell_contact import ContactLog
@@ -127,7 +128,7 @@ class PendantUI:
             f"{label} by {self.activity.who(client)}"
         )
         recordings = recordings_dir(resolve_data_dir(data_dir, programs_dir))  # --data, env, beside programs
-        self.telemetry = Telemetry(controller, clock, recordings_folder=recordings)
+        self.telemetry = Telemetry(controller, clock, recordings_folder=recordings, arm=arm_drawing(arm))
         self.events.on_record(self.telemetry.log_event)
         self.programs = ProgramWorkspace.for_controller(controller, programs_dir, ControllerPlanner(arm))
         # Each version's author: the operator's browser (only the operator may save).
@@ -215,6 +216,7 @@ class PendantUI:
             self._thread.join(timeout=2.0)
         self.jogger.stop_watchdog()
         self.runner.shutdown()
+        self.telemetry.stop_recording()  # SIGTERM or Ctrl-C: a running recording's file is finished
         self.server.stop()
 
     def refresh(self, *, with_io: bool = True, flush: bool = False) -> Snapshot:
@@ -267,7 +269,14 @@ class PendantUI:
 
     def refresh_dashboard(self, *, sample: bool = True, table: bool = True, plots: bool = True) -> None:
         """Read the motors once for everybody and push the shared renderings to every dashboard."""
-        self.dashboard_feed.push(self.latest, self._sessions(), sample=sample, table=table, plots=plots)
+        self.dashboard_feed.push(
+            self.latest,
+            self._sessions(),
+            sample=sample,
+            table=table,
+            plots=plots,
+            arm=lambda: arm_state(self.latest, self.cell_state, self.programs),
+        )
 
     # --- browsers -----------------------------------------------------------------------------------
     def _connect(self, client: viser.ClientHandle) -> None:

@@ -108,9 +108,11 @@ def _wait_until_serving(process: subprocess.Popen[str], base_url: str) -> None:
 
 
 class Pendant:
-    """A running pendant with its page: the page's URL and an HTTP client of its API."""
+    """A running pendant with its page: the page's URL, an HTTP client of its API, and its process (to
+    signal)."""
 
-    def __init__(self, ui_port: int, api_port: int) -> None:
+    def __init__(self, ui_port: int, api_port: int, process: subprocess.Popen[bytes] | None = None) -> None:
+        self.process = process
         self.ui_port = ui_port
         self.ui_url = f"http://{LOOPBACK}:{ui_port}/"
         self.api = httpx.Client(base_url=f"http://{LOOPBACK}:{api_port}", timeout=5.0)
@@ -125,7 +127,7 @@ class Pendant:
 @contextlib.contextmanager
 def running_pendant_ui(*flags: str, env: dict[str, str] | None = None) -> Iterator[Pendant]:
     """A `pendant` process (simulator, page and API on free loopback ports) with extra `flags`; its event
-    log and recordings in a temporary data folder."""
+    log and recordings in a temporary data folder (`env={"PENDANT_DATA_DIR": ...}` names another)."""
     ui_port, api_port = free_port(), free_port()
     data = tempfile.TemporaryDirectory(prefix="pendant-data-")
     process = subprocess.Popen(
@@ -137,7 +139,7 @@ def running_pendant_ui(*flags: str, env: dict[str, str] | None = None) -> Iterat
     try:
         wait_until(lambda: answers(f"http://{LOOPBACK}:{api_port}/pose"), START_TIMEOUT_S, "the API")
         wait_until(lambda: answers(f"http://{LOOPBACK}:{ui_port}/"), START_TIMEOUT_S, "the page")
-        yield Pendant(ui_port, api_port)
+        yield Pendant(ui_port, api_port, process)
     finally:
         stop(process)
         data.cleanup()

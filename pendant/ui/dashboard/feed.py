@@ -4,7 +4,7 @@ distinct filter (only when the log changed, or a browser just came)."""
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from typing import Protocol
 
 from pendant.eventlog import EventLog
@@ -42,11 +42,16 @@ class DashboardFeed:
         sample: bool = True,
         table: bool = True,
         plots: bool = True,
+        arm: Callable[[], ArmState] | None = None,
     ) -> None:
-        """Read the motors once (with `latest`'s pose, IO and status) and push the shared renderings."""
+        """Read the motors once (with what `arm` says besides them: pose, IO, status, cell, program step;
+        by default `latest`'s pose, IO and status) and push the shared renderings."""
         if sample:
             status = latest.motion_status.value if latest.motion_status is not None else None
-            self.telemetry.sample(ArmState(latest.position, latest.outputs, latest.inputs, status))
+            state = (
+                arm() if arm is not None else ArmState(latest.position, latest.outputs, latest.inputs, status)
+            )
+            self.telemetry.sample(state)
         table_html = render_motor_table(self.telemetry.latest) if table else None
         plot_cache: dict[float, PlotData] = {}  # one per window length the browsers show
 

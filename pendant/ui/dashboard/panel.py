@@ -1,5 +1,6 @@
-"""The Dashboard tab: the six motors in a table, plots of angles, currents and temperatures (dashboard_plots),
-telemetry recording to MCAP and CSV (dashboard_recording) and the searchable event log (dashboard_events).
+"""The Dashboard tab: the six motors in a table, plots of angles, currents and temperatures (plots), telemetry
+recording to MCAP and CSV (recording), their replay with a ghost arm (replay) and the searchable event log
+(events).
 
 The readings are shared: the refresh loop samples the motors once for everybody and renders the table, the
 plots' data and the log once per distinct view; each browser's panel only receives the result.
@@ -8,6 +9,7 @@ plots' data and the log once per distinct view; each browser's panel only receiv
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from pathlib import Path
 
 import viser
 
@@ -17,6 +19,7 @@ from pendant.telemetry import Telemetry
 from pendant.ui.dashboard.events import EVENTS_SHOWN, EventLogView, EventsRenderer
 from pendant.ui.dashboard.plots import PLOTS, PlotSource, PlotView
 from pendant.ui.dashboard.recording import RecordingControls, RecordingListener
+from pendant.ui.dashboard.replay import ReplayPanel
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.html import inset
 
@@ -65,12 +68,20 @@ class DashboardPanel:
         *,
         may_record: Callable[[viser.ClientHandle | None], str | None],
         on_recording: RecordingListener,
+        arm_urdf: Path | None = None,
     ) -> None:
         self.motor_table = target.gui.add_html(render_motor_table(None))
         self.plot_view = PlotView(target)
         with target.gui.add_folder("Recording (MCAP and CSV)"):
             self.recording = RecordingControls(
                 target, telemetry, may_record=may_record, on_recording=on_recording
+            )
+        with target.gui.add_folder("Replay"):
+            self.replay = ReplayPanel(
+                target,
+                arm_urdf,
+                chosen=self.recording.chosen_file,
+                recording_now=lambda: telemetry.mcap.path if telemetry.mcap is not None else None,
             )
         with target.gui.add_folder("Event log"):
             self.events = EventLogView(target, events)
@@ -96,6 +107,10 @@ class DashboardPanel:
 
     def show_recording(self, *, locked: bool) -> None:
         self.recording.show(locked=locked)
+
+    def close(self) -> None:
+        """The browser left: a replay playing stops."""
+        self.replay.close()
 
 
 __all__ = ["EVENTS_SHOWN", "PLOTS", "DashboardPanel", "render_motor_table"]

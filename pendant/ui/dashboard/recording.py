@@ -102,13 +102,17 @@ class RecordingControls:
         self._send(client, name, content)
         return content
 
-    def send_saved(self, client: viser.ClientHandle | None, suffix: str) -> Path | None:
+    def chosen_file(self, suffix: str = ".mcap") -> Path | None:
         """The chosen saved recording's file (the newest when none is chosen yet)."""
         recordings = self._telemetry.recordings()
         chosen = next(
             (r for r in recordings if r.label == self.saved.value), recordings[0] if recordings else None
         )
-        path = next((f for f in chosen.files if f.suffix == suffix), None) if chosen is not None else None
+        return next((f for f in chosen.files if f.suffix == suffix), None) if chosen is not None else None
+
+    def send_saved(self, client: viser.ClientHandle | None, suffix: str) -> Path | None:
+        """The chosen saved recording's file (the newest when none is chosen yet)."""
+        path = self.chosen_file(suffix)
         if path is None:
             if client is not None:
                 client.add_notification(

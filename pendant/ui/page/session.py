@@ -132,6 +132,7 @@ class ClientSession:
                 events,
                 may_record=desk.gate,
                 on_recording=on_recording if on_recording is not None else (lambda client, message: None),
+                arm_urdf=arm.urdf_path,
             )
             self.join = add_join_button(target, join_urls) if join_urls else None
             self.failures = target.gui.add_html(render_failures((), None))
@@ -200,6 +201,7 @@ class ClientSession:
     def close(self) -> None:
         """The browser left: stop following the shared program."""
         self.program.close()
+        self.dashboard.close()
 
     def show(self, snapshot: Snapshot, *, with_io: bool) -> None:
         if self.banner is not None:

@@ -1,0 +1,125 @@
+"""The Dashboard's Replay headless: a kept recording played back as a ghost arm at the slider's time, with the
+events and a jump to each stop or error; replay moves nothing and anybody watching may use it. And the page's
+recordings carry the arm (its /tf frames), the cell and the program, and are finished when the page stops."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterator
+
+import numpy as np
+import pytest
+
+from pendant.controller import MotionParams, Pose
+from pendant.eventlog import EventKind, EventLog
+from pendant.sim import FakeClock, SimController
+from pendant.telemetry.repair import finished
+from pendant.ui.app import PendantUI
+from pendant.ui.dashboard.replay import JUMP_PROMPT
+from pendant.ui.page.session import ClientSession
+from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.pages import new_page
+from tests.support.waiting import wait_until
+from tests.telemetry.test_mcap import read_mcap
+
+from .test_dashboard import MOVE, SAMPLE_PERIOD_S, sample
+
+N_SAMPLES = 20
+FAULT_AT = 8  # the sample after which an error is logged
+ANGLE_TOL_DEG = 1e-9
+PLAY_TIMEOUT_S = 10.0
+
+
+@pytest.fixture
+def anchor(clock: FakeClock) -> dict[str, float]:
+    """The wall time the page's events are stamped with: real time at the anchor, on by the fake clock."""
+    return {"wall": time.time(), "clock": clock.now()}
+
+
+@pytest.fixture
+def pendant_ui(sim: SimController, clock: FakeClock, anchor: dict[str, float]) -> Iterator[PendantUI]:
+    """A page whose samples and events are timed by the `clock` fixture."""
+    events = EventLog(now=lambda: anchor["wall"] + clock.now() - anchor["clock"])
+    page = new_page(sim, sim.arm, clock=clock.now, events=events)
+    page.desk.join(OPERATOR)
+    page.desk.join(VIEWER)
+    page.refresh()
+    yield page
+    page.stop()
+
+
+def record(
+    ui: ClientSession, pendant_ui: PendantUI, sim: SimController, clock: FakeClock, anchor: dict[str, float]
+) -> list[list[float]]:
+    """A recording of the arm moving, with an error logged part-way; the joints as sampled."""
+    anchor.update(wall=time.time(), clock=clock.now())  # the recording's wall clock starts now too
+    fire(ui.dashboard.record_start, FakeBrowser(OPERATOR))
+    sim.set_pose(MOVE, MotionParams(speed=30.0))
+    readings = sample(pendant_ui, clock, FAULT_AT)
+    pendant_ui.events.record(EventKind.ERROR, "controller", "Protective stop: collision")
+    readings += sample(pendant_ui, clock, N_SAMPLES - FAULT_AT)
+    fire(ui.dashboard.record_stop, FakeBrowser(OPERATOR))
+    return [[m.angle for m in motors] for motors in readings]
+
+
+def test_the_ghost_shows_the_recorded_arm_at_the_slider_time_and_nothing_moves(
+    ui: ClientSession, pendant_ui: PendantUI, sim: SimController, clock: FakeClock, anchor: dict[str, float]
+) -> None:
+    recorded = record(ui, pendant_ui, sim, clock, anchor)
+    clock.advance(30.0)  # the live arm finishes its move and rests
+    live = sim.get_pose().angles
+    commands_before = [e for e in pendant_ui.events.recent() if e.kind is EventKind.COMMAND]
+    replay = ui.dashboard.replay
+    viewer = FakeBrowser(VIEWER)
+    fire(replay.start, viewer)  # a viewer may replay: it commands nothing
+    assert replay.replay is not None and replay.ghost is not None, viewer.notifications
+    assert replay.replay.duration_s == pytest.approx((N_SAMPLES - 1) * SAMPLE_PERIOD_S)
+    for i in (2, 15):  # the slider's time is seconds since the first sample
+        fire(replay.time, viewer, value=i * SAMPLE_PERIOD_S + SAMPLE_PERIOD_S / 2)
+        assert replay.ghost.q is not None
+        np.testing.assert_allclose(np.degrees(replay.ghost.q), recorded[i], atol=ANGLE_TOL_DEG)
+        shown = "Protective stop" in replay.log.content
+        assert shown == (i >= FAULT_AT), f"at sample {i}, the error is {'' if shown else 'not '}listed"
+    assert recorded[2] != recorded[15]
+
+    label = next(option for option in replay.jump.options if "Protective stop" in option)
+    assert replay.jump.options[0] == JUMP_PROMPT
+    fire(replay.jump, viewer, value=label)
+    at_fault = (FAULT_AT - 1) * SAMPLE_PERIOD_S  # logged after the FAULT_AT-th sample
+    assert float(replay.time.value) == pytest.approx(at_fault, abs=SAMPLE_PERIOD_S / 2)
+    assert "Protective stop: collision" in replay.log.content
+
+    fire(replay.time, viewer, value=0.0)
+    fire(replay.play, viewer)
+    wait_until(lambda: float(replay.time.value) > 0.3, PLAY_TIMEOUT_S, "the replay to play on")
+    fire(replay.pause, viewer)
+    np.testing.assert_allclose(sim.get_pose().angles, live, atol=ANGLE_TOL_DEG)
+    assert [e for e in pendant_ui.events.recent() if e.kind is EventKind.COMMAND] == commands_before
+    fire(replay.close_replay, viewer)
+    assert replay.ghost.q is None and replay.time.disabled
+
+
+def test_a_recording_still_being_written_is_not_replayed(
+    ui: ClientSession, pendant_ui: PendantUI, clock: FakeClock
+) -> None:
+    operator = FakeBrowser(OPERATOR)
+    fire(ui.dashboard.record_start, operator)
+    sample(pendant_ui, clock, 3)
+    fire(ui.dashboard.replay.start, operator)
+    assert ui.dashboard.replay.replay is None
+    assert any("still being recorded: stop the recording first" in n for n in operator.notifications)
+
+
+def test_the_page_records_the_arm_and_finishes_the_file_when_it_stops(
+    ui: ClientSession, pendant_ui: PendantUI, sim: SimController, clock: FakeClock
+) -> None:
+    fire(ui.dashboard.record_start, FakeBrowser(OPERATOR))
+    sim.set_pose(Pose(angles=[10.0, -80.0, 60.0, -90.0, -90.0, 0.0]), MotionParams(speed=30.0))
+    sample(pendant_ui, clock, 5)
+    path = pendant_ui.telemetry.mcap.path if pendant_ui.telemetry.mcap is not None else None
+    assert path is not None and not finished(path)
+    pendant_ui.stop()  # what SIGTERM and Ctrl-C lead to
+    assert finished(path)
+    schemas, messages = read_mcap(path)
+    assert {"/tf", "/arm", "/cell"} <= set(schemas), "the page's recordings draw the arm and the cell"
+    assert sum(1 for topic, _, _ in messages if topic == "/tf") == 5
