@@ -22,7 +22,12 @@
    its stamp is the driver's; with software WebGL that wait is 150-900 ms, which a real touchscreen does not
    add. The mouse's stamp is the browser's own.
 
-Run: .venv/bin/python benchmarks/jog.py [--trials 20] [--holds 5]
+4. The tablet (768x1024, touch enabled): hold J1 1.0 s by API, mouse and finger, alternating in one run so
+   all three see the same load (printed beside the figures), and where each press and release spends its
+   time: press sent -> handled by the page -> hold handed to the worker (touch: the press-or-swipe check)
+   -> first motion; release sent -> handled by the page -> release handed to the worker -> arm still.
+
+Run: .venv/bin/python benchmarks/jog.py [--trials 20] [--holds 5] [--only-browser | --only-tablet]
 """
 
 from __future__ import annotations
@@ -287,7 +292,8 @@ window.__stages = [];
   const mark = (name) => window.__stages.push([name, performance.timeOrigin + performance.now()]);
   const post = Worker.prototype.postMessage;
   Worker.prototype.postMessage = function (message, ...rest) {
-    if (message && (message.type === "pendant_hold" || message.type === "pendant_release")) mark(message.type);
+    const type = message && message.type;
+    if (type === "pendant_hold" || type === "pendant_release") mark(type);
     return post.call(this, message, ...rest);
   };
   document.addEventListener("pointerdown", () => mark("down"), true);
@@ -298,7 +304,7 @@ TABLET = (768, 1024)
 
 
 def gesture_stages(page, timeline) -> dict[str, float]:  # type: ignore[no-untyped-def]
-    """Where a press and a release spend their time, in seconds, on the gesture's timeline (0 = press sent)."""
+    """Where a press and a release spend their time (s), on the gesture's timeline (0 = press sent)."""
     marks: dict[str, float] = {}
     for name, wall in page.evaluate("window.__stages.splice(0)"):
         marks.setdefault(name, timeline.at(wall / 1000.0))  # the first of each: a hold re-sent after a stall

@@ -156,10 +156,10 @@ PAGE_STOPS = {"Jog J1+ stopped: released", "Jog J1+ stopped: page closed"}
 
 def test_closing_the_tab_while_a_jog_button_is_held_stops_the_arm(browser, pendant: Pendant) -> None:  # type: ignore[no-untyped-def]
     # The closing page stops the arm itself (its worker's release or its keepalive fetch, whichever comes
-    # first), not the deadman once it went quiet. On a heavily loaded machine (load average 15-25 on 2 cores)
-    # the deadman can come first, and the stop holds (issue 22): the page's main thread stalled for more than
-    # 400 ms inside the hold, or the page's stop took longer than the 200 ms deadman to reach the jogger (seen:
-    # 250-550 ms). Either way the arm stopped in time; a page that never sends its stop loses every try.
+    # first), not the deadman once it went quiet. On a heavily loaded machine (load average 13-25 on 2
+    # cores) the deadman can come first, and the stop holds (issue 22): the page's main thread stalled for
+    # more than 400 ms inside the hold, or the page's stop took longer than the 200 ms deadman to reach the
+    # jogger. Either way the arm stopped in time; a page that never sends its stop loses every try.
     stops = []
     for _ in range(CLOSE_TRIES):
         tab = browser.new_page(viewport={"width": 1400, "height": 900})
