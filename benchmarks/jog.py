@@ -22,7 +22,12 @@
    its stamp is the driver's; with software WebGL that wait is 150-900 ms, which a real touchscreen does not
    add. The mouse's stamp is the browser's own.
 
-Run: .venv/bin/python benchmarks/jog.py [--trials 20] [--holds 5]
+4. The tablet (768x1024, touch enabled): hold J1 1.0 s by API, mouse and finger, alternating in one run so
+   all three see the same load (printed beside the figures), and where each press and release spends its
+   time: press sent -> handled by the page -> hold handed to the worker (touch: the press-or-swipe check)
+   -> first motion; release sent -> handled by the page -> release handed to the worker -> arm still.
+
+Run: .venv/bin/python benchmarks/jog.py [--trials 20] [--holds 5] [--only-browser | --only-tablet]
 """
 
 from __future__ import annotations
@@ -279,6 +284,94 @@ def hold_report(holds: int) -> None:
         _report("frame time while the arm moves (1400x900)", [f / 1000.0 for f in frames])
 
 
+# Each gesture's stages as the page saw them (wall clock): the pointer handled, the hold and the release
+# handed to the worker (which sends them on viser's socket).
+_STAGES = """
+window.__stages = [];
+(() => {
+  const mark = (name) => window.__stages.push([name, performance.timeOrigin + performance.now()]);
+  const post = Worker.prototype.postMessage;
+  Worker.prototype.postMessage = function (message, ...rest) {
+    const type = message && message.type;
+    if (type === "pendant_hold" || type === "pendant_release") mark(type);
+    return post.call(this, message, ...rest);
+  };
+  document.addEventListener("pointerdown", () => mark("down"), true);
+  document.addEventListener("pointerup", () => mark("up"), true);
+})();
+"""
+TABLET = (768, 1024)
+
+
+def gesture_stages(page, timeline) -> dict[str, float]:  # type: ignore[no-untyped-def]
+    """Where a press and a release spend their time (s), on the gesture's timeline (0 = press sent)."""
+    marks: dict[str, float] = {}
+    for name, wall in page.evaluate("window.__stages.splice(0)"):
+        marks.setdefault(name, timeline.at(wall / 1000.0))  # the first of each: a hold re-sent after a stall
+    first, still = timeline.first_motion_s(), timeline.last_motion_s()
+    stages = {}
+    if "down" in marks and "pendant_hold" in marks and first is not None:
+        stages["press sent -> handled by the page"] = marks["down"]
+        stages["handled -> hold sent (touch: swipe check + a frame)"] = marks["pendant_hold"] - marks["down"]
+        stages["hold sent -> first motion"] = first - marks["pendant_hold"]
+    if "up" in marks and "pendant_release" in marks:
+        stages["release sent -> handled by the page"] = marks["up"] - timeline.released_at
+        stages["handled -> release sent"] = marks["pendant_release"] - marks["up"]
+        stages["release sent -> arm still"] = still - marks["pendant_release"]
+    return stages
+
+
+def tablet_report(holds: int) -> None:
+    """Hold J1 1.0 s on the tablet layout (768x1024, touch enabled) by API, mouse and finger, alternating in
+    one run (so all three see the same load): the share of the API-sent motion, press -> first motion,
+    release -> arm still, and where a press and a release spend their time."""
+    import os
+
+    from playwright.sync_api import sync_playwright
+
+    from tests.support.jog_measure import api_hold, ensure_operator, mouse_hold, touch_hold
+
+    load_before = os.getloadavg()[0]
+    runs: dict[str, list] = {"api": [], "mouse": [], "touch": []}
+    stages: dict[str, dict[str, list[float]]] = {"mouse": {}, "touch": {}}
+    with running_pendant_ui() as pendant, sync_playwright() as playwright:
+        api = pendant.api
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        page = browser.new_page(viewport={"width": TABLET[0], "height": TABLET[1]}, has_touch=True)
+        page.add_init_script(_STAGES)
+        page.goto(pendant.ui_url)
+        ensure_operator(page)
+        cdp = page.context.new_cdp_session(page)
+        for i in range(holds):
+            label, direction = ("J1+", +1) if i % 2 == 0 else ("J1-", -1)
+            runs["api"].append(api_hold(api, 1.0, direction))
+            for how in ("mouse", "touch"):
+                page.evaluate("window.__stages.length = 0")
+                if how == "mouse":
+                    runs[how].append(mouse_hold(page, api, label, 1.0))
+                else:
+                    runs[how].append(touch_hold(page, cdp, api, label, 1.0))
+                for name, value in gesture_stages(page, runs[how][-1]).items():
+                    stages[how].setdefault(name, []).append(value)
+        browser.close()
+    load = f"load average {load_before:.1f}-{os.getloadavg()[0]:.1f}"
+    api_deg = statistics.median(t.moved_deg for t in runs["api"])
+    print(f"tablet 768x1024, hold J1 1.0 s x {holds}, {load}")
+    print(f"tablet API-sent: moved median {api_deg:.2f} deg")
+    _report("tablet API: freeze sent -> arm still", [t.stop_after_release_s() for t in runs["api"]])
+    for how in ("mouse", "touch"):
+        ratios = [t.moved_deg / api_deg * 100 for t in runs[how]]
+        print(
+            f"tablet {how}: hold 1.0 s moved median {statistics.median(ratios):.0f} % "
+            f"({min(ratios):.0f}-{max(ratios):.0f} %) of the API-sent motion, "
+            f"stalls while held: {sum(t.stalls_while_held() for t in runs[how])}"
+        )
+        _report(f"tablet {how}: press -> first motion", [t.first_motion_s() or 0.0 for t in runs[how]])
+        _report(f"tablet {how}: release sent -> arm still", [t.stop_after_release_s() for t in runs[how]])
+        for name, values in stages[how].items():
+            _report(f"tablet {how}:   {name}", values)
+
+
 def _report(name: str, values: list[float]) -> None:
     ms = sorted(v * 1000 for v in values)
     p99 = ms[min(len(ms) - 1, round(0.99 * (len(ms) - 1)))]
@@ -290,7 +383,11 @@ def main() -> None:
     parser.add_argument("--trials", type=int, default=20)
     parser.add_argument("--holds", type=int, default=5)
     parser.add_argument("--only-browser", action="store_true", help="only part 3")
+    parser.add_argument("--only-tablet", action="store_true", help="only the tablet holds (768x1024)")
     args = parser.parse_args()
+    tablet_report(args.holds)
+    if args.only_tablet:
+        return
     frame_report(max(1, args.holds // 2))
     hold_report(args.holds)
     if args.only_browser:

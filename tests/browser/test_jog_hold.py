@@ -150,16 +150,28 @@ def test_a_swipe_that_starts_on_a_jog_button_never_moves_the_arm(touch_page, pen
     wait_idle(pendant.api)
 
 
+CLOSE_TRIES = 3
+PAGE_STOPS = {"Jog J1+ stopped: released", "Jog J1+ stopped: page closed"}
+
+
 def test_closing_the_tab_while_a_jog_button_is_held_stops_the_arm(browser, pendant: Pendant) -> None:  # type: ignore[no-untyped-def]
-    tab = browser.new_page(viewport={"width": 1400, "height": 900})
-    open_as_operator(tab, pendant.ui_url)
-    timeline = close_while_held(tab, pendant.api, "J1+", 0.6)
-    assert timeline.moved_deg > 1.0, "the held button did not jog"
-    # The closing page stopped it itself (its worker's release or its keepalive fetch, whichever came first),
-    # not the deadman once it went quiet.
-    assert last_jog_stop(pendant) in {"Jog J1+ stopped: released", "Jog J1+ stopped: page closed"}
-    assert timeline.stop_after_release_s() < STOP_WITHIN_S, "the arm went on after the tab closed"
-    still_after(pendant)
+    # The closing page stops the arm itself (its worker's release or its keepalive fetch, whichever comes
+    # first), not the deadman once it went quiet. On a heavily loaded machine (load average 13-25 on 2
+    # cores) the deadman can come first, and the stop holds (issue 22): the page's main thread stalled for
+    # more than 400 ms inside the hold, or the page's stop took longer than the 200 ms deadman to reach the
+    # jogger. Either way the arm stopped in time; a page that never sends its stop loses every try.
+    stops = []
+    for _ in range(CLOSE_TRIES):
+        tab = browser.new_page(viewport={"width": 1400, "height": 900})
+        open_as_operator(tab, pendant.ui_url)
+        timeline = close_while_held(tab, pendant.api, "J1+", 0.6)
+        assert timeline.moved_deg > 1.0, "the held button did not jog"
+        assert timeline.stop_after_release_s() < STOP_WITHIN_S, "the arm went on after the tab closed"
+        still_after(pendant)
+        stops.append(last_jog_stop(pendant))
+        if stops[-1] in PAGE_STOPS:
+            break
+    assert stops[-1] in PAGE_STOPS, f"the closing page never stopped the arm itself: {stops}"
 
 
 def last_jog_stop(pendant: Pendant) -> str:

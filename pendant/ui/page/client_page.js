@@ -40,6 +40,10 @@
   // The browser's own, before the spacing below wraps it: a touch's decision waits for the next frame,
   // not for the next frame the spacing lets through.
   const nextFrame = window.requestAnimationFrame.bind(window);
+  // While a touch is being decided, the 3D view's frames wait (at most this long after the touch): a
+  // software frame blocks the main thread for 50-300 ms, and the decision (a frame) would wait behind it.
+  const TOUCH_FRAME_HOLD_MS = 150;
+  let framesHeldUntil = 0;
 
   // --- 3. rendering cost in software WebGL ------------------------------------------------------------
   function softwareWebGL() {
@@ -79,7 +83,7 @@
     let lastFrame = 0;
     window.requestAnimationFrame = (callback) => raf((now) => {
       const spacing = document.documentElement.dataset.jogging === undefined ? idleMs : jogMs;
-      const wait = lastFrame + spacing - now;
+      const wait = Math.max(lastFrame + spacing, framesHeldUntil) - now;
       const run = (t) => { lastFrame = t; callback(t); };
       if (wait <= 0) run(now);
       else setTimeout(() => raf(run), wait);
@@ -143,7 +147,7 @@
   window.Worker = PendantWorker;
 
   const post = (message) => { if (socketWorker !== null) socketWorker.postMessage(message); };
-  const holds = new Map(); // pointer id (or "key") -> { uuid, stop, started, timer, x, y }
+  const holds = new Map(); // pointer id (or "key") -> { uuid, stop, started, x, y }
   let aliveTimer = null;
   let lastTick = 0;
 
@@ -162,7 +166,6 @@
 
   function start(hold) {
     hold.started = true;
-    hold.timer = null;
     post({ type: "pendant_hold", uuid: hold.uuid, hz: HOLD_HZ });
     if (aliveTimer === null) {
       lastTick = performance.now();
@@ -177,7 +180,7 @@
     const hold = holds.get(id);
     if (hold === undefined) return;
     holds.delete(id);
-    if (hold.timer !== null) clearTimeout(hold.timer);
+    if (!hold.started) framesHeldUntil = 0;
     if (click) post({ type: "pendant_release", uuid: hold.uuid });
     else if (hold.started) post({ type: "pendant_release", uuid: hold.stop });
     if (holds.size === 0) {
@@ -207,7 +210,7 @@
     if (holds.size > 0) finishAll(); // one jog at a time: a second finger stops the first
     const hold = {
       uuid: button.dataset.jogUuid, stop: button.closest("[data-jog-stop]").dataset.jogStop,
-      started: false, timer: null, x: event.clientX, y: event.clientY,
+      started: false, x: event.clientX, y: event.clientY,
     };
     holds.set(event.pointerId, hold);
     // A touch captures its pointer to the button it began on; the pad is redrawn with new values while
@@ -218,11 +221,20 @@
       start(hold);
       return;
     }
-    // Decide after the delay, in a frame callback: Chrome hands moves and cancels to the page just before
-    // the frame, so a swipe the page was too busy to see yet is seen before this decides.
-    hold.timer = setTimeout(() => {
-      nextFrame(() => { if (holds.get(event.pointerId) === hold && !hold.started) start(hold); });
-    }, TOUCH_DELAY_MS);
+    // Decide in the first frame that begins TOUCH_DELAY_MS after the finger touched: Chrome hands the page
+    // the moves and cancels that reached it before a frame at that frame's start, so a swipe is seen before
+    // this decides. The window counts from the touch's own time (event.timeStamp), not from this handler,
+    // which runs late when a frame was being drawn; the view's frames wait meanwhile (TOUCH_FRAME_HOLD_MS).
+    const now = performance.now();
+    const decideAt = Math.min(event.timeStamp > 0 ? event.timeStamp : now, now) + TOUCH_DELAY_MS;
+    framesHeldUntil = decideAt - TOUCH_DELAY_MS + TOUCH_FRAME_HOLD_MS;
+    const decide = (frameTime) => {
+      if (holds.get(event.pointerId) !== hold || hold.started) return;
+      if (frameTime < decideAt) { nextFrame(decide); return; }
+      framesHeldUntil = 0;
+      start(hold);
+    };
+    nextFrame(decide);
   }, true);
   document.addEventListener("pointermove", (event) => {
     const hold = holds.get(event.pointerId);
@@ -274,7 +286,7 @@
     event.preventDefault();
     finishAll();
     const hold = { uuid: button.dataset.jogUuid, stop: button.closest("[data-jog-stop]").dataset.jogStop,
-                   started: false, timer: null, x: 0, y: 0 };
+                   started: false, x: 0, y: 0 };
     holds.set("key", hold);
     start(hold);
   }, true);
