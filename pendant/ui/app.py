@@ -8,7 +8,6 @@ changes and errors to the event log.
 from __future__ import annotations
 
 import logging
-import threading
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -24,13 +23,10 @@ from pendant.cell.file import cells_dir
 from pendant.cell.geometry import CellAwareArm, CellModel
 from pendant.controller import Controller
 from pendant.controller.stops import StopBus
-from pendant.eventlog import EventKind, EventLog
+from pendant.eventlog import EventLog
 from pendant.kinematics import ArmModel
 from pendant.monitoring import PendantMetrics
 from pendant.monitoring import data_dir as resolve_data_dir
-from pendant.planning.live import ControllerPlanner
-from pendant.program import ProgramWorkspace
-from pendant.sim import SimController
 from pendant.teach.recording import PathRecorder
 from pendant.telemetry import Telemetry, arm_drawing, recordings_dir
 from pendant.ui.dashboard.arm_state import arm_state
@@ -41,13 +37,13 @@ from pendant.ui.kit.cell_state import CellState
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.kit.controller_reader import ControllerReader
 from pendant.ui.kit.gui_target import GuiTarget
-from pendant.ui.kit.motion_gate import PROGRAM_RUNNING, explain_in_error, program_block
+from pendant.ui.kit.motion_gate import PROGRAM_RUNNING
 from pendant.ui.kit.snapshot import Snapshot, carry_last_known
 from pendant.ui.page.activity import ActivityLog, LoggedJogger
 from pendant.ui.page.browsers import Browsers, read_handshake
-from pendant.ui.page.pacing import TickWork, run_ticks
+from pendant.ui.page.pacing import RefreshLoop, TickWork
 from pendant.ui.page.page_server import serve_page
-from pendant.ui.page.recovery import Recovery
+from pendant.ui.page.program_wiring import open_program_workspace
 from pendant.ui.page.roles import ControlDesk
 from pendant.ui.page.session import ClientSession
 from pendant.ui.robot.safety_panel import read_identity
@@ -105,10 +101,9 @@ class PendantUI:
         self.runner = CommandRunner(controller, gate=self.desk.gate)
         self.activity = ActivityLog(self.events, self.desk, metrics)
         self.runner.on_submit = self.activity.command
-        self._stop = threading.Event()
         # Stops heard anywhere in this process (the page's, the API's): shared with the API app by the CLI.
         self.stops = stops if stops is not None else StopBus()
-        self._wake = threading.Event()  # a jog started: show its first motion now, not at the next tick
+        self.loop = RefreshLoop(self._tick)  # woken when a jog starts: its first motion shows at once
         # The controller's cell: its state, and its geometry for the page's checks.
         self.obstacles = ObstacleDrawing(self.server.scene, "/cell")
         self.live_cell = LiveCell(arm, self.obstacles, ContactLog(self.events))
@@ -119,7 +114,7 @@ class PendantUI:
             events=self.events,
             desk=self.desk,
             remote=self.remote,
-            on_start=self._wake.set,
+            on_start=self.loop.wake,
             stops=self.stops,
             touching=lambda q: self.cell_model.touching(q) if self.cell_model is not None else [],
         )
@@ -130,22 +125,17 @@ class PendantUI:
         recordings = recordings_dir(resolve_data_dir(data_dir, programs_dir))  # --data, env, beside programs
         self.telemetry = Telemetry(controller, clock, recordings_folder=recordings, arm=arm_drawing(arm))
         self.events.on_record(self.telemetry.log_event)
-        self.programs = ProgramWorkspace.for_controller(controller, programs_dir, ControllerPlanner(arm))
-        # Each version's author: the operator's browser (only the operator may save).
-        self.programs.versions.who = lambda: self.desk.name(self.desk.operator)
-        self.programs.on_change(lambda change: self.activity.program_changed(self.programs, change))
-        self.runner.motion_block = program_block(self.programs)
-        self.runner.explain = explain_in_error(lambda: self.latest.motion_status)
-        self.recovery = Recovery(  # the banner's view, shared by every browser
-            self.events,
+        self.programs, self.recovery = open_program_workspace(
+            controller,
             arm,
-            simulator=isinstance(controller, SimController),
+            programs_dir,
+            events=self.events,
+            desk=self.desk,
+            activity=self.activity,
+            runner=self.runner,
+            latest=lambda: self.latest,
             cell=lambda: self.cell_model,
-            current_q=lambda: self.latest.q,
         )
-        self.programs.runner.explain_failure = self.recovery.explain_step_failure
-        if self.programs.store.restore_problem is not None:
-            self.events.record(EventKind.ERROR, "program", self.programs.store.restore_problem)
         self.scene = ArmScene(self.server, arm.urdf_path)
         self.latest = Snapshot(taken_at=0.0)
         self.cells_dir = Path(cells_folder) if cells_folder is not None else cells_dir()
@@ -158,13 +148,12 @@ class PendantUI:
         self._sessions_lock = self.browsers.lock
         self.dashboard_feed = DashboardFeed(self.telemetry, self.events)
         self.reader = ControllerReader(controller)
-        self._thread = threading.Thread(target=self._refresh_loop, name="pendant-refresh", daemon=True)
         self.desk.on_change(self._control_changed)
         self.remote.on_change(self.browsers.show_remote)
         self.server.on_client_connect(self._connect)
         self.server.on_client_disconnect(self._disconnect)
         if metrics is not None:
-            metrics.viewers.set_function(lambda: len(self._sessions()))
+            metrics.viewers.set_function(lambda: len(self.browsers.all()))
 
     def open_session(
         self, target: GuiTarget, *, client_id: int | None = None, url_token: str | None = None
@@ -192,16 +181,14 @@ class PendantUI:
             url_token=url_token,
             remote=self.remote,
             join_urls=self.join_urls,
-            on_recording=lambda client, message: self.events.record(
-                EventKind.COMMAND, self.activity.who(client), message
-            ),
+            on_recording=self.activity.recording,
         )
 
     def start(self) -> PendantUI:
         self.refresh()
         self.refresh_cell()
         self.jogger.start_watchdog()
-        self._thread.start()
+        self.loop.start()
         return self
 
     def _page_closed_mid_jog(self) -> None:
@@ -210,10 +197,7 @@ class PendantUI:
             jogger.release("page closed")
 
     def stop(self) -> None:
-        self._stop.set()
-        self._wake.set()
-        if self._thread.is_alive():
-            self._thread.join(timeout=2.0)
+        self.loop.stop()
         self.jogger.stop_watchdog()
         self.runner.shutdown()
         self.telemetry.stop_recording()  # SIGTERM or Ctrl-C: a running recording's file is finished
@@ -236,7 +220,7 @@ class PendantUI:
         self.recovery.update(snapshot, self.cell_state, runs.progress, can_resume=runs.can_resume)
         self.activity.state_changed(self.latest, snapshot)
         self.latest = snapshot
-        for session in self._sessions():
+        for session in self.browsers.all():
             session.show(snapshot, with_io=with_io)
         if flush:  # only then: flushing every tick costs the viewers' update rate (benchmarks/viewers.py)
             self.server.flush()
@@ -263,7 +247,7 @@ class PendantUI:
         state = self.live_cell.state
         if not self.identity and self.latest.online:
             self.identity = read_identity(self.controller)
-        for session in self._sessions():
+        for session in self.browsers.all():
             session.show_cell(state, self.identity, cell_changed=changed)
         return state
 
@@ -271,7 +255,7 @@ class PendantUI:
         """Read the motors once for everybody and push the shared renderings to every dashboard."""
         self.dashboard_feed.push(
             self.latest,
-            self._sessions(),
+            self.browsers.all(),
             sample=sample,
             table=table,
             plots=plots,
@@ -299,13 +283,7 @@ class PendantUI:
             self.jogger.release("control changed")  # the operator left or handed over: no jog goes on
         self.browsers.apply_role(operator)
 
-    def _sessions(self) -> list[ClientSession]:
-        return self.browsers.all()
-
     # --- the loop -----------------------------------------------------------------------------------
-    def _refresh_loop(self) -> None:
-        run_ticks(self._tick, stopped=self._stop.is_set, wait=self._woken_within)
-
     def _tick(self, work: TickWork, woken: bool) -> None:
         try:
             self.refresh(with_io=work.io, flush=woken)
@@ -315,9 +293,3 @@ class PendantUI:
                 self.refresh_dashboard(table=work.table, plots=work.plots)
         except Exception:  # a broken browser connection must not stop the live view for the others
             log.exception("refresh failed")
-
-    def _woken_within(self, timeout_s: float) -> bool:
-        woken = self._wake.wait(timeout_s)
-        if woken:
-            self._wake.clear()
-        return woken

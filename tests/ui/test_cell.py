@@ -272,7 +272,7 @@ def test_the_tool_shape_is_drawn_on_the_flange_and_the_ghost_checks_it(
 def test_a_cell_file_is_saved_loaded_and_applied(
     pendant_ui: PendantUI, ui: ClientSession, sim: SimController, tmp_path: Path
 ) -> None:
-    ui.cell._folder = tmp_path
+    ui.cell.files_section._folder = tmp_path
     browser = FakeBrowser(OPERATOR)
     sim.add_obstacle(box("fixture", (0.4, 0.3, 0.2)))
     fire(ui.cell.file_name, browser, "line 3")
@@ -291,7 +291,7 @@ def test_a_cell_file_is_saved_loaded_and_applied(
 def test_a_cell_file_the_controller_refuses_leaves_the_cell_as_it_was(
     ui: ClientSession, sim: SimController, tmp_path: Path
 ) -> None:
-    ui.cell._folder = tmp_path
+    ui.cell.files_section._folder = tmp_path
     browser = FakeBrowser(OPERATOR)
     on_a_line = PlaneObstacle(
         obstacleType="PLANE",

@@ -19,12 +19,12 @@ from pathlib import Path
 import numpy as np
 import viser
 
-from pendant.cell.file import CellFileError, apply_cell, list_cells, load_cell, read_cell, save_cell
 from pendant.cell.forms import KINDS, ObstacleForm, form_from_obstacle, obstacle_from_form
 from pendant.cell.placement import gizmo_pose, moved_form
 from pendant.controller import Controller
 from pendant.controller.cell_types import Obstacle
 from pendant.ui.cell.edits import DEFAULT_FORMS, NEW, clear_cell, edit_refusal, nudged
+from pendant.ui.cell.files_section import CellFilesSection
 from pendant.ui.cell.gizmo import ObstacleGizmo
 from pendant.ui.kit.cell_contact import contact_line
 from pendant.ui.kit.cell_state import CellState
@@ -32,15 +32,12 @@ from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.confirm import Confirmation
 from pendant.ui.kit.gui_target import GuiTarget
 
-NO_FILES = "(no cell files)"
-
 
 class CellPanel:
     def __init__(
         self, target: GuiTarget, runner: CommandRunner, folder: Path, state: Callable[[], CellState]
     ) -> None:
         self._runner = runner
-        self._folder = folder
         self._state = state
         self._names: tuple[str, ...] = ()
         self._syncing = False
@@ -71,12 +68,10 @@ class CellPanel:
         self.delete = gui.add_button("Delete obstacle", icon=viser.Icon.TRASH)
         self.clear = gui.add_button("Delete all obstacles", color="red")
         self.confirmation = Confirmation(target)
-        with gui.add_folder("Cell file", expand_by_default=False):
-            self.file_name = gui.add_text("File name", initial_value="cell")
-            self.save = gui.add_button("Save cell", icon=viser.Icon.DEVICE_FLOPPY)
-            self.files = gui.add_dropdown("Cell files", options=[NO_FILES], initial_value=NO_FILES)
-            self.load = gui.add_button("Load and apply cell", icon=viser.Icon.FOLDER_OPEN)
-        self.refresh_files()
+        f = self.files_section = CellFilesSection(gui, runner, folder)
+        # Its controls and commands, under the names the tab has always had.
+        self.file_name, self.save, self.files, self.load = f.file_name, f.save, f.files, f.load
+        self.save_file, self.load_file = f.save_file, f.load_file
         self._show_fields("BOX")
 
         self.selected.on_update(lambda _: None if self._syncing else self._pick(self.selected.value))
@@ -85,8 +80,6 @@ class CellPanel:
         self.add.on_click(lambda e: self.submit(e.client, add=True))
         self.delete.on_click(lambda e: self.ask_remove(e.client))
         self.clear.on_click(lambda e: self.ask_clear(e.client))
-        self.save.on_click(lambda e: self.save_file(e.client))
-        self.load.on_click(lambda e: self.load_file(self.files.value, e.client))
 
     @property
     def controls(self) -> tuple[viser.GuiInputHandle, ...]:
@@ -248,35 +241,6 @@ class CellPanel:
             return None
         return self._runner.submit(f"Delete obstacle {name!r}", lambda c: c.remove_obstacle(name), client)
 
-    def save_file(self, client: viser.ClientHandle | None = None) -> Future[object]:
-        name = str(self.file_name.value)
-
-        def save(c: Controller) -> object:
-            try:
-                path = save_cell(self._folder, name, read_cell(c))
-            except (CellFileError, OSError) as error:
-                notify_refusal(client, "Cell not saved", str(error))
-                raise
-            self.refresh_files(select=path.name.removesuffix(".cell.json"))
-            return path
-
-        return self._runner.submit(f"Save cell {name!r}", save, client)
-
-    def load_file(self, name: str, client: viser.ClientHandle | None = None) -> Future[object] | None:
-        try:
-            cell = load_cell(self._folder, name)
-        except CellFileError as error:
-            notify_refusal(client, "Cell not loaded", str(error))
-            return None
-        return self._runner.submit(f"Apply cell {name!r}", lambda c: apply_cell(c, cell), client)
-
-    def refresh_files(self, select: str | None = None) -> None:
-        names = list_cells(self._folder) or [NO_FILES]
-        if list(self.files.options) != names:
-            self.files.options = names
-        if select is not None and select in names:
-            self.files.value = select
-
     def _select_when_done(self, future: Future[object], name: str) -> None:
         if future.exception() is None:
             self._pending_select = name
@@ -322,7 +286,3 @@ class CellPanel:
         if unsupported != self._unsupported:
             self._unsupported = unsupported
             self.set_locked(self.locked)
-
-
-def _clear(c: Controller) -> object:
-    return c.remove_obstacles()

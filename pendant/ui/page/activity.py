@@ -121,6 +121,10 @@ class ActivityLog:
     def who(self, client: viser.ClientHandle | None) -> str:
         return "pendant" if client is None else self._desk.name(client.client_id)
 
+    def recording(self, client: viser.ClientHandle | None, message: str) -> None:
+        """A recording started or stopped in `client`'s Dashboard."""
+        self._events.record(EventKind.COMMAND, self.who(client), message)
+
     def command(
         self,
         label: str,

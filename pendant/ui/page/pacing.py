@@ -8,6 +8,7 @@ samples/s measured 8.8). By a deadline the sample comes on the next tick instead
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -99,3 +100,35 @@ def run_ticks(
         tick(schedule.work(clock()), woken)
         woken = wait(schedule.wait_s(clock()))
         schedule.resume(clock(), woken=woken)
+
+
+class RefreshLoop:
+    """The refresh thread: `tick(work, woken)` on schedule until `stop`; `wake` (a jog started) shows its
+    first motion now, not at the next tick."""
+
+    def __init__(self, tick: Callable[[TickWork, bool], None]) -> None:
+        self._tick = tick
+        self._stopped = threading.Event()
+        self._woken = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="pendant-refresh", daemon=True)
+
+    def start(self) -> None:
+        self._thread.start()
+
+    def wake(self) -> None:
+        self._woken.set()
+
+    def stop(self, timeout_s: float = 2.0) -> None:
+        self._stopped.set()
+        self._woken.set()
+        if self._thread.is_alive():
+            self._thread.join(timeout=timeout_s)
+
+    def _run(self) -> None:
+        run_ticks(self._tick, stopped=self._stopped.is_set, wait=self._woken_within)
+
+    def _woken_within(self, timeout_s: float) -> bool:
+        woken = self._woken.wait(timeout_s)
+        if woken:
+            self._woken.clear()
+        return woken

@@ -18,7 +18,7 @@ from viser.extras import ViserUrdf
 from pendant.cell.geometry import CellModel
 from pendant.controller import Controller
 from pendant.kinematics import ArmModel
-from pendant.program import Change, EditError, ProgramWorkspace, describe_step
+from pendant.program import Change, EditError, ProgramWorkspace
 from pendant.program.tree import Line
 from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
@@ -30,6 +30,7 @@ from pendant.ui.program.refusals import USER_ERRORS
 from pendant.ui.program.run_section import RunSection
 from pendant.ui.program.scene import ProgramScene
 from pendant.ui.program.step_form import StepForm
+from pendant.ui.program.step_list import dropdown_lines, steps_markdown
 from pendant.ui.program.waypoint_section import WaypointSection
 
 log = logging.getLogger(__name__)
@@ -37,7 +38,6 @@ log = logging.getLogger(__name__)
 NO_STEP = "(no steps yet: press Record)"
 NO_SELECTION = "(no step selected)"  # a new page selects nothing: Record and Add then append at the end
 EDIT_OPTIONS = ("Up", "Down", "Indent", "Outdent", "Duplicate", "Delete step")
-INDENT = "\u2003"  # an em space: Markdown keeps it, so nesting shows
 
 
 class ProgramPanel:
@@ -264,7 +264,7 @@ class ProgramPanel:
             self.selected = len(listed) - 1 if listed else None
         self.syncing = True
         try:
-            lines = [f"{i + 1}. {INDENT * line.depth}{_label(line)}" for i, line in enumerate(listed)]
+            lines = dropdown_lines(listed)
             # Nothing is selected until the operator picks a line (a reloaded page too): said, not guessed.
             options = [NO_SELECTION, *lines] if lines else [NO_STEP]
             if list(self.select.options) != options:
@@ -288,26 +288,6 @@ class ProgramPanel:
         self.title.content = f"**{shared.program.name}** — {where}{state}"
 
     def _redraw_steps_view(self) -> None:
-        progress = self.shared.progress
-        current = progress.step_index if progress.active else None
-        rows = []
-        for i, line in enumerate(self.shared.lines()):
-            mark = (
-                "✖"
-                if i == progress.failed_step
-                else "▶"
-                if i == current
-                else "●"
-                if i == self.selected
-                else ""
-            )
-            # "4\." is not a Markdown list item: the list can never renumber itself around a bold line.
-            text = f"{mark} {i + 1}\\. {'&emsp;' * line.depth}{_label(line)}{self.check_section.mark(i)}"
-            rows.append(f"**{text}**" if mark else text)
-        self.steps_view.content = "  \n".join(rows) if rows else "_No steps: jog the arm and press Record._"
-        self.scene.show(self.shared.program, self.selected, current)
-
-
-def _label(line: Line) -> str:
-    prefix = "Else: " if line.branch == "otherwise" else ""
-    return prefix + describe_step(line.step)
+        listed, progress = self.shared.lines(), self.shared.progress
+        self.steps_view.content = steps_markdown(listed, progress, self.selected, self.check_section.mark)
+        self.scene.show(self.shared.program, self.selected, progress.step_index if progress.active else None)

@@ -12,14 +12,12 @@ from pendant.program import (
     CommentStep,
     Frame,
     GripperAction,
-    GripperAtWaypoint,
     GripperStep,
     IfStep,
     LoopMode,
     LoopStep,
     MoveStep,
     Offset,
-    OutputAction,
     OutputStep,
     PalletStep,
     PathStep,
@@ -33,35 +31,10 @@ from pendant.program.models import (
     MAX_WAIT_MS,
     PATH_SPEED_MAX_MM_S,
     PROGRAM_SPEED_MIN,
-    WaypointAction,
 )
 from pendant.teach.path_step import resimplified
+from pendant.ui.program.arrival import ARRIVAL_OPTIONS, arrival_actions, arrival_option
 from pendant.ui.program.host import ProgramHost
-
-NO_ACTION = "nothing"
-ARRIVAL_OPTIONS = (
-    NO_ACTION,
-    *(f"DO{p} {level.value}" for p in OUTPUT_PORTS for level in SignalLevel),
-    "gripper open",
-    "gripper close",
-)
-
-
-def _arrival(action: WaypointAction | None) -> str:
-    if isinstance(action, OutputAction):
-        return f"DO{action.port} {action.value.value}"
-    if isinstance(action, GripperAtWaypoint):
-        return f"gripper {action.value.value}"
-    return NO_ACTION
-
-
-def _arrival_actions(option: str) -> tuple[WaypointAction, ...]:
-    if option == NO_ACTION:
-        return ()
-    if option.startswith("gripper "):
-        return (GripperAtWaypoint(value=GripperAction(option.split()[1])),)
-    port, level = option.split()
-    return (OutputAction(port=int(port[2:]), value=SignalLevel(level)),)
 
 
 class StepForm:
@@ -193,7 +166,7 @@ class StepForm:
                 self.offset_deg.value = (o.rx, o.ry, o.rz)
                 self.frame.value = o.frame.value
                 self.blend.value = step.blend_mm
-                self.arrival.value = _arrival(step.actions[0] if step.actions else None)
+                self.arrival.value = arrival_option(step.actions[0] if step.actions else None)
                 self.planned.value = step.planned
             case GripperStep():
                 self.gripper.value = step.action.value
@@ -258,7 +231,7 @@ class StepForm:
                     speed=float(self.speed.value),
                     offset=offset,
                     blend_mm=float(self.blend.value),
-                    actions=_arrival_actions(str(self.arrival.value)),
+                    actions=arrival_actions(str(self.arrival.value)),
                     planned=bool(self.planned.value) and self.motion.value == MotionType.JOINT.value,
                 )
             case GripperStep():
