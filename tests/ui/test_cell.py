@@ -174,7 +174,7 @@ def test_an_obstacle_touching_the_arm_is_taken_shown_red_said_and_logged(
     fire(ui.cell.name, browser, "on the arm")
     beside = flange + np.array([-0.07, 0.0, 0.0])  # its +x face 2 cm into the wrist and the gripper
     fire(ui.cell.at, browser, tuple(float(v) for v in beside * 1000.0))
-    future = ui.cell.submit(browser)
+    future = ui.cell.submit(browser, add=True)
     assert future is not None and future.result(timeout=WAIT_S) is not None  # taken, as a controller does
     assert names(sim) == ["on the arm"]
     pendant_ui.refresh_cell()

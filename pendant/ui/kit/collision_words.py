@@ -100,10 +100,13 @@ def explain_collision(
     q_from: np.ndarray | None = None,
 ) -> CollisionNamed:
     """A controller's refusal in the shared words: a bare "Collision detected" for the pose `q` gets what
-    is in the way named; any other message is kept as it is."""
-    if q is None or not is_unnamed_collision(message):
+    is in the way named; a collision the controller named already keeps its words, with the obstacles the
+    page finds (to draw them red); any other message is kept as it is."""
+    if q is None or not message.strip().startswith(MSG_COLLISION):
         return CollisionNamed(message)
     named = name_collision(arm, q, cell, q_from)
+    if not is_unnamed_collision(message):
+        return CollisionNamed(message, named.obstacles)
     if named.reason is None:  # the controller saw one the page's model does not (finer sampling)
         return CollisionNamed(f"{MSG_COLLISION} on the way to the target")
     return named
