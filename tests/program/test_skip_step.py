@@ -55,4 +55,5 @@ def test_the_runner_names_the_failure_with_its_hook(
     sim.add_obstacle(box_at("Box", sim.arm.fk(np.radians(b.pose.angles))[:3, 3]))
     runner.explain_failure = lambda program, line, last, reason: f"{reason} ({program.steps[line].waypoint})"  # type: ignore[union-attr]
     failed = runner.run(program_of(move(a, speed=50.0), move(b, speed=40.0)))
-    assert failed.message.endswith("Collision detected (B)"), failed.message
+    # The hook's words end the message: the controller's reason (which names the box), then the hook's "(B)".
+    assert failed.message.endswith("'Box' (B)") and "Collision detected" in failed.message, failed.message
