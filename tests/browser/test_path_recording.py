@@ -78,8 +78,8 @@ def take_control(page) -> None:  # type: ignore[no-untyped-def]
 
 def toggle_free_drive(page, pendant: Pendant, on: bool) -> None:  # type: ignore[no-untyped-def]
     page.get_by_role("tab", name="Robot").click()
-    row = page.get_by_text("Free drive", exact=True).locator("xpath=ancestor::div[.//input][1]")
-    row.locator(".mantine-Checkbox-inner").click()
+    # By its label (the banner says "Free drive" too while the arm is in it).
+    page.get_by_label("Free drive", exact=True).click()
     wanted = "ZERO_GRAVITY" if on else "ACTIVE"
     wait_until(
         lambda: system_state(pendant) == wanted, HAND_TIMEOUT_S, f"the arm to be {wanted}", poll_s=0.02

@@ -10,8 +10,10 @@ from __future__ import annotations
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
+from playwright.sync_api import Error as PlaywrightError
 
 from .conftest import ARTIFACTS, Pendant, running_pendant
 
@@ -102,10 +104,24 @@ def test_freeze_on_screen_and_no_sideways_scroll_in_any_tab(browser, pendant: Pe
                 assert state["wide"] == [], f"scrolls sideways in {where}: {state['wide']}"
             if tab == "Dashboard":  # the reported case: the J6 column cut off at the panel's right edge
                 j6 = page.get_by_role("columnheader", name="J6", exact=True)
-                j6.scroll_into_view_if_needed()
+                box = header_box(j6)  # the table is redrawn 5 times a second: its header is replaced
                 page.screenshot(path=str(ARTIFACTS / f"screen-fit-dashboard-{width}x{height}.png"))
-                box, panel = j6.bounding_box(), freeze.bounding_box()
+                panel = freeze.bounding_box()
                 assert box is not None and panel is not None
                 assert box["x"] + box["width"] <= panel["x"] + panel["width"] + PX_TOL, (box, panel)
     finally:
         page.close()
+
+
+def header_box(header: Any) -> Any:
+    """The header's box once scrolled into view; the motor table is redrawn while we look (5 Hz), so a header
+    replaced between the scroll and the reading is looked up again."""
+    for _ in range(10):
+        try:
+            header.scroll_into_view_if_needed(timeout=5000)
+            box = header.bounding_box(timeout=5000)
+            if box is not None:
+                return box
+        except PlaywrightError:
+            pass
+    raise AssertionError("the J6 header never stayed on the page long enough to be measured")

@@ -57,7 +57,8 @@ def render_events(rows: Sequence[StoredEvent]) -> str:
             f"<i>{html.escape(row.source)}</i>: {html.escape(row.message)}</div>"
         )
     return (
-        '<div id="event-log" style="font-size:0.78em;line-height:1.35;max-height:360px;overflow-y:auto">'
+        '<div id="event-log" tabindex="0" role="log" aria-label="Event log" '
+        'style="font-size:0.78em;line-height:1.35;max-height:360px;overflow-y:auto">'
         f"{''.join(lines)}</div>"
     )
 
