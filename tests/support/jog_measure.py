@@ -68,8 +68,12 @@ class Timeline:
         return stalls
 
 
+SAMPLE_GAP_S = 0.004  # ~200 readings a second: fine enough for stops, and leaves the page its CPU
+
+
 class PoseSampler:
-    """Reads J1 over the API as fast as loopback allows, on a thread, between `start()` and `stop()`."""
+    """Reads J1 over the API about every SAMPLE_GAP_S, on a thread, between `start()` and `stop()`. (As fast
+    as loopback allowed, it took a core from the browser on a 2-core machine: the measured page stalled.)"""
 
     def __init__(self, api: httpx.Client) -> None:
         self._api = api
@@ -83,6 +87,7 @@ class PoseSampler:
         while not self._stop.is_set():
             j1 = self._api.get("/pose").json()["angles"][0]
             self._samples.append((time.monotonic() - self.t0, j1))
+            self._stop.wait(SAMPLE_GAP_S)
 
     def start(self) -> None:
         self.t0 = time.monotonic()
@@ -170,9 +175,28 @@ def ensure_operator(page: Any) -> None:
         if take.is_visible():  # a viewer (another page had control when this one joined): take it
             take.click()
         time.sleep(0.5)
-    # A page still building its scene can take seconds to answer its first input: start when it draws.
-    page.evaluate("new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)))")
-    page.wait_for_timeout(1_000)
+    # A page still building its scene (meshes, shaders) stalls its main thread for seconds, and a stall past
+    # the page's 400 ms lets the deadman cut a hold (as it must): start when its frames come steadily.
+    wait_settled(page)
+
+
+SETTLED = """([quietMs, maxGapMs, timeoutMs]) => new Promise((done) => {
+  const start = performance.now();
+  let last = start, quietSince = start;
+  const frame = (now) => {
+    if (now - last > maxGapMs) quietSince = now;
+    last = now;
+    if (now - quietSince >= quietMs || now - start > timeoutMs) { done(now - quietSince >= quietMs); return; }
+    requestAnimationFrame(frame);
+  };
+  requestAnimationFrame(frame);
+})"""
+
+
+def wait_settled(page: Any, quiet_ms: int = 1_500, max_gap_ms: int = 250, timeout_ms: int = 20_000) -> bool:
+    """Wait until the page has drawn for `quiet_ms` with no frame gap over `max_gap_ms` (at most `timeout_ms`;
+    False if it never settled: a machine that busy is the test's to report, not this wait's)."""
+    return bool(page.evaluate(SETTLED, [quiet_ms, max_gap_ms, timeout_ms]))
 
 
 def mouse_hold(page: Any, api: httpx.Client, label: str, hold_s: float) -> Timeline:
