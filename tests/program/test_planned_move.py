@@ -4,12 +4,15 @@ the obstacle. Files stay as they were for programs without planned moves."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from pendant.controller import MotionParams, MotionType, Pose
+from pendant.controller import Controller, MotionParams, MotionType, Pose, Position
 from pendant.kinematics import ArmModel
+from pendant.planning.joint_planner import MSG_CANCELLED, PlanCancelled
 from pendant.planning.live import ControllerPlanner
 from pendant.planning.scenes import BOX
 from pendant.program import MoveStep, ProgramRunner, RunState, Waypoint
@@ -19,6 +22,7 @@ from pendant.sim import FakeClock, SimController
 from tests.program.conftest import POLL_S, move, program_of, settle, teach
 
 ANGLE_TOL_DEG = 0.5  # the runner's own arrival tolerance
+SEARCH_POLLS_BEFORE_STOP = 1  # the search has begun: its first look at the run's stop
 
 
 @pytest.fixture
@@ -79,3 +83,40 @@ def test_the_flag_is_saved_only_when_set_and_a_file_without_it_loads_unplanned(b
     assert isinstance(again, MoveStep) and not again.planned
     with pytest.raises(ValidationError, match="only a Move J can be planned"):
         MoveStep(waypoint="beyond", motion=MotionType.LINEAR, planned=True)
+
+
+def test_stop_while_the_path_is_searched_ends_the_search_and_nothing_moves(
+    sim: SimController, clock: FakeClock, beyond: Waypoint
+) -> None:
+    # The operator presses Stop while the planned step is still searching its path round the box: the
+    # search ends there (it polls the run's stop), the run says stopped, and no path is sent afterwards.
+    plans = ControllerPlanner(ArmModel.load("pulse75"), budget_s=10.0)  # long enough to be under way
+    polls_after_stop = []
+    ended_by: list[str] = []
+
+    def planner(controller: Controller, goal: Pose | Position, cancelled: Callable[[], bool]) -> list[Pose]:
+        polls = 0
+
+        def polled() -> bool:
+            nonlocal polls
+            polls += 1
+            if polls == SEARCH_POLLS_BEFORE_STOP:
+                runner.stop()  # the Stop button, pressed while the search runs
+            if polls > SEARCH_POLLS_BEFORE_STOP:
+                polls_after_stop.append(polls)
+            return cancelled()
+
+        try:
+            return plans(controller, goal, polled)
+        except PlanCancelled as cancel:
+            ended_by.append(cancel.message)
+            raise
+
+    runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now, poll_s=POLL_S, planner=planner)
+    result = runner.run(program_of(move(beyond, speed=100.0, planned=True)))
+    assert result.state is RunState.STOPPED, result.message
+    assert ended_by == [MSG_CANCELLED], "the search ran on after the stop"
+    assert len(polls_after_stop) <= 2, "the search did not end at the first poll after the stop"
+    assert np.allclose(sim.get_pose().angles, BOX.start_deg, atol=1e-6)  # nothing moved
+    clock.advance(2.0)
+    assert np.allclose(sim.get_pose().angles, BOX.start_deg, atol=1e-6)  # and nothing was sent later
