@@ -64,6 +64,15 @@ class Clearance:
     to: str
 
 
+@dataclass(frozen=True)
+class Approach:
+    """How close one link (or the tool) comes to one obstacle: metres, signed (negative: penetration)."""
+
+    distance_m: float
+    link: str
+    obstacle: str
+
+
 def _se3(T: np.ndarray) -> pin.SE3:
     return pin.SE3(np.ascontiguousarray(T[:3, :3]), np.ascontiguousarray(T[:3, 3]))
 
@@ -292,6 +301,23 @@ class CellCheck:
             distance = pin.computeDistance(self.geometry_model, geometry_data, index).min_distance
             if distance < best.distance_m:
                 best = Clearance(float(distance), self._what(index))
+        return best
+
+    def closest_obstacle(self, q: np.ndarray) -> Approach | None:
+        """The arm's or tool's closest approach to an obstacle at q (signed, without the margin) and which
+        link (TOOL_LINK for the tool) and obstacle; None in a cell without obstacles. (The pre-flight's.)"""
+        if not self._obstacle_of_pair:
+            return None
+        data, geometry_data = self._scratch()
+        q_pin = self._to_pin(joint_vector(q))
+        pin.updateGeometryPlacements(self.model, data, self.geometry_model, geometry_data, q_pin)
+        best: Approach | None = None
+        for index, (obstacle, link) in self._contact_of_pair.items():
+            if index not in self._obstacle_of_pair:
+                continue  # the tool and the floor
+            distance = pin.computeDistance(self.geometry_model, geometry_data, index).min_distance
+            if best is None or distance < best.distance_m:
+                best = Approach(float(distance), link, str(obstacle))
         return best
 
     def _what(self, index: int) -> str:

@@ -1,8 +1,8 @@
 """How close the arm and its tool come to the cell: `Clearance(q) -> Closest(mm, link, obstacle)`.
 
-One small class on coal's distance queries, so the pre-flight can later sit on the shared (pinocchio)
-checker without changing its callers. The arm's shapes are the URDF's collision shapes on the moving links,
-the tool's are its capsules (and the sphere at the TCP); obstacles are the controller's, by name.
+Asked of the ONE cell check (pendant/kinematics/cell_check.py), in the operator's words: the URDF's
+collision shapes on the moving links by link, the tool's capsules (and the sphere at the TCP) as "the tool",
+the gripper's fingers as "the gripper"; obstacles are the controller's, by name.
 """
 
 from __future__ import annotations
@@ -11,14 +11,13 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import coal
 import numpy as np
 
 from pendant.controller.cell_types import Obstacle, ToolShape
 from pendant.controller.types import Tool
 from pendant.kinematics import ArmModel
-from pendant.kinematics.cell_shapes import obstacle_shape, tool_capsules
-from pendant.kinematics.obstacles import capsule_shape
+from pendant.kinematics.cell_check import TOOL_LINK
+from pendant.kinematics.cell_shapes import cell_check
 
 TOOL_NAME = "the tool"
 GRIPPER_NAME = "the gripper"
@@ -40,40 +39,22 @@ class Closest:
     obstacle: str
 
 
-def _transform(T: np.ndarray) -> coal.Transform3s:
-    return coal.Transform3s(np.ascontiguousarray(T[:3, :3]), np.ascontiguousarray(T[:3, 3]))
-
-
 class Clearance:
-    """Distances from the arm (and tool) at q to each obstacle of the cell; `None` for an empty cell."""
+    """Distances from the arm (and tool) at q to each obstacle of the cell, on the shared cell check;
+    `None` for an empty cell."""
 
     def __init__(
         self, arm: ArmModel, obstacles: Sequence[Obstacle], tool_shape: ToolShape, tool: Tool
     ) -> None:
-        self._arm = arm
-        self._links = [part_name(name) for name in arm.moving_shape_names()]
-        self._obstacles = [(o.name, *obstacle_shape(o)) for o in obstacles]
-        self._tool = [capsule_shape(c) for c in tool_capsules(tool_shape, tool)]
+        self._check = cell_check(arm, obstacles, tool_shape, tool)
 
     @property
     def empty(self) -> bool:
-        return not self._obstacles
+        return not self._check.obstacles
 
     def __call__(self, q: np.ndarray) -> Closest | None:
-        if not self._obstacles:
+        closest = self._check.closest_obstacle(q)
+        if closest is None:
             return None
-        T_flange = self._arm.fk(q)
-        parts: list[tuple[str, coal.CollisionGeometry, np.ndarray]] = [
-            (link, shape, T) for link, (shape, T) in zip(self._links, self._arm.moving_shapes(q), strict=True)
-        ]
-        parts.extend((TOOL_NAME, shape, T_flange @ T) for shape, T in self._tool)
-        best: Closest | None = None
-        request = coal.DistanceRequest()
-        for name, obstacle, T_obstacle in self._obstacles:
-            placed = _transform(T_obstacle)
-            for link, shape, T in parts:
-                result = coal.DistanceResult()
-                distance = coal.distance(shape, _transform(T), obstacle, placed, request, result)
-                if best is None or distance * 1000.0 < best.mm:
-                    best = Closest(float(distance) * 1000.0, link, name)
-        return best
+        part = TOOL_NAME if closest.link == TOOL_LINK else part_name(closest.link)
+        return Closest(closest.distance_m * 1000.0, part, closest.obstacle)
