@@ -28,6 +28,7 @@ STOP_JOG_PATH = "/pendant-stop-jog"
 SCRIPT_PATH = Path(__file__).with_name("client_page.js")
 BANNER_SCRIPT_PATH = Path(__file__).with_name("banner_pin.js")  # the banner stays in sight
 ACCESSIBILITY_PATH = Path(__file__).with_name("accessibility.js")  # labels and contrast: a script of its own
+PHONE_LAYOUT_PATH = Path(__file__).with_name("phone_layout.js")  # the bottom sheet on a phone
 VISER_PAGE = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
 
 ProcessRequest = Callable[[ServerConnection, Request], "Response | Awaitable[Response | None] | None"]
@@ -39,7 +40,7 @@ def page_html() -> bytes:
     page = VISER_PAGE.read_bytes()
     script = b"".join(
         b"<script>" + path.read_bytes() + b"</script>"
-        for path in (SCRIPT_PATH, BANNER_SCRIPT_PATH, ACCESSIBILITY_PATH)
+        for path in (SCRIPT_PATH, BANNER_SCRIPT_PATH, ACCESSIBILITY_PATH, PHONE_LAYOUT_PATH)
     )
     head = page.index(b"<head>") + len(b"<head>")
     return page[:head] + script + page[head:]
