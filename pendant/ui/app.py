@@ -46,6 +46,7 @@ from pendant.ui.page.page_server import serve_page
 from pendant.ui.page.program_wiring import open_program_workspace
 from pendant.ui.page.roles import ControlDesk
 from pendant.ui.page.session import ClientSession
+from pendant.ui.page.session_builder import SessionBuilder
 from pendant.ui.robot.safety_panel import read_identity
 from pendant.ui.scene.arm import ArmScene
 from pendant.ui.scene.cell import ObstacleDrawing, ToolShapeDrawing
@@ -150,6 +151,7 @@ class PendantUI:
         self.reader = ControllerReader(controller)
         self.desk.on_change(self._control_changed)
         self.remote.on_change(self.browsers.show_remote)
+        self.builder = SessionBuilder()  # one at a time, off viser's callback pool
         self.server.on_client_connect(self._connect)
         self.server.on_client_disconnect(self._disconnect)
         if metrics is not None:
@@ -200,6 +202,7 @@ class PendantUI:
         self.loop.stop()
         self.jogger.stop_watchdog()
         self.runner.shutdown()
+        self.builder.stop()
         self.telemetry.stop_recording()  # SIGTERM or Ctrl-C: a running recording's file is finished
         self.server.stop()
 
@@ -265,7 +268,10 @@ class PendantUI:
     # --- browsers -----------------------------------------------------------------------------------
     def _connect(self, client: viser.ClientHandle) -> None:
         address, url_token = read_handshake(self.server, client.client_id)
-        self.desk.join(client.client_id, address)
+        self.desk.join(client.client_id, address)  # now: the first browser to connect gets control
+        self.builder.submit(client.client_id, lambda: self._build_session(client, url_token))
+
+    def _build_session(self, client: viser.ClientHandle, url_token: str | None) -> None:
         session = self.open_session(client, client_id=client.client_id, url_token=url_token)
         session.show(self.latest, with_io=True)
         session.show_cell(self.cell_state, self.identity, cell_changed=True)
@@ -275,7 +281,8 @@ class PendantUI:
         self.dashboard_feed.show_log_again()  # show the new browser the log at once
 
     def _disconnect(self, client: viser.ClientHandle) -> None:
-        self.browsers.remove(client.client_id)
+        if not self.builder.cancel(client.client_id):  # left while waiting: it had no panels yet
+            self.browsers.remove(client.client_id)
         self.desk.leave(client.client_id)  # the operator leaving releases control (and stops a jog)
 
     def _control_changed(self, operator: int | None) -> None:

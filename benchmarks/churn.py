@@ -1,0 +1,417 @@
+"""Client churn: while ~100 browsers connect and leave, how long does a new viewer wait for its page, and is a
+held jog ever cut?
+
+A real `pendant` process (simulator, UI and API on loopback). In a process of their own (so that they are
+not what slows the measurement), `--churners` headless browsers connect and leave continuously, each as a
+browser does: GET the page, open the websocket (viser's protocol), announce its camera, receive for a random
+0.5-5 s, then leave, half of them politely (a close handshake), half by dropping the TCP connection.
+
+Meanwhile, in this process:
+- a new viewer, one after the other, measures from starting its page GET to having its page: the HTML, and
+  on the websocket the scene's state (viser's replay: the arm's meshes and /tcp_frame) and the Freeze
+  button. "Whole panel": until the last tab (the Dashboard's plots) has arrived as well.
+- the operator (the first browser, so it has control) holds J1+ for the whole run, its page's worker's way:
+  a GuiButtonHoldMessage every 50 ms (pendant/ui/page/client_page.js). A cut is a "Jog J1+ stopped: ..."
+  line in GET /pendant/events; the operator then lets go and holds again, so every cut is counted.
+
+`--baseline REV` runs the same measurement first against the pendant of git revision REV (an exported copy),
+then against this checkout: before and after, side by side, in one run.
+
+Run: .venv/bin/python benchmarks/churn.py [--churners 100] [--seconds 40] [--baseline REV]
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import contextlib
+import multiprocessing
+import os
+import random
+import re
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import httpx
+import msgspec
+import viser
+import websockets
+import zstandard
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from benchmarks.viewers import cpu_seconds, decode_window
+from tests.support.headless_viewer import CAMERA_HELLO
+from tests.support.ports import free_port
+from tests.support.waiting import answers, wait_until
+
+REPO = Path(__file__).resolve().parents[1]
+START_TIMEOUT_S = 60.0
+STAY_S = (0.5, 5.0)  # how long a churning browser stays
+CONNECT_TIMEOUT_S = 30.0
+PAGE_TIMEOUT_S = 30.0  # a new viewer still without its page after this counts as this long
+PANEL_TIMEOUT_S = 30.0
+PROBE_EVERY_S = 2.0  # a new viewer every 2 s, each measured on its own (up to PROBES_AT_ONCE at a time)
+PROBES_AT_ONCE = 10
+HOLD_HZ = 20.0  # client_page.js HOLD_HZ
+JOG_SPEED_PERCENT = 2.0  # J1 at 2.4 °/s: no joint limit within any run
+LAG_PERIOD_S = 0.05
+WARM_UP_S = 3.0
+EVENTS_POLL_S = 0.5
+JOG_PAD = re.compile(r'data-jog-uuid="([0-9a-f-]+)" aria-label="J1\+"')
+JOG_STOP = re.compile(r'data-jog-stop="([0-9a-f-]+)"')
+SCENE_NODES = ("/tcp_frame", "/arm/visual/base_link_visual")
+
+
+def protocol() -> list[websockets.Subprotocol]:
+    return [websockets.Subprotocol(f"viser-v{viser.__version__}")]
+
+
+async def get_page(port: int) -> int:
+    """GET / as a browser does (gzip accepted); the body's size. Raw HTTP/1.1: cheap for 100 clients."""
+    reader, writer = await asyncio.open_connection("127.0.0.1", port)
+    try:
+        writer.write(
+            f"GET / HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nAccept-Encoding: gzip\r\n"
+            "Connection: close\r\n\r\n".encode()
+        )
+        body = await reader.read()  # to the end: the server closes after the page
+        if not body.startswith(b"HTTP/1.1 200"):
+            raise RuntimeError(f"page GET answered {body[:40]!r}")
+        return len(body)
+    finally:
+        writer.close()
+
+
+# --- the churning browsers (their own process) -------------------------------------------------------------
+
+
+async def churning_browser(port: int, until: float, seed: int, counts: dict[str, int]) -> None:
+    rng = random.Random(seed)
+    await asyncio.sleep(rng.uniform(0, 2.0))  # not all at once
+    while time.monotonic() < until:
+        try:
+            await get_page(port)
+            async with asyncio.timeout(CONNECT_TIMEOUT_S):
+                ws = await websockets.connect(
+                    f"ws://127.0.0.1:{port}/", subprotocols=protocol(), max_queue=None, max_size=None
+                )
+            await ws.send(CAMERA_HELLO)
+            leave_at = time.monotonic() + rng.uniform(*STAY_S)
+            while (left := leave_at - time.monotonic()) > 0:
+                try:
+                    frame = await asyncio.wait_for(ws.recv(), timeout=left)
+                    counts["bytes"] += len(frame)
+                except TimeoutError:
+                    break
+            if rng.random() < 0.5:
+                await ws.close()
+                counts["polite"] += 1
+            else:
+                ws.transport.abort()  # the TCP connection dropped: no close handshake
+                counts["dropped"] += 1
+        except (OSError, websockets.WebSocketException, TimeoutError, RuntimeError):
+            counts["failed"] += 1
+            await asyncio.sleep(0.2)
+
+
+async def loop_lag(until: float, lags: list[float]) -> None:
+    """How late this process's event loop wakes (its own load would show up as the pendant's slowness)."""
+    while time.monotonic() < until:
+        t = time.monotonic()
+        await asyncio.sleep(LAG_PERIOD_S)
+        lags.append(time.monotonic() - t - LAG_PERIOD_S)
+
+
+async def churn(port: int, n: int, seconds: float) -> tuple[dict[str, int], list[float]]:
+    until = time.monotonic() + seconds
+    counts = {"polite": 0, "dropped": 0, "failed": 0, "bytes": 0}
+    lags: list[float] = []
+    await asyncio.gather(loop_lag(until, lags), *(churning_browser(port, until, i, counts) for i in range(n)))
+    return counts, lags
+
+
+def churn_process(port: int, n: int, seconds: float, results: multiprocessing.Queue) -> None:  # type: ignore[type-arg]
+    t0, cpu0 = time.monotonic(), cpu_seconds(os.getpid())
+    counts, lags = asyncio.run(churn(port, n, seconds))
+    cores = (cpu_seconds(os.getpid()) - cpu0) / (time.monotonic() - t0)
+    results.put((counts, sorted(lags)[int(0.95 * (len(lags) - 1))] if lags else 0.0, cores))
+
+
+# --- the new viewers and the operator (this process) -------------------------------------------------------
+
+
+@dataclass
+class Probe:
+    page_s: list[float] = field(default_factory=list)
+    panel_s: list[float] = field(default_factory=list)
+    panel_missing: int = 0
+
+
+async def new_viewer(port: int) -> tuple[float, float | None]:
+    """Seconds to the page (HTML + scene + Freeze) and to the whole panel (None: not within the timeout)."""
+    t0 = time.monotonic()
+    zstd = zstandard.ZstdDecompressor()
+    page_at: float | None = None
+    try:
+        async with asyncio.timeout(PAGE_TIMEOUT_S):
+            await get_page(port)
+            ws = await websockets.connect(
+                f"ws://127.0.0.1:{port}/", subprotocols=protocol(), max_queue=None, max_size=None
+            )
+    except TimeoutError:
+        return PAGE_TIMEOUT_S, None
+    try:
+        await ws.send(CAMERA_HELLO)
+        nodes: set[str] = set()
+        replayed = freeze = False
+        deadline = t0 + PAGE_TIMEOUT_S + PANEL_TIMEOUT_S
+        while (left := deadline - time.monotonic()) > 0:
+            if page_at is None and time.monotonic() - t0 > PAGE_TIMEOUT_S:
+                return PAGE_TIMEOUT_S, None
+            try:
+                frame = await asyncio.wait_for(ws.recv(), timeout=min(left, 1.0))
+            except TimeoutError:
+                continue
+            for message in decode_window(frame, zstd):
+                kind = message.get("type")
+                nodes.add(str(message.get("name")))
+                replayed |= kind == "ReplayDoneMessage"
+                freeze |= kind == "GuiButtonMessage" and message.get("props", {}).get("label") == "Freeze"
+                if kind == "GuiUplotMessage":  # the Dashboard's plots: the last tab's last element
+                    return page_at if page_at is not None else time.monotonic() - t0, time.monotonic() - t0
+            if page_at is None and replayed and freeze and all(n in nodes for n in SCENE_NODES):
+                page_at = time.monotonic() - t0
+        return (page_at if page_at is not None else PAGE_TIMEOUT_S), None
+    finally:
+        ws.transport.abort()
+
+
+async def probe(port: int, until: float, result: Probe) -> None:
+    slots = asyncio.Semaphore(PROBES_AT_ONCE)
+
+    async def one() -> None:
+        async with slots:
+            page_s, panel_s = await new_viewer(port)
+        result.page_s.append(page_s)
+        if panel_s is None:
+            result.panel_missing += 1
+        else:
+            result.panel_s.append(panel_s)
+
+    viewers = []
+    while time.monotonic() < until:
+        viewers.append(asyncio.create_task(one()))
+        await asyncio.sleep(PROBE_EVERY_S)
+    await asyncio.gather(*viewers)
+
+
+def update(uuid: str, value: object) -> bytes:
+    return msgspec.msgpack.encode({"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": value}})
+
+
+class Operator:
+    """The first browser (it has control): holds J1+ at HOLD_HZ; after a cut, lets go and holds again."""
+
+    def __init__(self, port: int) -> None:
+        self.port = port
+        self.ws: websockets.ClientConnection | None = None
+        self.hold_uuid = self.stop_uuid = ""
+        self.regrasp = asyncio.Event()
+
+    async def connect(self) -> None:
+        self.ws = await websockets.connect(
+            f"ws://127.0.0.1:{self.port}/", subprotocols=protocol(), max_queue=None, max_size=None
+        )
+        await self.ws.send(CAMERA_HELLO)
+        zstd = zstandard.ZstdDecompressor()
+        speed = None
+        async with asyncio.timeout(START_TIMEOUT_S):
+            while not (self.hold_uuid and speed):
+                for message in decode_window(await self.ws.recv(), zstd):
+                    props = message.get("props", {})
+                    if message.get("type") == "GuiSliderMessage" and props.get("label") == "Speed %":
+                        speed = message["uuid"]
+                    content = str(props.get("content", ""))
+                    if (pad := JOG_PAD.search(content)) and (stop := JOG_STOP.search(content)):
+                        self.hold_uuid, self.stop_uuid = pad.group(1), stop.group(1)
+        await self.ws.send(update(speed, JOG_SPEED_PERCENT))
+
+    async def hold(self, until: float) -> None:
+        assert self.ws is not None
+        hold = msgspec.msgpack.encode(
+            {"type": "GuiButtonHoldMessage", "uuid": self.hold_uuid, "frequency": HOLD_HZ}
+        )
+        drain = asyncio.create_task(self._drain())
+        next_at = time.monotonic()
+        while time.monotonic() < until:
+            if self.regrasp.is_set():  # the jog was cut: let go, then press again
+                self.regrasp.clear()
+                await self.ws.send(update(self.stop_uuid, True))
+                await asyncio.sleep(0.3)
+            await self.ws.send(hold)
+            next_at += 1.0 / HOLD_HZ
+            await asyncio.sleep(max(0.0, next_at - time.monotonic()))
+        await self.ws.send(update(self.stop_uuid, True))
+        drain.cancel()
+        await self.ws.close()
+
+    async def _drain(self) -> None:
+        assert self.ws is not None
+        with contextlib.suppress(websockets.ConnectionClosed):
+            async for _ in self.ws:
+                pass
+
+
+async def watch_cuts(api: str, until: float, operator: Operator, cuts: list[str]) -> None:
+    since = time.time()
+    async with httpx.AsyncClient(base_url=api, timeout=5.0) as client:
+        while time.monotonic() < until:
+            await asyncio.sleep(EVENTS_POLL_S)
+            answer = await client.get("/pendant/events", params={"text": "stopped:", "since": since})
+            found = [e for e in answer.json()["events"] if e["message"].startswith("Jog J1+ stopped")]
+            if found:
+                since = max(e["time"] for e in found) + 1e-3
+                cuts.extend(e["message"] for e in found)
+                operator.regrasp.set()
+
+
+@dataclass
+class Outcome:
+    label: str
+    probe: Probe
+    cuts: list[str]
+    pendant_cores: float
+    churn: dict[str, int]
+    churn_lag_p95_s: float
+    churn_cores: float
+    probe_lag_p95_s: float
+    moved_deg: float
+
+
+async def measure(ui_port: int, api: str, pid: int, churners: int, seconds: float) -> tuple:  # type: ignore[type-arg]
+    operator = Operator(ui_port)
+    await operator.connect()
+    async with httpx.AsyncClient(base_url=api, timeout=5.0) as client:
+        j1_before = (await client.get("/pose")).json()["angles"][0]
+    results: multiprocessing.Queue = multiprocessing.get_context("spawn").Queue()  # type: ignore[type-arg]
+    churner = multiprocessing.get_context("spawn").Process(
+        target=churn_process, args=(ui_port, churners, WARM_UP_S + seconds, results), daemon=True
+    )
+    start = time.monotonic()
+    churner.start()
+    until = start + WARM_UP_S + seconds
+    cuts: list[str] = []
+    lags: list[float] = []
+    hold = asyncio.create_task(operator.hold(until))
+    watch = asyncio.create_task(watch_cuts(api, until, operator, cuts))
+    lag = asyncio.create_task(loop_lag(until, lags))
+    await asyncio.sleep(WARM_UP_S)
+    t0, cpu0 = time.monotonic(), cpu_seconds(pid)
+    result = Probe()
+    await probe(ui_port, until, result)
+    cpu = (cpu_seconds(pid) - cpu0) / (time.monotonic() - t0)
+    await asyncio.gather(hold, watch, lag)
+    async with httpx.AsyncClient(base_url=api, timeout=5.0) as client:
+        moved = (await client.get("/pose")).json()["angles"][0] - j1_before
+    counts, churn_lag, churn_cores = await asyncio.to_thread(results.get, True, 60.0)
+    await asyncio.to_thread(churner.join, 10.0)
+    probe_lag = sorted(lags)[int(0.95 * (len(lags) - 1))] if lags else 0.0
+    return result, cuts, cpu, counts, churn_lag, churn_cores, probe_lag, moved
+
+
+def run(label: str, source: Path, churners: int, seconds: float) -> Outcome:
+    ui_port, api_port = free_port(), free_port()
+    api = f"http://127.0.0.1:{api_port}"
+    with tempfile.TemporaryDirectory(prefix="pendant-churn-") as data:
+        process = subprocess.Popen(
+            [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            cwd=source,
+            env={**os.environ, "PYTHONPATH": str(source), "PENDANT_DATA_DIR": data},
+        )
+        try:
+            wait_until(lambda: answers(f"{api}/pose"), START_TIMEOUT_S, what="the API answering")
+            wait_until(lambda: answers(f"http://127.0.0.1:{ui_port}/"), START_TIMEOUT_S, what="the page")
+            outcome = asyncio.run(measure(ui_port, api, process.pid, churners, seconds))
+        finally:
+            process.terminate()
+            try:
+                process.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                process.kill()
+    return Outcome(label, *outcome)
+
+
+def percentile(values: list[float], q: float) -> float:
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, round(q * (len(ordered) - 1)))]
+
+
+def report(outcomes: list[Outcome], churners: int, seconds: float) -> None:
+    print(
+        f"{churners} browsers connecting and leaving (each stays {STAY_S[0]}-{STAY_S[1]} s), {seconds:.0f} s"
+    )
+    columns = [o.label for o in outcomes]
+    print(f"{'':44}" + "".join(f"{c:>22}" for c in columns))
+
+    def row(name: str, cells: list[str]) -> None:
+        print(f"{name:44}" + "".join(f"{c:>22}" for c in cells))
+
+    row("new viewers measured", [str(len(o.probe.page_s)) for o in outcomes])
+    for name, q in (("median", 0.5), ("p95", 0.95), ("max", 1.0)):
+        row(
+            f"page (HTML, scene, Freeze) {name} s", [f"{percentile(o.probe.page_s, q):.2f}" for o in outcomes]
+        )
+    for name, q in (("median", 0.5), ("p95", 0.95)):
+        row(
+            f"whole panel {name} s",
+            [f"{percentile(o.probe.panel_s, q):.2f}" if o.probe.panel_s else "-" for o in outcomes],
+        )
+    row("whole panel not within 30 s", [str(o.probe.panel_missing) for o in outcomes])
+    row("held jog cut (times)", [str(len(o.cuts)) for o in outcomes])
+    row("J1 moved while held (deg)", [f"{o.moved_deg:.1f}" for o in outcomes])
+    row("pendant CPU (cores)", [f"{o.pendant_cores:.2f}" for o in outcomes])
+    row(
+        "churners: left polite / dropped / failed",
+        [f"{o.churn['polite']}/{o.churn['dropped']}/{o.churn['failed']}" for o in outcomes],
+    )
+    row(
+        "churn process: CPU cores, loop lag p95 ms",
+        [f"{o.churn_cores:.2f}, {o.churn_lag_p95_s * 1000:.0f}" for o in outcomes],
+    )
+    row("probe loop lag p95 ms", [f"{o.probe_lag_p95_s * 1000:.0f}" for o in outcomes])
+    for o in outcomes:
+        for cut in sorted(set(o.cuts))[:5]:
+            print(f"  {o.label}: {cut}")
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+    after = outcomes[-1]
+    ok = percentile(after.probe.page_s, 0.95) <= 3.0 and not after.cuts
+    print(("PASS" if ok else "MISS") + " (target: page p95 <= 3 s, no jog cut)")
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--churners", type=int, default=100)
+    parser.add_argument("--seconds", type=float, default=40.0)
+    parser.add_argument("--baseline", help="a git revision to measure first (before), e.g. HEAD~1")
+    args = parser.parse_args()
+    outcomes = []
+    with tempfile.TemporaryDirectory(prefix="pendant-baseline-") as baseline:
+        if args.baseline:
+            archive = subprocess.run(
+                ["git", "archive", args.baseline], cwd=REPO, check=True, capture_output=True
+            ).stdout
+            subprocess.run(["tar", "-x", "-C", baseline], input=archive, check=True)
+            outcomes.append(run(f"before ({args.baseline})", Path(baseline), args.churners, args.seconds))
+        outcomes.append(run("this checkout", REPO, args.churners, args.seconds))
+    report(outcomes, args.churners, args.seconds)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
