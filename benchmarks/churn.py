@@ -33,7 +33,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import httpx
@@ -145,68 +145,75 @@ def churn_process(port: int, n: int, seconds: float, results: multiprocessing.Qu
 
 
 @dataclass
-class Probe:
-    page_s: list[float] = field(default_factory=list)
-    panel_s: list[float] = field(default_factory=list)
-    panel_missing: int = 0
+class Viewer:
+    """One new viewer's times (s from starting its page GET); None: not within the timeouts."""
+
+    html: float | None = None
+    socket: float | None = None  # the websocket open
+    scene: float | None = None  # viser's replay of the scene done (meshes, /tcp_frame)
+    freeze: float | None = None  # the Freeze button
+    panel: float | None = None  # the last tab's last element
+
+    @property
+    def page(self) -> float:
+        """The page: HTML, scene and Freeze (PAGE_TIMEOUT_S when not within it)."""
+        parts = (self.html, self.scene, self.freeze)
+        return PAGE_TIMEOUT_S if any(p is None for p in parts) else max(p for p in parts if p is not None)
 
 
-async def new_viewer(port: int) -> tuple[float, float | None]:
-    """Seconds to the page (HTML + scene + Freeze) and to the whole panel (None: not within the timeout)."""
+async def new_viewer(port: int) -> Viewer:
     t0 = time.monotonic()
+    seen = Viewer()
     zstd = zstandard.ZstdDecompressor()
-    page_at: float | None = None
     try:
         async with asyncio.timeout(PAGE_TIMEOUT_S):
             await get_page(port)
+            seen.html = time.monotonic() - t0
             ws = await websockets.connect(
                 f"ws://127.0.0.1:{port}/", subprotocols=protocol(), max_queue=None, max_size=None
             )
+            seen.socket = time.monotonic() - t0
     except TimeoutError:
-        return PAGE_TIMEOUT_S, None
+        return seen
     try:
         await ws.send(CAMERA_HELLO)
         nodes: set[str] = set()
-        replayed = freeze = False
         deadline = t0 + PAGE_TIMEOUT_S + PANEL_TIMEOUT_S
-        while (left := deadline - time.monotonic()) > 0:
-            if page_at is None and time.monotonic() - t0 > PAGE_TIMEOUT_S:
-                return PAGE_TIMEOUT_S, None
+        while (left := deadline - time.monotonic()) > 0 and seen.panel is None:
+            if seen.page >= PAGE_TIMEOUT_S and time.monotonic() - t0 > PAGE_TIMEOUT_S:
+                break
             try:
                 frame = await asyncio.wait_for(ws.recv(), timeout=min(left, 1.0))
             except TimeoutError:
                 continue
+            now = time.monotonic() - t0
             for message in decode_window(frame, zstd):
                 kind = message.get("type")
                 nodes.add(str(message.get("name")))
-                replayed |= kind == "ReplayDoneMessage"
-                freeze |= kind == "GuiButtonMessage" and message.get("props", {}).get("label") == "Freeze"
+                if kind == "ReplayDoneMessage" and all(n in nodes for n in SCENE_NODES):
+                    seen.scene = now
+                label = message.get("props", {}).get("label")
+                if kind == "GuiButtonMessage" and label == "Freeze" and seen.freeze is None:
+                    seen.freeze = now
                 if kind == "GuiUplotMessage":  # the Dashboard's plots: the last tab's last element
-                    return page_at if page_at is not None else time.monotonic() - t0, time.monotonic() - t0
-            if page_at is None and replayed and freeze and all(n in nodes for n in SCENE_NODES):
-                page_at = time.monotonic() - t0
-        return (page_at if page_at is not None else PAGE_TIMEOUT_S), None
+                    seen.panel = now
+        return seen
     finally:
         ws.transport.abort()
 
 
-async def probe(port: int, until: float, result: Probe) -> None:
+async def probe(port: int, until: float, viewers: list[Viewer]) -> None:
     slots = asyncio.Semaphore(PROBES_AT_ONCE)
 
     async def one() -> None:
         async with slots:
-            page_s, panel_s = await new_viewer(port)
-        result.page_s.append(page_s)
-        if panel_s is None:
-            result.panel_missing += 1
-        else:
-            result.panel_s.append(panel_s)
+            viewers.append(await new_viewer(port))
 
-    viewers = []
+    tasks = []
     while time.monotonic() < until:
-        viewers.append(asyncio.create_task(one()))
+        tasks.append(asyncio.create_task(one()))
         await asyncio.sleep(PROBE_EVERY_S)
-    await asyncio.gather(*viewers)
+    await asyncio.gather(*tasks)
 
 
 def update(uuid: str, value: object) -> bytes:
@@ -221,6 +228,9 @@ class Operator:
         self.ws: websockets.ClientConnection | None = None
         self.hold_uuid = self.stop_uuid = ""
         self.regrasp = asyncio.Event()
+        self.largest_gap_s = (
+            0.0  # between two confirmations sent: a cut after a gap this side is not the pendant's
+        )
 
     async def connect(self) -> None:
         self.ws = await websockets.connect(
@@ -246,13 +256,16 @@ class Operator:
             {"type": "GuiButtonHoldMessage", "uuid": self.hold_uuid, "frequency": HOLD_HZ}
         )
         drain = asyncio.create_task(self._drain())
-        next_at = time.monotonic()
+        next_at = sent_at = time.monotonic()
         while time.monotonic() < until:
             if self.regrasp.is_set():  # the jog was cut: let go, then press again
                 self.regrasp.clear()
                 await self.ws.send(update(self.stop_uuid, True))
                 await asyncio.sleep(0.3)
+                next_at = sent_at = time.monotonic()
             await self.ws.send(hold)
+            sent_at, last = time.monotonic(), sent_at
+            self.largest_gap_s = max(self.largest_gap_s, sent_at - last)
             next_at += 1.0 / HOLD_HZ
             await asyncio.sleep(max(0.0, next_at - time.monotonic()))
         await self.ws.send(update(self.stop_uuid, True))
@@ -282,7 +295,7 @@ async def watch_cuts(api: str, until: float, operator: Operator, cuts: list[str]
 @dataclass
 class Outcome:
     label: str
-    probe: Probe
+    viewers: list[Viewer]
     cuts: list[str]
     pendant_cores: float
     churn: dict[str, int]
@@ -290,37 +303,61 @@ class Outcome:
     churn_cores: float
     probe_lag_p95_s: float
     moved_deg: float
+    hold_gap_s: float
 
 
-async def measure(ui_port: int, api: str, pid: int, churners: int, seconds: float) -> tuple:  # type: ignore[type-arg]
+async def operate(ui_port: int, api: str, seconds: float, ready: multiprocessing.Queue) -> tuple:  # type: ignore[type-arg]
+    """The operator: connect (first, so it has control), then hold J1+ until the end; its cuts, its largest
+    gap between two confirmations sent, and how far J1 went."""
     operator = Operator(ui_port)
     await operator.connect()
     async with httpx.AsyncClient(base_url=api, timeout=5.0) as client:
         j1_before = (await client.get("/pose")).json()["angles"][0]
-    results: multiprocessing.Queue = multiprocessing.get_context("spawn").Queue()  # type: ignore[type-arg]
-    churner = multiprocessing.get_context("spawn").Process(
+        ready.put("ready")
+        until = time.monotonic() + seconds
+        cuts: list[str] = []
+        await asyncio.gather(operator.hold(until), watch_cuts(api, until, operator, cuts))
+        moved = (await client.get("/pose")).json()["angles"][0] - j1_before
+    return cuts, operator.largest_gap_s, moved
+
+
+def operator_process(ui_port: int, api: str, seconds: float, results: multiprocessing.Queue) -> None:  # type: ignore[type-arg]
+    """In a process of its own, as a tablet's page would be on a device of its own (and ahead of the
+    loaded machine's other processes where it may be), so its confirmations leave on time."""
+    with contextlib.suppress(OSError):
+        os.nice(-10)
+    results.put(asyncio.run(operate(ui_port, api, seconds, results)))
+
+
+async def measure(ui_port: int, api: str, pid: int, churners: int, seconds: float) -> tuple:  # type: ignore[type-arg]
+    spawn = multiprocessing.get_context("spawn")
+    operated: multiprocessing.Queue = spawn.Queue()  # type: ignore[type-arg]
+    operator = spawn.Process(
+        target=operator_process, args=(ui_port, api, WARM_UP_S + seconds, operated), daemon=True
+    )
+    operator.start()
+    assert await asyncio.to_thread(operated.get, True, START_TIMEOUT_S) == "ready"
+    results: multiprocessing.Queue = spawn.Queue()  # type: ignore[type-arg]
+    churner = spawn.Process(
         target=churn_process, args=(ui_port, churners, WARM_UP_S + seconds, results), daemon=True
     )
     start = time.monotonic()
     churner.start()
     until = start + WARM_UP_S + seconds
-    cuts: list[str] = []
     lags: list[float] = []
-    hold = asyncio.create_task(operator.hold(until))
-    watch = asyncio.create_task(watch_cuts(api, until, operator, cuts))
     lag = asyncio.create_task(loop_lag(until, lags))
     await asyncio.sleep(WARM_UP_S)
     t0, cpu0 = time.monotonic(), cpu_seconds(pid)
-    result = Probe()
+    result: list[Viewer] = []
     await probe(ui_port, until, result)
     cpu = (cpu_seconds(pid) - cpu0) / (time.monotonic() - t0)
-    await asyncio.gather(hold, watch, lag)
-    async with httpx.AsyncClient(base_url=api, timeout=5.0) as client:
-        moved = (await client.get("/pose")).json()["angles"][0] - j1_before
+    await lag
+    cuts, hold_gap, moved = await asyncio.to_thread(operated.get, True, 60.0)
     counts, churn_lag, churn_cores = await asyncio.to_thread(results.get, True, 60.0)
-    await asyncio.to_thread(churner.join, 10.0)
+    for process in (churner, operator):
+        await asyncio.to_thread(process.join, 10.0)
     probe_lag = sorted(lags)[int(0.95 * (len(lags) - 1))] if lags else 0.0
-    return result, cuts, cpu, counts, churn_lag, churn_cores, probe_lag, moved
+    return result, cuts, cpu, counts, churn_lag, churn_cores, probe_lag, moved, hold_gap
 
 
 def run(label: str, source: Path, churners: int, seconds: float) -> Outcome:
@@ -330,7 +367,9 @@ def run(label: str, source: Path, churners: int, seconds: float) -> Outcome:
         process = subprocess.Popen(
             [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
             stdout=subprocess.DEVNULL,
-            stderr=subprocess.DEVNULL,
+            stderr=open(os.environ["CHURN_PENDANT_LOG"], "ab")
+            if "CHURN_PENDANT_LOG" in os.environ
+            else subprocess.DEVNULL,
             cwd=source,
             env={**os.environ, "PYTHONPATH": str(source), "PENDANT_DATA_DIR": data},
         )
@@ -362,17 +401,20 @@ def report(outcomes: list[Outcome], churners: int, seconds: float) -> None:
     def row(name: str, cells: list[str]) -> None:
         print(f"{name:44}" + "".join(f"{c:>22}" for c in cells))
 
-    row("new viewers measured", [str(len(o.probe.page_s)) for o in outcomes])
+    row("new viewers measured", [str(len(o.viewers)) for o in outcomes])
     for name, q in (("median", 0.5), ("p95", 0.95), ("max", 1.0)):
         row(
-            f"page (HTML, scene, Freeze) {name} s", [f"{percentile(o.probe.page_s, q):.2f}" for o in outcomes]
+            f"page (HTML, scene, Freeze) {name} s",
+            [f"{percentile([v.page for v in o.viewers], q):.2f}" for o in outcomes],
         )
-    for name, q in (("median", 0.5), ("p95", 0.95)):
-        row(
-            f"whole panel {name} s",
-            [f"{percentile(o.probe.panel_s, q):.2f}" if o.probe.panel_s else "-" for o in outcomes],
-        )
-    row("whole panel not within 30 s", [str(o.probe.panel_missing) for o in outcomes])
+    for part in ("html", "socket", "scene", "freeze", "panel"):
+        cells = []
+        for o in outcomes:
+            times = [t for v in o.viewers if (t := getattr(v, part)) is not None]
+            missing = len(o.viewers) - len(times)
+            text = f"{percentile(times, 0.5):.2f} / {percentile(times, 0.95):.2f}" if times else "-"
+            cells.append(text + (f" ({missing} never)" if missing else ""))
+        row(f"  {part} median / p95 s", cells)
     row("held jog cut (times)", [str(len(o.cuts)) for o in outcomes])
     row("J1 moved while held (deg)", [f"{o.moved_deg:.1f}" for o in outcomes])
     row("pendant CPU (cores)", [f"{o.pendant_cores:.2f}" for o in outcomes])
@@ -385,12 +427,13 @@ def report(outcomes: list[Outcome], churners: int, seconds: float) -> None:
         [f"{o.churn_cores:.2f}, {o.churn_lag_p95_s * 1000:.0f}" for o in outcomes],
     )
     row("probe loop lag p95 ms", [f"{o.probe_lag_p95_s * 1000:.0f}" for o in outcomes])
+    row("operator: largest gap between holds sent ms", [f"{o.hold_gap_s * 1000:.0f}" for o in outcomes])
     for o in outcomes:
         for cut in sorted(set(o.cuts))[:5]:
             print(f"  {o.label}: {cut}")
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     after = outcomes[-1]
-    ok = percentile(after.probe.page_s, 0.95) <= 3.0 and not after.cuts
+    ok = percentile([v.page for v in after.viewers], 0.95) <= 3.0 and not after.cuts
     print(("PASS" if ok else "MISS") + " (target: page p95 <= 3 s, no jog cut)")
 
 

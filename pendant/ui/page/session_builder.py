@@ -6,7 +6,8 @@ browsers connecting and leaving, 32 builds at once (most for browsers that had a
 and the interpreter: a new viewer waited 10-22 s for its page and a held jog's confirmations came late
 enough for the deadman to stop it (benchmarks/churn.py).
 
-Here the connect callback only queues the browser. One thread builds: a browser that left while waiting is
+Here the connect callback sends Freeze at once (show_first_panel: a few messages, so every page has it within
+a moment) and queues the rest. One thread builds: a browser that left while waiting is
 never built; the newest waiting browser goes first (the one most likely still there, and the person who just
 opened the page waits one build, not one per browser before them), except that a browser that has waited
 OLDEST_WAIT_S goes before newer ones, so nobody who stays waits for ever.
@@ -20,10 +21,28 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
+import viser
+
+from pendant.ui.kit.commands import CommandRunner, add_freeze_button
+
 log = logging.getLogger(__name__)
 
 OLDEST_WAIT_S = 10.0
 STOP_TIMEOUT_S = 5.0
+LOADING_NOTE = "*Loading the panels…*"  # under Freeze while the browser waits for the rest
+
+
+@dataclass(frozen=True)
+class FirstPanel:
+    """What a browser gets the moment it connects: Freeze (the page is never without it) and a note."""
+
+    freeze: viser.GuiButtonHandle
+    loading: viser.GuiMarkdownHandle
+
+
+def show_first_panel(client: viser.ClientHandle, runner: CommandRunner) -> FirstPanel:
+    """Freeze and the loading note on `client`'s page: a few messages, sent before it waits for a build."""
+    return FirstPanel(add_freeze_button(client, runner), client.gui.add_markdown(LOADING_NOTE))
 
 
 @dataclass(frozen=True)
