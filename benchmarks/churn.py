@@ -28,7 +28,6 @@ import contextlib
 import multiprocessing
 import os
 import random
-import re
 import subprocess
 import sys
 import tempfile
@@ -37,14 +36,20 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import httpx
-import msgspec
-import viser
 import websockets
 import zstandard
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from benchmarks.viewers import cpu_seconds, decode_window
-from tests.support.headless_viewer import CAMERA_HELLO
+from benchmarks.viewers import cpu_seconds
+from tests.support.headless_viewer import (
+    HOLD_HZ,
+    JogPad,
+    decode_window,
+    gui_update,
+    hold_message,
+    open_viewer,
+    read_jog_pad,
+)
 from tests.support.ports import free_port
 from tests.support.waiting import answers, wait_until
 
@@ -56,18 +61,11 @@ PAGE_TIMEOUT_S = 30.0  # a new viewer still without its page after this counts a
 PANEL_TIMEOUT_S = 30.0
 PROBE_EVERY_S = 2.0  # a new viewer every 2 s, each measured on its own (up to PROBES_AT_ONCE at a time)
 PROBES_AT_ONCE = 10
-HOLD_HZ = 20.0  # client_page.js HOLD_HZ
 JOG_SPEED_PERCENT = 2.0  # J1 at 2.4 °/s: no joint limit within any run
 LAG_PERIOD_S = 0.05
 WARM_UP_S = 3.0
 EVENTS_POLL_S = 0.5
-JOG_PAD = re.compile(r'data-jog-uuid="([0-9a-f-]+)" aria-label="J1\+"')
-JOG_STOP = re.compile(r'data-jog-stop="([0-9a-f-]+)"')
 SCENE_NODES = ("/tcp_frame", "/arm/visual/base_link_visual")
-
-
-def protocol() -> list[websockets.Subprotocol]:
-    return [websockets.Subprotocol(f"viser-v{viser.__version__}")]
 
 
 async def get_page(port: int) -> int:
@@ -96,10 +94,7 @@ async def churning_browser(port: int, until: float, seed: int, counts: dict[str,
         try:
             await get_page(port)
             async with asyncio.timeout(CONNECT_TIMEOUT_S):
-                ws = await websockets.connect(
-                    f"ws://127.0.0.1:{port}/", subprotocols=protocol(), max_queue=None, max_size=None
-                )
-            await ws.send(CAMERA_HELLO)
+                ws = await open_viewer(port)
             leave_at = time.monotonic() + rng.uniform(*STAY_S)
             while (left := leave_at - time.monotonic()) > 0:
                 try:
@@ -169,14 +164,11 @@ async def new_viewer(port: int) -> Viewer:
         async with asyncio.timeout(PAGE_TIMEOUT_S):
             await get_page(port)
             seen.html = time.monotonic() - t0
-            ws = await websockets.connect(
-                f"ws://127.0.0.1:{port}/", subprotocols=protocol(), max_queue=None, max_size=None
-            )
+            ws = await open_viewer(port)
             seen.socket = time.monotonic() - t0
     except TimeoutError:
         return seen
     try:
-        await ws.send(CAMERA_HELLO)
         nodes: set[str] = set()
         deadline = t0 + PAGE_TIMEOUT_S + PANEL_TIMEOUT_S
         while (left := deadline - time.monotonic()) > 0 and seen.panel is None:
@@ -216,51 +208,30 @@ async def probe(port: int, until: float, viewers: list[Viewer]) -> None:
     await asyncio.gather(*tasks)
 
 
-def update(uuid: str, value: object) -> bytes:
-    return msgspec.msgpack.encode({"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": value}})
-
-
 class Operator:
     """The first browser (it has control): holds J1+ at HOLD_HZ; after a cut, lets go and holds again."""
 
     def __init__(self, port: int) -> None:
         self.port = port
         self.ws: websockets.ClientConnection | None = None
-        self.hold_uuid = self.stop_uuid = ""
+        self.pad: JogPad | None = None
         self.regrasp = asyncio.Event()
-        self.largest_gap_s = (
-            0.0  # between two confirmations sent: a cut after a gap this side is not the pendant's
-        )
+        self.largest_gap_s = 0.0  # between two confirmations sent: a gap on this side is not the pendant's
 
     async def connect(self) -> None:
-        self.ws = await websockets.connect(
-            f"ws://127.0.0.1:{self.port}/", subprotocols=protocol(), max_queue=None, max_size=None
-        )
-        await self.ws.send(CAMERA_HELLO)
-        zstd = zstandard.ZstdDecompressor()
-        speed = None
-        async with asyncio.timeout(START_TIMEOUT_S):
-            while not (self.hold_uuid and speed):
-                for message in decode_window(await self.ws.recv(), zstd):
-                    props = message.get("props", {})
-                    if message.get("type") == "GuiSliderMessage" and props.get("label") == "Speed %":
-                        speed = message["uuid"]
-                    content = str(props.get("content", ""))
-                    if (pad := JOG_PAD.search(content)) and (stop := JOG_STOP.search(content)):
-                        self.hold_uuid, self.stop_uuid = pad.group(1), stop.group(1)
-        await self.ws.send(update(speed, JOG_SPEED_PERCENT))
+        self.ws = await open_viewer(self.port)
+        self.pad = await read_jog_pad(self.ws, START_TIMEOUT_S)
+        await self.ws.send(gui_update(self.pad.speed, JOG_SPEED_PERCENT))
 
     async def hold(self, until: float) -> None:
-        assert self.ws is not None
-        hold = msgspec.msgpack.encode(
-            {"type": "GuiButtonHoldMessage", "uuid": self.hold_uuid, "frequency": HOLD_HZ}
-        )
+        assert self.ws is not None and self.pad is not None
+        hold = hold_message(self.pad.hold)
         drain = asyncio.create_task(self._drain())
         next_at = sent_at = time.monotonic()
         while time.monotonic() < until:
             if self.regrasp.is_set():  # the jog was cut: let go, then press again
                 self.regrasp.clear()
-                await self.ws.send(update(self.stop_uuid, True))
+                await self.ws.send(gui_update(self.pad.stop, True))
                 await asyncio.sleep(0.3)
                 next_at = sent_at = time.monotonic()
             await self.ws.send(hold)
@@ -268,7 +239,7 @@ class Operator:
             self.largest_gap_s = max(self.largest_gap_s, sent_at - last)
             next_at += 1.0 / HOLD_HZ
             await asyncio.sleep(max(0.0, next_at - time.monotonic()))
-        await self.ws.send(update(self.stop_uuid, True))
+        await self.ws.send(gui_update(self.pad.stop, True))
         drain.cancel()
         await self.ws.close()
 
@@ -367,9 +338,7 @@ def run(label: str, source: Path, churners: int, seconds: float) -> Outcome:
         process = subprocess.Popen(
             [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
             stdout=subprocess.DEVNULL,
-            stderr=open(os.environ["CHURN_PENDANT_LOG"], "ab")
-            if "CHURN_PENDANT_LOG" in os.environ
-            else subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
             cwd=source,
             env={**os.environ, "PYTHONPATH": str(source), "PENDANT_DATA_DIR": data},
         )
