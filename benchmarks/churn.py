@@ -256,7 +256,11 @@ async def watch_cuts(api: str, until: float, operator: Operator, cuts: list[str]
         while time.monotonic() < until:
             await asyncio.sleep(EVENTS_POLL_S)
             answer = await client.get("/pendant/events", params={"text": "stopped:", "since": since})
-            found = [e for e in answer.json()["events"] if e["message"].startswith("Jog J1+ stopped")]
+            found = [
+                e
+                for e in answer.json()["events"]
+                if e["message"].startswith("Jog J1+ stopped") and not e["message"].endswith(": released")
+            ]  # "released": the operator's own letting go before pressing again
             if found:
                 since = max(e["time"] for e in found) + 1e-3
                 cuts.extend(e["message"] for e in found)
