@@ -26,13 +26,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import httpx
-import msgspec
 import viser
 import websockets
 import zstandard
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from tests.support.headless_viewer import CAMERA_HELLO
+from tests.support.headless_viewer import CAMERA_HELLO, decode_window
 from tests.support.ports import free_port
 from tests.support.waiting import answers, wait_until
 
@@ -49,14 +48,6 @@ class ViewerCounts:
     state_times: list[float] = field(default_factory=list)
     gui_updates: int = 0
     bytes_received: int = 0
-
-
-def decode_window(frame: bytes, zstd: zstandard.ZstdDecompressor) -> list[dict]:
-    """One websocket frame of viser's: [u64 inner size][u64 compressed size][zstd msgpack][binary buffers]."""
-    inner_size = int.from_bytes(frame[0:8], "little")
-    compressed_size = int.from_bytes(frame[8:16], "little")
-    inner = zstd.decompress(frame[16 : 16 + compressed_size], max_output_size=inner_size)
-    return msgspec.msgpack.decode(inner)["messages"]
 
 
 async def viewer(url: str, counts: ViewerCounts, stop: asyncio.Event) -> None:

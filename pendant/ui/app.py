@@ -46,6 +46,7 @@ from pendant.ui.page.page_server import serve_page
 from pendant.ui.page.program_wiring import open_program_workspace
 from pendant.ui.page.roles import ControlDesk
 from pendant.ui.page.session import ClientSession
+from pendant.ui.page.session_builder import FirstPanel, show_first_panel
 from pendant.ui.robot.safety_panel import read_identity
 from pendant.ui.scene.arm import ArmScene
 from pendant.ui.scene.cell import ObstacleDrawing, ToolShapeDrawing
@@ -156,7 +157,12 @@ class PendantUI:
             metrics.viewers.set_function(lambda: len(self.browsers.all()))
 
     def open_session(
-        self, target: GuiTarget, *, client_id: int | None = None, url_token: str | None = None
+        self,
+        target: GuiTarget,
+        *,
+        client_id: int | None = None,
+        url_token: str | None = None,
+        freeze: viser.GuiButtonHandle | None = None,
     ) -> ClientSession:
         """Build the panels on `target`: a browser's own GUI, or the server's (headless tests)."""
         return ClientSession(
@@ -182,6 +188,7 @@ class PendantUI:
             remote=self.remote,
             join_urls=self.join_urls,
             on_recording=self.activity.recording,
+            freeze=freeze,
         )
 
     def start(self) -> PendantUI:
@@ -200,6 +207,7 @@ class PendantUI:
         self.loop.stop()
         self.jogger.stop_watchdog()
         self.runner.shutdown()
+        self.browsers.builder.stop()
         self.telemetry.stop_recording()  # SIGTERM or Ctrl-C: a running recording's file is finished
         self.server.stop()
 
@@ -264,9 +272,14 @@ class PendantUI:
 
     # --- browsers -----------------------------------------------------------------------------------
     def _connect(self, client: viser.ClientHandle) -> None:
-        address, url_token = read_handshake(self.server, client.client_id)
-        self.desk.join(client.client_id, address)
-        session = self.open_session(client, client_id=client.client_id, url_token=url_token)
+        address, token = read_handshake(self.server, client.client_id)
+        self.desk.join(client.client_id, address)  # now: the first browser to connect gets control
+        first = show_first_panel(client, self.runner)  # Freeze now; the rest when the builder comes to it
+        self.browsers.builder.submit(client.client_id, lambda: self._build_session(client, token, first))
+
+    def _build_session(self, client: viser.ClientHandle, token: str | None, first: FirstPanel) -> None:
+        session = self.open_session(client, client_id=client.client_id, url_token=token, freeze=first.freeze)
+        first.loading.remove()
         session.show(self.latest, with_io=True)
         session.show_cell(self.cell_state, self.identity, cell_changed=True)
         if not self.browsers.add(client.client_id, session):

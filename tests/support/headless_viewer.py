@@ -1,8 +1,22 @@
-"""What a browser sends viser first: its camera. viser counts a client as connected only once it has."""
+"""A browser's side of viser's websocket, without a browser: what it sends first (its camera: viser counts a
+client as connected only once it has), how it reads viser's frames, and how its page holds a jog button
+(pendant/ui/page/client_page.js)."""
 
 from __future__ import annotations
 
+import asyncio
+import re
+from dataclasses import dataclass
+from typing import Any
+
 import msgspec
+import viser
+import websockets
+import zstandard
+
+HOLD_HZ = 20.0  # client_page.js HOLD_HZ
+JOG_PAD_J1_PLUS = re.compile(r'data-jog-uuid="([0-9a-f-]+)" aria-label="J1\+"')
+JOG_STOP = re.compile(r'data-jog-stop="([0-9a-f-]+)"')
 
 CAMERA_HELLO = msgspec.msgpack.encode(
     {
@@ -18,3 +32,61 @@ CAMERA_HELLO = msgspec.msgpack.encode(
         "up_direction": (0.0, 0.0, 1.0),
     }
 )
+
+
+def decode_window(frame: bytes, zstd: zstandard.ZstdDecompressor) -> list[dict[str, Any]]:
+    """One websocket frame of viser's: [u64 inner size][u64 compressed size][zstd msgpack][binary buffers]."""
+    inner_size = int.from_bytes(frame[0:8], "little")
+    compressed_size = int.from_bytes(frame[8:16], "little")
+    inner = zstd.decompress(frame[16 : 16 + compressed_size], max_output_size=inner_size)
+    messages: list[dict[str, Any]] = msgspec.msgpack.decode(inner)["messages"]
+    return messages
+
+
+async def open_viewer(port: int) -> websockets.ClientConnection:
+    """A websocket to the page on `port`, as a browser opens it: viser's subprotocol, then its camera."""
+    ws = await websockets.connect(
+        f"ws://127.0.0.1:{port}/",
+        subprotocols=[websockets.Subprotocol(f"viser-v{viser.__version__}")],
+        max_queue=None,
+        max_size=None,
+    )
+    await ws.send(CAMERA_HELLO)
+    return ws
+
+
+def gui_update(uuid: str, value: object) -> bytes:
+    """What the page sends when a control changes (a slider, a click on a hidden button)."""
+    return msgspec.msgpack.encode({"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": value}})
+
+
+def hold_message(uuid: str, hz: float = HOLD_HZ) -> bytes:
+    """A jog button's "still held" confirmation, as client_page.js's worker sends it (HOLD_HZ a second)."""
+    return msgspec.msgpack.encode({"type": "GuiButtonHoldMessage", "uuid": uuid, "frequency": hz})
+
+
+@dataclass
+class JogPad:
+    """The uuids a page needs to hold J1+ (the pad's markup, pendant/ui/jog/pad.py) and to set the speed."""
+
+    hold: str
+    stop: str
+    speed: str
+
+
+async def read_jog_pad(ws: websockets.ClientConnection, timeout_s: float) -> JogPad:
+    """Read the page's messages until its jog pad and speed slider have come."""
+    zstd = zstandard.ZstdDecompressor()
+    hold = stop = speed = ""
+    async with asyncio.timeout(timeout_s):
+        while not (hold and speed):
+            frame = await ws.recv()
+            assert isinstance(frame, bytes)
+            for message in decode_window(frame, zstd):
+                props = message.get("props", {})
+                if message.get("type") == "GuiSliderMessage" and props.get("label") == "Speed %":
+                    speed = message["uuid"]
+                content = str(props.get("content", ""))
+                if (pad := JOG_PAD_J1_PLUS.search(content)) and (pad_stop := JOG_STOP.search(content)):
+                    hold, stop = pad.group(1), pad_stop.group(1)
+    return JogPad(hold, stop, speed)

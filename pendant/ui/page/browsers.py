@@ -10,15 +10,18 @@ import viser
 
 from pendant.access import TOKEN_QUERY
 from pendant.ui.page.session import ClientSession
+from pendant.ui.page.session_builder import SessionBuilder
 
 log = logging.getLogger(__name__)
 
 
 class Browsers:
-    """The sessions of the connected browsers. A browser may leave while its panels are still being built:
-    its session is then closed as it is added, never kept for a client that is gone."""
+    """The sessions of the connected browsers, built by `builder` (session_builder). A browser may leave
+    while its panels wait to be built (they never are) or are being built: its session is then closed as it
+    is added, never kept for a client that is gone."""
 
     def __init__(self) -> None:
+        self.builder = SessionBuilder()
         self.sessions: dict[int, ClientSession] = {}
         self.lock = threading.Lock()
         self._gone: set[int] = set()  # clients that left before their session was built
@@ -35,6 +38,8 @@ class Browsers:
 
     def remove(self, client_id: int) -> None:
         """The browser left: close its session, or remember it left if its session is still being built."""
+        if self.builder.cancel(client_id):
+            return  # still waiting for its build: it never gets one
         with self.lock:
             session = self.sessions.pop(client_id, None)
             if session is None:

@@ -7,6 +7,7 @@ from collections.abc import Callable
 import viser
 
 from pendant.access.origin import OriginPolicy
+from pendant.ui.kit.viser_caches import cache_viser_lookups
 from pendant.ui.page.client_page import page_first
 from pendant.ui.page.ws_guard import guarded_viser_server
 
@@ -16,6 +17,7 @@ def serve_page(
 ) -> viser.ViserServer:
     """Listening on `host:port`; `origins` the Host and Origin rules (None: none); a closing page's stop goes
     to `stop_jog`."""
+    cache_viser_lookups()  # each browser's panels: icons and property types looked up once, not per browser
     with guarded_viser_server(origins, wrap=lambda inner: page_first(inner, stop_jog)):
         server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
     server.gui.configure_theme(control_width="large", show_logo=False)

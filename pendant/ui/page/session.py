@@ -88,11 +88,13 @@ class ClientSession:
         cells_dir: Path = Path("cells"),
         recorder: PathRecorder | None = None,
         recovery: Recovery | None = None,
+        freeze: viser.GuiButtonHandle | None = None,
     ) -> None:
         self.target = target
         self.client_id = client_id
         self._desk = desk
-        self.freeze = add_freeze_button(target, runner)
+        # `freeze`: already on the page (sent the moment the browser connected, before its other panels)
+        self.freeze = freeze if freeze is not None else add_freeze_button(target, runner)
         sim = controller if isinstance(controller, SimController) else None
         self.banner = (  # under Freeze: what is wrong and the way out (recovery.py)
             Banner(

@@ -1,0 +1,111 @@
+"""Builds the browsers' panels one at a time, on a thread of its own, the newest browser first.
+
+A browser's panels are some 800 GUI messages, ~0.5 s of Python. viser runs each connect callback on its
+callback pool (32 threads), the pool that also runs every button's callback, Freeze's included. Under many
+browsers connecting and leaving, 32 builds at once (most for browsers that had already left) took the pool
+and the interpreter: a new viewer waited 10-22 s for its page and a held jog's confirmations came late
+enough for the deadman to stop it (benchmarks/churn.py).
+
+Here the connect callback sends Freeze at once (show_first_panel: a few messages, so every page has it within
+a moment) and queues the rest. One thread builds: a browser that left while waiting is
+never built; the newest waiting browser goes first (the one most likely still there, and the person who just
+opened the page waits one build, not one per browser before them), except that a browser that has waited
+OLDEST_WAIT_S goes before newer ones, so nobody who stays waits for ever.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import viser
+
+from pendant.ui.kit.commands import CommandRunner, add_freeze_button
+
+log = logging.getLogger(__name__)
+
+OLDEST_WAIT_S = 10.0
+STOP_TIMEOUT_S = 5.0
+LOADING_NOTE = "*Loading the panels…*"  # under Freeze while the browser waits for the rest
+
+
+@dataclass(frozen=True)
+class FirstPanel:
+    """What a browser gets the moment it connects: Freeze (the page is never without it) and a note."""
+
+    freeze: viser.GuiButtonHandle
+    loading: viser.GuiMarkdownHandle
+
+
+def show_first_panel(client: viser.ClientHandle, runner: CommandRunner) -> FirstPanel:
+    """Freeze and the loading note on `client`'s page: a few messages, sent before it waits for a build."""
+    return FirstPanel(add_freeze_button(client, runner), client.gui.add_markdown(LOADING_NOTE))
+
+
+@dataclass(frozen=True)
+class _Waiting:
+    build: Callable[[], None]
+    since: float
+
+
+class SessionBuilder:
+    """`submit(client_id, build)` queues a browser's build; the builder thread runs it if the browser is
+    still there. `cancel(client_id)` (the browser left): True when it was still waiting, so never built."""
+
+    def __init__(
+        self,
+        *,
+        oldest_wait_s: float = OLDEST_WAIT_S,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
+        self._oldest_wait_s = oldest_wait_s
+        self._clock = clock
+        self._waiting: dict[int, _Waiting] = {}  # by client id, in arrival order
+        self._wake = threading.Condition()
+        self._stopped = False
+        self._thread = threading.Thread(target=self._run, name="pendant-sessions", daemon=True)
+        self._thread.start()
+
+    def submit(self, client_id: int, build: Callable[[], None]) -> None:
+        with self._wake:
+            self._waiting[client_id] = _Waiting(build, self._clock())
+            self._wake.notify()
+
+    def cancel(self, client_id: int) -> bool:
+        with self._wake:
+            return self._waiting.pop(client_id, None) is not None
+
+    def waiting(self) -> int:
+        with self._wake:
+            return len(self._waiting)
+
+    def stop(self) -> None:
+        with self._wake:
+            self._stopped = True
+            self._waiting.clear()
+            self._wake.notify()
+        if self._thread is not threading.current_thread():
+            self._thread.join(STOP_TIMEOUT_S)
+
+    def _next(self) -> tuple[int, Callable[[], None]] | None:
+        """The next browser to build (None: stopped); the newest, unless the oldest has waited too long."""
+        with self._wake:
+            while not self._waiting and not self._stopped:
+                self._wake.wait()
+            if self._stopped:
+                return None
+            oldest = next(iter(self._waiting))
+            overdue = self._clock() - self._waiting[oldest].since >= self._oldest_wait_s
+            chosen = oldest if overdue else next(reversed(self._waiting))
+            return chosen, self._waiting.pop(chosen).build
+
+    def _run(self) -> None:
+        while (job := self._next()) is not None:
+            client_id, build = job
+            try:
+                build()
+            except Exception:  # one browser's broken connection must not keep the others waiting
+                log.exception("building the panels of browser %s failed", client_id)
