@@ -145,6 +145,7 @@ class PendantUI:
         self.recorder = PathRecorder(recordings)  # "Record path": fed every reading below, kept there
         self.programs.path_recordings = recordings  # a Path step simplified again reads its recording there
         self.browsers = Browsers()
+        self.browsers.builder.hold_back = lambda: self.jogger.pressed  # the operator's jog first
         self.sessions = self.browsers.sessions  # by client id (tests add theirs under the lock)
         self._sessions_lock = self.browsers.lock
         self.dashboard_feed = DashboardFeed(self.telemetry, self.events)

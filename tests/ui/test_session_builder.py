@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import threading
 
-from pendant.ui.page.session_builder import SessionBuilder
+from pendant.ui.page.session_builder import HOLD_BACK_MAX_S, SessionBuilder
 
 WAIT_S = 10.0  # for the builder thread: far more than any build here takes
 
@@ -98,3 +98,25 @@ def _wait_until_idle(builder: SessionBuilder) -> bool:
     idle = threading.Event()
     builder.submit(-1, idle.set)
     return idle.wait(WAIT_S)
+
+
+def test_builds_wait_while_the_operator_jogs_and_not_longer_than_the_hold_back_limit() -> None:
+    clock = FakeClock()
+    jogging = threading.Event()
+    jogging.set()
+    builder = SessionBuilder(clock=clock, hold_back=jogging.is_set)
+    built: list[int] = []
+    first, second = threading.Event(), threading.Event()
+    try:
+        builder.submit(1, _record(built, 1, first))
+        assert not first.wait(0.3), "a panel was built while the operator held a jog"
+        jogging.clear()  # the operator let go
+        assert first.wait(WAIT_S)
+        jogging.set()
+        builder.submit(2, _record(built, 2, second))
+        assert not second.wait(0.3)
+        clock.now += HOLD_BACK_MAX_S  # a jog held that long: the waiting browser gets its panel all the same
+        assert second.wait(WAIT_S)
+        assert built == [1, 2]
+    finally:
+        builder.stop()

@@ -10,7 +10,8 @@ Here the connect callback sends Freeze at once (show_first_panel: a few messages
 a moment) and queues the rest. One thread builds: a browser that left while waiting is
 never built; the newest waiting browser goes first (the one most likely still there, and the person who just
 opened the page waits one build, not one per browser before them), except that a browser that has waited
-OLDEST_WAIT_S goes before newer ones, so nobody who stays waits for ever.
+OLDEST_WAIT_S goes before newer ones, so nobody who stays waits for ever. While the operator holds a jog,
+the next build waits (up to HOLD_BACK_MAX_S).
 """
 
 from __future__ import annotations
@@ -28,6 +29,11 @@ from pendant.ui.kit.commands import CommandRunner, add_freeze_button
 log = logging.getLogger(__name__)
 
 OLDEST_WAIT_S = 10.0
+# While the operator holds a jog, builds wait (newcomers already have Freeze and the 3D view): a build is
+# ~0.3 s of Python under the interpreter's lock, and the hold's confirmations must reach the deadman in
+# time. At most this long, so a jog held for minutes does not leave the others without their panels.
+HOLD_BACK_MAX_S = 3.0
+HOLD_BACK_POLL_S = 0.05
 STOP_TIMEOUT_S = 5.0
 LOADING_NOTE = "*Loading the panels…*"  # under Freeze while the browser waits for the rest
 
@@ -60,8 +66,10 @@ class SessionBuilder:
         *,
         oldest_wait_s: float = OLDEST_WAIT_S,
         clock: Callable[[], float] = time.monotonic,
+        hold_back: Callable[[], bool] = lambda: False,
     ) -> None:
         self._oldest_wait_s = oldest_wait_s
+        self.hold_back = hold_back  # True while builds should wait (the operator is jogging)
         self._clock = clock
         self._waiting: dict[int, _Waiting] = {}  # by client id, in arrival order
         self._wake = threading.Condition()
@@ -93,14 +101,27 @@ class SessionBuilder:
     def _next(self) -> tuple[int, Callable[[], None]] | None:
         """The next browser to build (None: stopped); the newest, unless the oldest has waited too long."""
         with self._wake:
-            while not self._waiting and not self._stopped:
-                self._wake.wait()
-            if self._stopped:
-                return None
-            oldest = next(iter(self._waiting))
-            overdue = self._clock() - self._waiting[oldest].since >= self._oldest_wait_s
-            chosen = oldest if overdue else next(reversed(self._waiting))
-            return chosen, self._waiting.pop(chosen).build
+            held_back_until = None
+            while True:
+                while not self._waiting and not self._stopped:
+                    self._wake.wait()
+                if self._stopped:
+                    return None
+                held_back_until = held_back_until or self._clock() + HOLD_BACK_MAX_S
+                if self._clock() < held_back_until and self._holding_back():
+                    self._wake.wait(HOLD_BACK_POLL_S)  # a browser may leave meanwhile: look again
+                    continue
+                oldest = next(iter(self._waiting))
+                overdue = self._clock() - self._waiting[oldest].since >= self._oldest_wait_s
+                chosen = oldest if overdue else next(reversed(self._waiting))
+                return chosen, self._waiting.pop(chosen).build
+
+    def _holding_back(self) -> bool:
+        try:
+            return bool(self.hold_back())
+        except Exception:  # a broken check must not stop every build
+            log.exception("the builder's hold-back check failed")
+            return False
 
     def _run(self) -> None:
         while (job := self._next()) is not None:
