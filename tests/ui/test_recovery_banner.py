@@ -10,6 +10,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from pendant.cell.collision_names import name_collision
 from pendant.cell.geometry import CellModel
 from pendant.controller import MotionStatus, Pose
 from pendant.controller.cell_types import BoxObstacle, ToolShape
@@ -17,10 +18,10 @@ from pendant.controller.types import Point, Position, Rotation
 from pendant.eventlog import EventLog
 from pendant.eventquery import EventQuery
 from pendant.kinematics import ArmModel
+from pendant.kinematics.collision_words import link_words
 from pendant.program import MoveStep, Program, Waypoint
 from pendant.sim import Fault, SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.kit.collision_words import link_words, name_collision
 from pendant.ui.page.recovery import Recovery
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser, fire
@@ -182,7 +183,7 @@ def test_a_blended_group_refused_whole_names_the_step_in_the_way(sim: SimControl
         EventLog(), sim.arm, simulator=True, cell=lambda: cell, current_q=lambda: np.radians(poses["A"])
     )
     assert recovery.explain_step_failure(program, 0, 1, "Collision detected") == (
-        "Collision detected: the target touches 'Box'"
+        "Collision detected: the arm would touch 'Box'"
     )
     assert recovery.refused_q is not None and np.allclose(recovery.refused_q, q_b)
     assert recovery.refused_obstacles == ("Box",)
