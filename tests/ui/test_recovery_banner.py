@@ -122,6 +122,9 @@ def test_a_protective_stop_is_named_and_recover_leaves_it(
     view = ui.banner.view if ui.banner else None
     assert view is not None and view.title == "Protective stop" and "Protective stop" in view.detail
     assert banner_buttons(ui) == ["Recover"]
+    # The banner alone says it (the status panel keeps its ERROR readout, no second "Recover to continue").
+    assert ">ERROR<" in ui.status.content and "Recover to continue" not in ui.status.content
+    assert not ui.status.recover.visible
     press(ui, "Recover")
     wait_for(lambda: sim.get_motion_status() is MotionStatus.IDLE, "the recovery")
 
