@@ -1,4 +1,5 @@
-"""Why a jog cannot go further, in the page's words: "the arm would touch Box 1", "joint limit".
+"""Why a jog cannot go further: "joint limit", or a collision in the words every tab uses
+(kinematics/collision_words.py): "Collision detected: the arm would touch 'Box 1'".
 
 Asked when a jog finds no progress possible from where the arm is (its target stops short of the obstacle
 by a few samples): the samples just beyond the arm say what is there.
@@ -21,6 +22,7 @@ from pendant.jog.targets import (
     displaced,
 )
 from pendant.kinematics import ArmModel
+from pendant.kinematics.collision_words import pose_words
 from pendant.kinematics.transforms import inverse
 
 # The names of the obstacles the arm or its tool touches at q ([]: none, or no cell known).
@@ -29,13 +31,14 @@ Touching = Callable[[np.ndarray], list[str]]
 MSG_JOINT_LIMIT = "joint limit"
 MSG_REACH = "the edge of the arm's reach"
 MSG_SINGULAR = "a singular pose (the joints would jump)"
-MSG_FLOOR_OR_SELF = "the arm or its tool would touch the floor or the arm itself"
 MSG_NO_FURTHER = "cannot move further that way"
 PROBE_SAMPLES = SAFETY_BACKOFF_SAMPLES + 2  # the target backs off this many samples from the obstacle
 
 
-def touch_cause(names: list[str]) -> str:
-    return f"the arm would touch {', '.join(names)}" if names else MSG_FLOOR_OR_SELF
+def touch_cause(arm: ArmModel, q: np.ndarray, touching: Touching) -> str:
+    """What the arm would hit at `q`, named as the Target tab names it: its own links, an obstacle, the
+    floor (`arm` may be the cell-aware arm: its colliding pairs are the arm model's own)."""
+    return pose_words(arm.colliding_pairs(q), touching(q))
 
 
 def why_blocked(
@@ -54,7 +57,7 @@ def why_blocked(
             if not arm.within_limits(sample):
                 return MSG_JOINT_LIMIT
             if arm.in_collision(sample):
-                return touch_cause(touching(sample))
+                return touch_cause(arm, sample, touching)
         return MSG_NO_FURTHER
     assert T_base_zero is not None and T_flange_tool is not None
     T_zero_tool = inverse(T_base_zero) @ arm.fk(q) @ T_flange_tool
@@ -68,6 +71,6 @@ def why_blocked(
         if np.max(np.abs(q_k - q_prev)) > MAX_JOINT_JUMP_RAD:
             return MSG_SINGULAR
         if arm.in_collision(q_k):
-            return touch_cause(touching(q_k))
+            return touch_cause(arm, q_k, touching)
         q_prev = q_k
     return MSG_NO_FURTHER

@@ -26,6 +26,7 @@ from pendant.controller.types import (
 )
 from pendant.kinematics import ArmModel
 from pendant.kinematics.cell_check import CellCheck
+from pendant.kinematics.collision_words import contact_words
 from pendant.kinematics.contact import ContactGuard
 from pendant.kinematics.limits import JOINT_MAX_ACCEL_RAD_S2, JOINT_MAX_SPEED_RAD_S
 from pendant.kinematics.transforms import inverse
@@ -307,8 +308,8 @@ class Planner:
         for k, collides in zip(checked, touching, strict=True):
             worse = guard.check(qs[k], bool(collides))
             if worse is not None:
-                why = "" if worse.itself else f": the arm {worse.describe()}"
-                raise Collision(f"{MSG_COLLISION}{why}")
+                # The arm with itself: the bare words, the page names the two links (cell/collision_names.py).
+                raise Collision(MSG_COLLISION if worse.itself else contact_words(worse))
 
     def _time_scaling(
         self,

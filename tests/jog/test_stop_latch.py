@@ -9,8 +9,10 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
+from pendant.cell.collision_names import name_collision
 from pendant.cell.geometry import CellAwareArm, CellModel
 from pendant.controller import MotionStatus, Point, Position, Rotation, SignalLevel
 from pendant.controller.cell_types import BoxObstacle
@@ -213,7 +215,10 @@ def test_a_jog_into_an_obstacle_stops_and_the_event_log_names_it(sim, clock):
     answers = confirm(jogger, clock, 6.0)
     assert answers[0] and not answers[-1], "the jog never stopped at the box"
     assert MOVED_DEG < j1(sim) - start < 20.0  # stopped short of the box, not at the end of the plan
-    assert jogger.latch_cause(BROWSER) == "the arm would touch Box 1"
+    assert jogger.latch_cause(BROWSER) == "Collision detected: the arm would touch 'Box 1'"
+    # The Target tab's check of the pose the jog was heading for says the very same words.
+    ahead = np.radians(sim.get_pose().angles) + np.radians([20.0 - (j1(sim) - start), 0, 0, 0, 0, 0])
+    assert name_collision(sim.arm, ahead, cell).reason == jogger.latch_cause(BROWSER)
     messages = [event.message for event in events.recent()]
-    assert "Jog J1+ stopped: the arm would touch Box 1" in messages
+    assert "Jog J1+ stopped: Collision detected: the arm would touch 'Box 1'" in messages
     assert not any("deadman" in message for message in messages)

@@ -13,6 +13,7 @@ import pytest
 import viser
 
 from pendant.controller import MotionType, SignalLevel
+from pendant.eventlog import EventLog
 from pendant.program import (
     MoveStep,
     Offset,
@@ -24,7 +25,11 @@ from pendant.program import (
     RunState,
 )
 from pendant.sim import FakeClock, SimController
+from pendant.ui.kit.cell_state import CellState
 from pendant.ui.kit.commands import CommandRunner
+from pendant.ui.kit.snapshot import Snapshot
+from pendant.ui.page.banner import Banner
+from pendant.ui.page.recovery import Recovery
 from pendant.ui.program.panel import NO_SELECTION, ProgramPanel
 from tests.support.ports import free_port
 
@@ -243,8 +248,18 @@ def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(setup, si
     assert workspace.program.uses_of("P2") == 0
 
 
-def test_run_from_the_selected_step_and_retry_a_failed_one(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]
+def test_run_from_the_selected_step_and_retry_a_failed_one_from_the_banner(setup, server, sim, clock) -> None:  # type: ignore[no-untyped-def]
     panel, workspace = setup
+    recovery = Recovery(EventLog(), sim.arm, simulator=True)
+    banner = Banner(server, recovery, panel.commands, workspace, sim=sim)
+
+    def read() -> list[str]:  # the page's refresh: the banner reads the controller and the run
+        snapshot = Snapshot(taken_at=clock.now(), motion_status=sim.get_motion_status(), online=True)
+        recovery.update(snapshot, CellState(), workspace.progress, can_resume=workspace.runner.can_resume)
+        banner.show()
+        panel.run_section.redraw()
+        return [b.label for b in banner.buttons if b.visible]
+
     browser = FakeClient()
     teach(sim, clock, POSE_A_DEG, "ignored")
     record(panel, browser)
@@ -259,15 +274,19 @@ def test_run_from_the_selected_step_and_retry_a_failed_one(setup, sim, clock) ->
     progress = workspace.progress
     assert progress.state is RunState.FAILED and progress.failed_step == 1
     assert sim.get_pose().angles == pytest.approx([0.0, -90.0, 90.0, -90.0, -90.0, 0.0])  # step 1 skipped
-    assert panel.run_section.retry.visible and "✖ 2\\." in panel.steps_view.content
+    assert read() == ["Retry step 2", "Skip step 2", "Stop program"] and "✖ 2\\." in panel.steps_view.content
+    # The banner says why; the Program tab has no Retry of its own and its run line points to the banner.
+    assert banner.view is not None and "failed" in banner.view.detail
+    assert "Retry" not in panel.run_status.content and progress.message not in panel.run_status.content
+    assert panel.run_status.content.startswith("**Stopped at step 2**")
 
     sim.set_input(1, SignalLevel.HIGH)
-    fire(panel.run_section.retry, browser)
+    fire(banner.buttons[0], browser)
     workspace.runner._worker.join(timeout=WAIT_S)
     assert workspace.progress.state is RunState.FINISHED
     assert sim.get_output(1) is SignalLevel.HIGH
     np.testing.assert_allclose(sim.get_pose().angles, POSE_B_DEG, atol=ANGLE_TOL_DEG)
-    assert not panel.run_section.retry.visible
+    assert read() == [] and panel.run_status.content == "Finished"
 
 
 def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]

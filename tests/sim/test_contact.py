@@ -116,7 +116,7 @@ def test_the_pendants_jog_and_target_check_apply_the_same_rule(sim: SimControlle
     deeper = check_joint_target(sim.arm, np.radians(DEEPER), cell, q)
     assert deeper.touching == ("wall",)
     assert deeper.reason is not None and deeper.reason.startswith(
-        "Collision detected: the target would go deeper into 'wall'"
+        "Collision detected: the arm would go deeper into 'wall'"
     )
 
 

@@ -238,7 +238,7 @@ def test_the_ghost_turns_red_for_a_target_or_a_path_through_an_obstacle(
 
     sim.add_obstacle(box("at the target", tuple(sim.arm.fk(around)[:3, 3])))  # type: ignore[arg-type]
     pendant_ui.refresh_cell()
-    assert panel.check.reason == "Collision detected: the target touches 'at the target'"
+    assert panel.check.reason == "Collision detected: the arm would touch 'at the target'"
 
     sim.remove_obstacles()
     pendant_ui.refresh_cell()
@@ -266,7 +266,7 @@ def test_the_tool_shape_is_drawn_on_the_flange_and_the_ghost_checks_it(
     pendant_ui.refresh()
     assert pendant_ui.tool_shape.capsules_shown == 1
     np.testing.assert_allclose(pendant_ui.tool_shape._frame.position, flange[:3, 3], atol=1e-6)
-    assert panel.check.reason == "Collision detected: the target touches 'below the tool'"
+    assert panel.check.reason == "Collision detected: the arm would touch 'below the tool'"
 
 
 def test_a_cell_file_is_saved_loaded_and_applied(

@@ -10,6 +10,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from pendant.cell.collision_names import name_collision
 from pendant.cell.geometry import CellModel
 from pendant.controller import MotionStatus, Pose
 from pendant.controller.cell_types import BoxObstacle, ToolShape
@@ -17,10 +18,10 @@ from pendant.controller.types import Point, Position, Rotation
 from pendant.eventlog import EventLog
 from pendant.eventquery import EventQuery
 from pendant.kinematics import ArmModel
+from pendant.kinematics.collision_words import link_words
 from pendant.program import MoveStep, Program, Waypoint
 from pendant.sim import Fault, SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.kit.collision_words import link_words, name_collision
 from pendant.ui.page.recovery import Recovery
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser, fire
@@ -121,6 +122,9 @@ def test_a_protective_stop_is_named_and_recover_leaves_it(
     view = ui.banner.view if ui.banner else None
     assert view is not None and view.title == "Protective stop" and "Protective stop" in view.detail
     assert banner_buttons(ui) == ["Recover"]
+    # The banner alone says it (the status panel keeps its ERROR readout, no second "Recover to continue").
+    assert ">ERROR<" in ui.status.content and "Recover to continue" not in ui.status.content
+    assert not ui.status.recover.visible
     press(ui, "Recover")
     wait_for(lambda: sim.get_motion_status() is MotionStatus.IDLE, "the recovery")
 
@@ -182,7 +186,7 @@ def test_a_blended_group_refused_whole_names_the_step_in_the_way(sim: SimControl
         EventLog(), sim.arm, simulator=True, cell=lambda: cell, current_q=lambda: np.radians(poses["A"])
     )
     assert recovery.explain_step_failure(program, 0, 1, "Collision detected") == (
-        "Collision detected: the target touches 'Box'"
+        "Collision detected: the arm would touch 'Box'"
     )
     assert recovery.refused_q is not None and np.allclose(recovery.refused_q, q_b)
     assert recovery.refused_obstacles == ("Box",)

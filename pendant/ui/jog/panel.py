@@ -164,7 +164,8 @@ class JogPanel:
         self._jogger.release("released")
 
     def _tell_stop(self, client: viser.ClientHandle | None, label: str, cause: str | None) -> None:
-        """Say "J1+ stopped: the arm would touch Box 1", once a press (the button stays down after it)."""
+        """Say "J1+ stopped: Collision detected: the arm would touch 'Box 1'" (the Target tab's words for
+        that pose), once a press (the button stays down after it)."""
         if cause is None or self._told_stop:
             return
         self._told_stop = True

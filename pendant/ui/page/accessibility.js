@@ -6,6 +6,10 @@
 // buttons (panel chrome, a notification's close), as the DOM changes (viser builds the panel from websocket
 // messages, so a MutationObserver, batched to one pass per animation-free timeout).
 //
+// Keyboard (docs/screens.md): with nothing focused (a page just loaded, a click in the 3D view), Tab goes
+// to Freeze first (viser's panel chrome and a notification come earlier in the page; Shift+Tab from Freeze
+// still reaches them), then on down the panel in the order it is drawn.
+//
 // Contrast (WCAG AA, 4.5:1 for text): Mantine's red and blue (Freeze, Stop, Record, the button rows)
 // and the dimmed label grey are darkened (orange and green keep their dark text); the rest is viser's.
 (() => {
@@ -71,6 +75,20 @@
     });
   }
 
+  function freezeButton() {
+    return [...document.querySelectorAll("button")].find((b) => b.textContent.trim() === "Freeze") || null;
+  }
+
+  function onTab(event) {
+    if (event.key !== "Tab" || event.shiftKey || event.altKey || event.ctrlKey || event.metaKey) return;
+    const active = document.activeElement;
+    if (active !== null && active !== document.body && active !== document.documentElement) return;
+    const freeze = freezeButton();
+    if (freeze === null || freeze.disabled) return;
+    event.preventDefault();
+    freeze.focus();
+  }
+
   let pending = null;
   function schedule() {
     if (pending === null) pending = setTimeout(() => ((pending = null), pass()), PASS_DELAY_MS);
@@ -82,6 +100,7 @@
     style.textContent = CSS;
     document.head.appendChild(style);
     new MutationObserver(schedule).observe(document.body, { childList: true, subtree: true });
+    document.addEventListener("keydown", onTab, true);
     schedule();
   }
 

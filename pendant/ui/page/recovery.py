@@ -15,6 +15,7 @@ from enum import StrEnum
 
 import numpy as np
 
+from pendant.cell.collision_names import explain_collision
 from pendant.cell.geometry import CellModel
 from pendant.controller import MotionStatus
 from pendant.controller.system_types import FailureType, SystemState
@@ -23,7 +24,6 @@ from pendant.kinematics import ArmModel
 from pendant.program import MoveStep, Program, RunProgress, RunState
 from pendant.program.tree import lines
 from pendant.ui.kit.cell_state import CellState
-from pendant.ui.kit.collision_words import explain_collision
 from pendant.ui.kit.snapshot import Snapshot
 
 MSG_RELEASE_EMERGENCY = "Release the emergency stop on the arm, then Recover"

@@ -131,7 +131,8 @@ RECOVERABLE = {MotionStatus.ERROR, MotionStatus.MOTION_FAILED}
 class StatusPanel:
     """The status, then one row: Protective stop (any browser may stop, like Freeze) or, once the arm is
     stopped in error, Recover (the operator's), in the same place. `recover_in_banner`: the page's banner
-    offers Recover (page/banner.py), so this one stays hidden: one Recover on the page."""
+    offers Recover (page/banner.py), so this one stays hidden: one Recover on the page, and the banner alone
+    names a protective stop."""
 
     def __init__(
         self, target: GuiTarget, mode_line: str, runner: CommandRunner, *, recover_in_banner: bool = False
@@ -177,7 +178,8 @@ class StatusPanel:
         self._render()
 
     def _render(self) -> None:
-        protective = in_protective_stop(self._snapshot, self._cell_state)
+        # With the banner, it alone says "Protective stop" and the way out (one line, one Recover).
+        protective = not self._recover_in_banner and in_protective_stop(self._snapshot, self._cell_state)
         content = render_status(self._snapshot, self._mode_line, self._system, protective)
         if content != self._last:
             self._html.content = content

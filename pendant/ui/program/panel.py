@@ -116,7 +116,7 @@ class ProgramPanel:
 
     def commanding_handles(self) -> Iterator[viser.GuiInputHandle]:
         """The controls only the operator may use (the session disables them, or hides button groups, for
-        a viewer). Run, Step and Retry follow `locked`; the Yes/Cancel row shows only with a question."""
+        a viewer). Run and Step follow `locked`; the Yes/Cancel row shows only with a question."""
         yield from (self.record, self.add, self.add_structure, self.order, self.history)
         w = self.waypoints
         yield from (w.name, w.rename, w.reteach, w.go_to, w.teach_new, w.delete)

@@ -1,5 +1,6 @@
 """The Program tab's "Run" folder: Run (or Resume a paused run), Run from the selected step, Step, Pause,
-Stop, Retry a failed step (the run continues from there), the loop count and the progress."""
+Stop, the loop count and the progress. A failed step is the banner's (page/banner.py): it says why, and its
+Retry / Skip / Stop program buttons are the way on; here the run's line only points there."""
 
 from __future__ import annotations
 
@@ -26,11 +27,6 @@ class RunSection:
                 icon=viser.Icon.PLAYER_SKIP_FORWARD,
                 hint="Start at the selected line",
             )
-            self.retry = gui.add_button(
-                "Retry failed step",
-                icon=viser.Icon.REPEAT,
-                hint="Continue the failed run at the step that failed, once its cause is fixed",
-            )
             self.step = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
             self.pause = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
             self.stop = gui.add_button("Stop", color="red", icon=viser.Icon.PLAYER_STOP)
@@ -39,7 +35,6 @@ class RunSection:
         commands = host.commands
         self.run.on_click(lambda e: self._start("Run", e.client))
         self.run_from.on_click(lambda e: self._start("Run from", e.client))
-        self.retry.on_click(lambda e: self._start("Retry", e.client))
         self.step.on_click(lambda e: self._start("Step", e.client))
         self.pause.on_click(
             lambda e: commands.submit("Pause", lambda _: host.shared.pause(), e.client, urgent=True)
@@ -61,7 +56,7 @@ class RunSection:
         try:
             if label == "Step":
                 shared.start_step()
-            elif label == "Retry" or (label == "Run" and state is RunState.PAUSED):
+            elif label == "Run" and state is RunState.PAUSED:
                 shared.start_resume()
             elif label == "Run from":
                 shared.start_run(loops=int(self.loops.value), start_line=host.need_selection())
@@ -79,11 +74,10 @@ class RunSection:
             progress.state.value
         )
         text = progress.message
-        text = f"**{text}**" if progress.state is RunState.FAILED else text
+        if progress.state is RunState.FAILED and progress.failed_step is not None:
+            text = f"**Stopped at step {progress.failed_step + 1}**: the banner above says why and what next"
         self.status.content = f"{text}\n\n{progress.notice}" if progress.notice else text
         self.run.label = "Resume" if progress.state is RunState.PAUSED else "Run"
         running = progress.state is RunState.RUNNING
         self.run.disabled = self.step.disabled = self.run_from.disabled = running or self.locked
-        self.retry.visible = self._host.shared.runner.can_resume and progress.state is RunState.FAILED
-        self.retry.disabled = self.locked
         self.pause.disabled = not running

@@ -8,11 +8,11 @@ import numpy as np
 import viser
 from viser.extras import ViserUrdf
 
+from pendant.cell.collision_names import explain_collision
 from pendant.controller import Controller, MotionParams, MotionType
 from pendant.controller.errors import Collision, ControllerError
 from pendant.kinematics import ArmModel
 from pendant.program import EditError, MoveStep, Step, Waypoint
-from pendant.ui.kit.collision_words import explain_collision
 from pendant.ui.program.host import ProgramHost
 from pendant.ui.scene.refused import RefusedPose
 
@@ -122,7 +122,7 @@ class WaypointSection:
         self._host.commands.submit(label, go, client, motion=True)
 
     def _named(self, error: Collision, q: np.ndarray, controller: Controller) -> Collision:
-        """The refusal with what is in the way named (kit/collision_words.py), and the red ghost shown."""
+        """The refusal with what is in the way named (cell/collision_names.py), and the red ghost shown."""
         if self._arm is None:
             return error
         cell = self._host.current_cell()

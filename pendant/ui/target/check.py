@@ -8,10 +8,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pendant.cell.collision_names import name_collision
 from pendant.cell.geometry import CellModel
 from pendant.controller.errors import MSG_UNREACHABLE_POSITION
 from pendant.kinematics import ArmModel
-from pendant.ui.kit.collision_words import name_collision
 
 
 @dataclass(frozen=True)
@@ -44,5 +44,5 @@ def check_joint_target(
     """`cell`: the controller's obstacles and tool shape; `q_from`: where the arm is, to check the path."""
     if not arm.within_limits(q):
         return TargetCheck(q, "Unreachable Pose")
-    named = name_collision(arm, q, cell, q_from)  # the words every tab uses (kit/collision_words.py)
+    named = name_collision(arm, q, cell, q_from)  # the words every tab uses (kinematics/collision_words.py)
     return TargetCheck(q, named.reason, named.obstacles)

@@ -1,14 +1,12 @@
-"""One wording for every refusal for a collision, in every tab: what the refused pose (or the way to it) would
-hit, named: the obstacle, or the arm's two links, or the floor.
+"""What a refused pose (or the way to it) would hit, found with the simulator's own checker and said in the
+shared words (kinematics/collision_words.py): the Target, Go to, Run and Cell checks and the banner use it.
 
-The controller itself says only "Collision detected" (the PULSE API's text); the page knows the cell and the
-target, so it names what is in the way with the same collision checker the simulator uses.
+The controller itself says only "Collision detected" (the PULSE API's text); the pendant knows the cell and
+the target, so it names what is in the way with the same collision checker the simulator uses.
 """
 
 from __future__ import annotations
 
-import re
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -16,11 +14,9 @@ import numpy as np
 from pendant.cell.geometry import CellModel
 from pendant.controller.errors import MSG_COLLISION
 from pendant.kinematics import ArmModel
+from pendant.kinematics.collision_words import contact_words, is_unnamed_collision, link_words, obstacle_words
 from pendant.kinematics.contact import FLOOR as CONTACT_FLOOR
 from pendant.kinematics.contact import ContactGuard
-
-FLOOR = "floor"
-_SHAPE_SUFFIX = re.compile(r"_\d+$")  # the URDF's collision shapes are named link3_0, link3_1, ...
 
 
 @dataclass(frozen=True)
@@ -29,29 +25,6 @@ class CollisionNamed:
 
     reason: str | None
     obstacles: tuple[str, ...] = ()
-
-
-def quoted(names: Sequence[str]) -> str:
-    return ", ".join(repr(n) for n in names)
-
-
-def obstacle_words(names: Sequence[str], *, path: bool = False) -> str:
-    """'Collision detected: the target touches 'Box'' (or the path to it passes through it)."""
-    if not names:
-        return f"{MSG_COLLISION}: the tool would touch the floor"
-    if path:
-        return f"{MSG_COLLISION}: the path to the target passes through {quoted(names)}"
-    return f"{MSG_COLLISION}: the target touches {quoted(names)}"
-
-
-def link_words(pairs: Sequence[tuple[str, str]]) -> str:
-    """'Collision detected: link2 would touch link5' (the arm with itself or the floor), first pair only."""
-    if not pairs:
-        return MSG_COLLISION
-    a, b = (_SHAPE_SUFFIX.sub("", name) for name in pairs[0])
-    if a == FLOOR:
-        a, b = b, a
-    return f"{MSG_COLLISION}: {a} would touch {'the floor' if b == FLOOR else b}"
 
 
 def name_collision(
@@ -77,19 +50,8 @@ def _from_where_it_is(cell: CellModel, q_from: np.ndarray, q: np.ndarray) -> Col
     worse = at_target if at_target is not None else cell.path_worse(q_from, q)
     if worse is None:
         return CollisionNamed(None)
-    if worse.itself:  # on the path only: the target itself was checked first
-        return CollisionNamed(f"{MSG_COLLISION}: the path to the target passes through the arm or the floor")
-    if worse.obstacle is CONTACT_FLOOR:
-        return CollisionNamed(obstacle_words(()))
-    if worse.allowed_m is not None:
-        where = f"the {'target' if at_target is not None else 'path to the target'} {worse.describe()}"
-        return CollisionNamed(f"{MSG_COLLISION}: {where}", (worse.obstacle,))
-    return CollisionNamed(obstacle_words((worse.obstacle,), path=at_target is None), (worse.obstacle,))
-
-
-def is_unnamed_collision(message: str) -> bool:
-    """The controller's bare "Collision detected" (nothing after it to say what is in the way)."""
-    return message.strip().startswith(MSG_COLLISION) and ":" not in message
+    hit = () if worse.itself or worse.obstacle is CONTACT_FLOOR else (str(worse.obstacle),)
+    return CollisionNamed(contact_words(worse, path=at_target is None), hit)
 
 
 def explain_collision(
@@ -101,7 +63,7 @@ def explain_collision(
 ) -> CollisionNamed:
     """A controller's refusal in the shared words: a bare "Collision detected" for the pose `q` gets what
     is in the way named; a collision the controller named already keeps its words, with the obstacles the
-    page finds (to draw them red); any other message is kept as it is."""
+    pendant finds (to draw them red); any other message is kept as it is."""
     if q is None or not message.strip().startswith(MSG_COLLISION):
         return CollisionNamed(message)
     named = name_collision(arm, q, cell, q_from)
