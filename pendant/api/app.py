@@ -145,7 +145,7 @@ def create_app(
     rules = access if access is not None else AccessRules(token=token, events=events)
     if rules.active:
         app.add_middleware(AccessGuard, rules=rules)  # added last: runs first (no body needed to refuse)
-    app.openapi = lambda: _openapi(app)  # type: ignore[method-assign]
+    app.openapi = lambda: _openapi(app)  # type: ignore[method-assign]  # FastAPI's documented way to extend the schema
     app.state.controller = controller
     return app
 

@@ -134,6 +134,7 @@ AccelerationQuery = Annotated[
 ]
 
 
+# `None` is "not sent": the annotations stay plain so the OpenAPI schema shows no null (hence the ignores).
 async def motion_params(
     speed: SpeedQuery = None,  # type: ignore[assignment]
     motion_type: TypeQuery = None,  # type: ignore[assignment]

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import bisect
 import itertools
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -113,7 +113,7 @@ def _blend_half_lengths(tangents: np.ndarray, lengths: np.ndarray, d_limit: list
     return d
 
 
-def _dedupe(points: list[np.ndarray], distance) -> list[int]:  # type: ignore[no-untyped-def]
+def _dedupe(points: list[np.ndarray], distance: Callable[[np.ndarray, np.ndarray], float]) -> list[int]:
     keep = [0]
     for i in range(1, len(points)):
         if distance(points[keep[-1]], points[i]) > 1e-12:

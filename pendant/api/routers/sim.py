@@ -22,7 +22,7 @@ if TYPE_CHECKING:
 
 
 # The faults the simulator can play, as they appear in the path: the fault kinds table's names.
-FaultName = StrEnum("FaultName", [(kind.name, kind.name) for kind in FAULT_KINDS])  # type: ignore[misc]
+FaultName = StrEnum("FaultName", [(kind.name, kind.name) for kind in FAULT_KINDS])  # type: ignore[misc]  # mypy reads only literal members
 
 FaultPath = Annotated[FaultName, Path(description=fault_kinds_description())]
 
