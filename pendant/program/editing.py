@@ -14,10 +14,10 @@ from pydantic import ValidationError
 from pendant.controller import Controller, Pose, Position
 from pendant.controller.types import MotionType
 from pendant.program import tree
+from pendant.program.limits import WAYPOINT_NAME_MAX
 from pendant.program.models import (
     DEFAULT_SPEED_PERCENT,
     STRUCTURES,
-    WAYPOINT_NAME_MAX,
     MoveStep,
     PalletStep,
     Program,

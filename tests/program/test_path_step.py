@@ -28,15 +28,14 @@ from pendant.program import (
 )
 from pendant.program.blended import FALLBACK_NOTE, BlendedRun
 from pendant.program.files import MAX_FILE_BYTES, dump_program, parse_program
-from pendant.program.models import (
+from pendant.program.limits import (
     MAX_PATH_POINTS,
     MAX_PROGRAM_PATH_POINTS,
     MAX_STEPS,
     PROGRAM_NAME_MAX,
     WAYPOINT_NAME_MAX,
-    OutputAction,
-    PathPoint,
 )
+from pendant.program.models import OutputAction, PathPoint
 from pendant.program.plan import MoveGroup
 from pendant.remote import RemoteController
 from pendant.sim import FakeClock, SimController

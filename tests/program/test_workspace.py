@@ -19,7 +19,7 @@ from pendant.program import (
     RunState,
     WaitStep,
 )
-from pendant.program.models import WAYPOINT_NAME_MAX
+from pendant.program.limits import WAYPOINT_NAME_MAX
 
 from .conftest import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, settle, teach
 

@@ -25,7 +25,7 @@ from pendant.program import (
     WaitInputStep,
     WaitStep,
 )
-from pendant.program.models import (
+from pendant.program.limits import (
     MAX_GRID,
     MAX_LOOP_TIMES,
     MAX_WAIT_MS,
