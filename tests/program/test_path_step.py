@@ -84,13 +84,13 @@ def test_a_path_step_plays_as_one_blended_run_within_the_tolerance(
 ) -> None:
     sampler = Sampler(sim, clock)
     log = CallLog(sim)
-    runner = ProgramRunner(log, sleep=sampler, now=clock.now)  # type: ignore[arg-type]
+    runner = ProgramRunner(log, sleep=sampler, now=clock.now)
 
     result = runner.run(Program(steps=(step,)))
 
     assert result.state is RunState.FINISHED and result.notice == ""
     assert log.names() == ["run_poses", "run_linear_positions"]  # the approach, then the whole path
-    positions, params = log.calls[1][1]  # type: ignore[misc]
+    positions, params = log.calls[1][1]
     assert len(positions) == len(step.points) - 1 and params.interpolationType.value == "BLEND"
     assert {p.blend for p in positions} == {TOL_MM / 2 / 1000.0}
     recorded = recorded_points(recording)
@@ -145,7 +145,7 @@ def test_a_paused_path_resumes_at_the_waypoint_it_was_heading_for(
 ) -> None:
     sampler = Sampler(sim, clock)
     log = CallLog(sim)
-    runner = ProgramRunner(log, sleep=sampler, now=clock.now)  # type: ignore[arg-type]
+    runner = ProgramRunner(log, sleep=sampler, now=clock.now)
     program = Program(steps=(step,))
     sent_at: list[float] = []
 
@@ -169,7 +169,7 @@ def test_a_paused_path_resumes_at_the_waypoint_it_was_heading_for(
     assert resumed.state is RunState.FINISHED
     _, second_run = (args for name, args in log.calls if name == "run_linear_positions")
     # The second request starts at the waypoint the arm was heading for (targets are points[1:]).
-    second_positions = second_run[0]  # type: ignore[index]
+    second_positions = second_run[0]
     assert second_positions[0].point == step.points[heading + 1].position.point
     assert len(second_positions) == len(step.points) - 1 - heading
     assert stopped_at != sim.get_position()
@@ -237,7 +237,7 @@ def test_as_the_runners_blended_path_it_runs_taught_moves_with_their_actions_in_
     result = runner.run(program)
     assert result.state is RunState.FINISHED
     assert log.names() == ["run_joint_poses"]  # the action no longer ends the blend: one request
-    poses, _ = log.calls[0][1]  # type: ignore[misc]
+    poses, _ = log.calls[0][1]
     assert [p.angles for p in poses] == [waypoints[n].pose.angles for n in "ABC"]
     assert poses[0].actions[0].port == 1 and sim.get_output(1) is SignalLevel.HIGH
     assert sim.get_pose().angles == pytest.approx(waypoints["C"].pose.angles, abs=ANGLE_TOL_DEG)
@@ -248,7 +248,7 @@ def test_a_freeze_mid_path_fails_the_step_and_retry_finishes_it_from_where_it_wa
 ) -> None:
     sampler = Sampler(sim, clock)
     log = CallLog(sim)
-    runner = ProgramRunner(log, sleep=sampler, now=clock.now)  # type: ignore[arg-type]
+    runner = ProgramRunner(log, sleep=sampler, now=clock.now)
     sent_at: list[float] = []
 
     def freeze_a_second_into_the_path() -> None:  # as Freeze on the page or PUT /freeze would

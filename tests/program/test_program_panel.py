@@ -134,7 +134,7 @@ def test_a_refused_upload_is_explained_and_changes_nothing(setup, sim) -> None: 
     before = workspace.program
     panel.file_section.upload._impl.value = viser.UploadedFile(
         name="future.json", content=b'{"schema_version": 7}'
-    )  # type: ignore[attr-defined]
+    )
     fire(panel.file_section.upload, browser)
     assert workspace.program == before
     assert browser.notifications[-1]["title"] == "Upload refused"
@@ -169,15 +169,15 @@ def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -
         assert ghost is not None and not ghost.show_visual  # nothing selected, nothing previewed
         teach(sim, clock, POSE_C_DEG, "ignored")
         record(reloaded, browser)
-        assert [s.waypoint for s in workspace.program.steps] == ["P1", "P2", "P3"]  # type: ignore[union-attr]
+        assert [s.waypoint for s in workspace.program.steps] == ["P1", "P2", "P3"]
         fire(reloaded.select, browser, "1. Move J to P1 @ 20%")
         assert ghost.show_visual  # a move selected: its waypoint previewed
         record(reloaded, browser)  # a selection alone still appends
-        assert workspace.program.steps[-1].waypoint == "P4"  # type: ignore[union-attr]
+        assert workspace.program.steps[-1].waypoint == "P4"
         fire(reloaded.select, browser, "1. Move J to P1 @ 20%")
         fire(reloaded.insert_after, browser, True)  # the visible toggle: after the selected step
         record(reloaded, browser)
-        assert [s.waypoint for s in workspace.program.steps] == ["P1", "P5", "P2", "P3", "P4"]  # type: ignore[union-attr]
+        assert [s.waypoint for s in workspace.program.steps] == ["P1", "P5", "P2", "P3", "P4"]
         assert reloaded.select.value == "2. Move J to P5 @ 20%"
     finally:
         reloaded.close()
@@ -278,7 +278,7 @@ def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, cloc
     workspace.insert_step(MoveStep(waypoint="P1", motion=MotionType.LINEAR, offset=Offset(z=50.0)))
     workspace.insert_step(PalletStep(corners=("P1", "P2", "P3"), rows=3, columns=4, approach_mm=30.0))
     cells = [node for node in panel.scene._nodes if node.name == "/program/pallet_cells"]
-    assert len(cells) == 1 and cells[0].points.shape == (12, 3)  # type: ignore[attr-defined]
+    assert len(cells) == 1 and cells[0].points.shape == (12, 3)
     p1 = workspace.program.waypoint("P1").position.point
     marker_points = [np.asarray(marker.position) for marker, _ in panel.scene._markers]
     above_p1 = np.array([p1.x, p1.y, p1.z + 0.05])

@@ -228,7 +228,7 @@ def test_the_ghost_turns_red_for_a_target_or_a_path_through_an_obstacle(
 
     halfway = q.copy()
     halfway[0] += np.radians(45.0)
-    sim.add_obstacle(box("in the way", tuple(sim.arm.fk(halfway)[:3, 3])))  # type: ignore[arg-type]
+    sim.add_obstacle(box("in the way", tuple(sim.arm.fk(halfway)[:3, 3])))
     pendant_ui.refresh_cell()  # the cell changed: the target is checked again
     assert not panel.check.ok
     assert panel.check.reason == "Collision detected: the path to the target passes through 'in the way'"
@@ -236,7 +236,7 @@ def test_the_ghost_turns_red_for_a_target_or_a_path_through_an_obstacle(
     assert panel.move_j.disabled and panel.move_l.disabled
     assert panel.obstacles_hit == {"in the way": True}  # drawn red in this browser
 
-    sim.add_obstacle(box("at the target", tuple(sim.arm.fk(around)[:3, 3])))  # type: ignore[arg-type]
+    sim.add_obstacle(box("at the target", tuple(sim.arm.fk(around)[:3, 3])))
     pendant_ui.refresh_cell()
     assert panel.check.reason == "Collision detected: the target touches 'at the target'"
 
@@ -251,7 +251,7 @@ def test_the_tool_shape_is_drawn_on_the_flange_and_the_ghost_checks_it(
 ) -> None:
     flange = sim.arm.fk(home_q(sim))
     along = flange[:3, 2]  # the flange's z axis: where the tool points
-    sim.add_obstacle(box("below the tool", tuple(flange[:3, 3] + 0.25 * along), side=0.04))  # type: ignore[arg-type]
+    sim.add_obstacle(box("below the tool", tuple(flange[:3, 3] + 0.25 * along), side=0.04))
     pendant_ui.refresh_cell()
     lowered = flange.copy()
     lowered[:3, 3] += 0.1 * along
@@ -343,7 +343,7 @@ def test_a_jog_towards_an_obstacle_stops_short_of_it(
     q = home_q(sim)
     at = q.copy()
     at[0] += np.radians(30.0)
-    sim.add_obstacle(box("fixture", tuple(sim.arm.fk(at)[:3, 3])))  # type: ignore[arg-type]
+    sim.add_obstacle(box("fixture", tuple(sim.arm.fk(at)[:3, 3])))
     pendant_ui.refresh_cell()
     request = JogRequest(JogFrame.JOINT, 0, +1, speed_percent=50, step=np.radians(10.0))  # the largest
     assert pendant_ui.jogger.step(request)
