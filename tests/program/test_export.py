@@ -32,6 +32,7 @@ from pendant.program import (
     RunState,
     WaitInputStep,
     WaitStep,
+    Waypoint,
     export_script,
     program_operations,
 )
@@ -53,7 +54,7 @@ def api_url() -> Iterator[str]:
         yield url
 
 
-def pick_and_place(waypoints) -> Program:  # type: ignore[no-untyped-def]
+def pick_and_place(waypoints: dict[str, Waypoint]) -> Program:
     a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
     return program_of(
         move(a, speed=100.0),

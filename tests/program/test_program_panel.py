@@ -66,7 +66,9 @@ def server() -> Iterator[viser.ViserServer]:
 
 
 @pytest.fixture
-def setup(server, sim: SimController, clock: FakeClock, tmp_path: Path):  # type: ignore[no-untyped-def]
+def setup(
+    server: viser.ViserServer, sim: SimController, clock: FakeClock, tmp_path: Path
+) -> Iterator[tuple[ProgramPanel, ProgramWorkspace]]:
     runner = CommandRunner(sim)
     workspace = ProgramWorkspace(
         ProgramStore(tmp_path / "programs"), ProgramRunner(sim, sleep=clock.advance, now=clock.now)
