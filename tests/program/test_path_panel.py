@@ -101,7 +101,7 @@ def test_on_a_controller_without_run_operations_the_tab_says_the_path_played_sto
             fire(panel.check_section.check, FakeClient())  # a real arm: Run waits for a passing check
             assert panel.pending is not None and panel.pending.result(timeout=WAIT_S).ok
             fire(panel.run, FakeClient())
-            workspace.runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]
+            workspace.runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]  # the run started it
             assert workspace.progress.state is RunState.FINISHED
             assert panel.run_status.content == f"Finished\n\n{FALLBACK_NOTE}"
         finally:

@@ -55,7 +55,7 @@ def fire(handle: Any, client: FakeClient, value: Any = None) -> None:
     if value is not None:
         handle._impl.value = value  # not `handle.value = ...`: that would also call back, as from Python
     for callback in list(handle._impl.update_cb):
-        callback(viser.GuiEvent(client=client, client_id=client.client_id, target=handle))  # type: ignore[arg-type]
+        callback(viser.GuiEvent(client=client, client_id=client.client_id, target=handle))  # type: ignore[arg-type]  # a fake client for viser's
 
 
 @pytest.fixture
@@ -85,7 +85,7 @@ def record(panel: ProgramPanel, client: FakeClient) -> None:
     panel.pending.result(timeout=WAIT_S)
 
 
-def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]
+def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     browser = FakeClient()
     for pose in (POSE_A_DEG, POSE_B_DEG):
@@ -129,7 +129,7 @@ def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path)
     assert browser.downloads[-1][0] == "cell_4.py"
 
 
-def test_a_refused_upload_is_explained_and_changes_nothing(setup, sim) -> None:  # type: ignore[no-untyped-def]
+def test_a_refused_upload_is_explained_and_changes_nothing(setup, sim) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     browser = FakeClient()
     record(panel, browser)
@@ -143,7 +143,7 @@ def test_a_refused_upload_is_explained_and_changes_nothing(setup, sim) -> None: 
     assert "newer pendant" in browser.notifications[-1]["body"]
 
 
-def test_two_browsers_see_the_same_program(setup, sim) -> None:  # type: ignore[no-untyped-def]
+def test_two_browsers_see_the_same_program(setup, sim) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     elsewhere = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)  # its own scene
     other = ProgramPanel(elsewhere, workspace, CommandRunner(sim))
@@ -155,7 +155,7 @@ def test_two_browsers_see_the_same_program(setup, sim) -> None:  # type: ignore[
         elsewhere.stop()
 
 
-def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]
+def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     browser = FakeClient()
     for pose in (POSE_A_DEG, POSE_B_DEG):
@@ -186,7 +186,7 @@ def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -
         elsewhere.stop()
 
 
-def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]
+def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     folder = tmp_path / "programs"
     folder.mkdir()
     (folder / ".autosave.json").write_text("{ half a program")  # the pendant was killed mid-write by hand
@@ -203,7 +203,7 @@ def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, 
         runner.shutdown()
 
 
-def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(setup, sim, tmp_path) -> None:  # type: ignore[no-untyped-def]
+def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(setup, sim, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     browser = FakeClient()
     files = panel.file_section
@@ -245,7 +245,7 @@ def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(setup, si
     assert workspace.program.uses_of("P2") == 0
 
 
-def test_run_from_the_selected_step_and_retry_a_failed_one(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]
+def test_run_from_the_selected_step_and_retry_a_failed_one(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     browser = FakeClient()
     teach(sim, clock, POSE_A_DEG, "ignored")
@@ -272,7 +272,7 @@ def test_run_from_the_selected_step_and_retry_a_failed_one(setup, sim, clock) ->
     assert not panel.run_section.retry.visible
 
 
-def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]
+def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     for pose in (POSE_A_DEG, POSE_B_DEG, POSE_C_DEG):
         teach(sim, clock, pose, "ignored")
@@ -288,7 +288,7 @@ def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, cloc
     assert any(abs(float(p[2]) - (p1.z + 0.03)) < 1e-4 for p in marker_points)  # above the first cell
 
 
-def test_save_of_an_unnamed_program_asks_for_its_name_then_saves(setup, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]
+def test_save_of_an_unnamed_program_asks_for_its_name_then_saves(setup, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     files, browser, folder = panel.file_section, FakeClient(), tmp_path / "programs"
     teach(sim, clock, POSE_A_DEG, "ignored")
