@@ -140,6 +140,23 @@ def test_without_run_operations_the_path_plays_stop_and_go_and_says_so(
         assert min(steps[at - 1], steps[at]) < STOPPING * cruising, f"no stop at {p}"
 
 
+def a_second_into_the_path(
+    sampler: Sampler, log: CallLog, clock: FakeClock, action: Callable[[], None]
+) -> None:
+    """Do `action` at the runner's first sleep a second after the path's run was sent."""
+    sent_at: list[float] = []
+
+    def check() -> None:
+        if "run_linear_positions" in log.names():
+            sent_at.append(clock.now())
+            if sent_at[-1] - sent_at[0] >= 1.0:
+                action()
+                return
+        sampler.at = check
+
+    sampler.at = check
+
+
 def test_a_paused_path_resumes_at_the_waypoint_it_was_heading_for(
     sim: SimController, clock: FakeClock, recording: Recording, step: PathStep
 ) -> None:
@@ -147,17 +164,7 @@ def test_a_paused_path_resumes_at_the_waypoint_it_was_heading_for(
     log = CallLog(sim)
     runner = ProgramRunner(log, sleep=sampler, now=clock.now)
     program = Program(steps=(step,))
-    sent_at: list[float] = []
-
-    def pause_a_second_into_the_path() -> None:
-        if "run_linear_positions" in log.names():
-            sent_at.append(clock.now())
-            if sent_at[-1] - sent_at[0] >= 1.0:
-                runner.pause()
-                return
-        sampler.at = pause_a_second_into_the_path
-
-    sampler.at = pause_a_second_into_the_path
+    a_second_into_the_path(sampler, log, clock, runner.pause)
     paused = runner.run(program)
     assert paused.state is RunState.PAUSED
     heading = runner._run.interpreter.stack[-1].target  # type: ignore[union-attr]
@@ -249,17 +256,7 @@ def test_a_freeze_mid_path_fails_the_step_and_retry_finishes_it_from_where_it_wa
     sampler = Sampler(sim, clock)
     log = CallLog(sim)
     runner = ProgramRunner(log, sleep=sampler, now=clock.now)
-    sent_at: list[float] = []
-
-    def freeze_a_second_into_the_path() -> None:  # as Freeze on the page or PUT /freeze would
-        if "run_linear_positions" in log.names():
-            sent_at.append(clock.now())
-            if sent_at[-1] - sent_at[0] >= 1.0:
-                sim.freeze()
-                return
-        sampler.at = freeze_a_second_into_the_path
-
-    sampler.at = freeze_a_second_into_the_path
+    a_second_into_the_path(sampler, log, clock, sim.freeze)  # as Freeze on the page or PUT /freeze would
     failed = runner.run(Program(steps=(step,)))
     assert failed.state is RunState.FAILED and failed.failed_step == 0
     assert "Step 1 (Path s1" in failed.message and "the arm stopped before reaching s1[" in failed.message
