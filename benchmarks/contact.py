@@ -9,11 +9,15 @@ Run: PYTHONPATH=. python benchmarks/contact.py
 from __future__ import annotations
 
 import statistics
+import sys
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from benchmarks._timing import wall_times_s
 from pendant.controller.cell_types import PlaneObstacle
 from pendant.controller.types import MotionParams, Point, Pose
 from pendant.sim import FakeClock, SimController
@@ -30,12 +34,7 @@ def wall(x: float) -> PlaneObstacle:
 
 
 def median_s(action: Callable[[], object], repeats: int = REPEATS) -> float:
-    times = []
-    for _ in range(repeats):
-        started = time.perf_counter()
-        action()
-        times.append(time.perf_counter() - started)
-    return statistics.median(times)
+    return statistics.median(wall_times_s(action, repeats))
 
 
 def per_call_us(call: Callable[[], object]) -> float:

@@ -26,7 +26,9 @@ import statistics
 import sys
 import threading
 import time
+from collections.abc import Coroutine
 from pathlib import Path
+from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from tests.support.launchers import running_pendant
@@ -149,9 +151,11 @@ PHASES = {
 }
 
 
-def attacks(port: int, args: argparse.Namespace, kinds: tuple[str, ...], stop: asyncio.Event) -> list[object]:
+def attacks(
+    port: int, args: argparse.Namespace, kinds: tuple[str, ...], stop: asyncio.Event
+) -> list[Coroutine[Any, Any, None]]:
     huge = huge_run_body(int(args.huge_mb * 1024 * 1024))
-    chosen: list[object] = []
+    chosen: list[Coroutine[Any, Any, None]] = []
     if "runs" in kinds:
         chosen += [max_allowed_runs(port, stop) for _ in range(args.attackers)]
     if "huge" in kinds:
@@ -168,7 +172,7 @@ def attacks(port: int, args: argparse.Namespace, kinds: tuple[str, ...], stop: a
 def run_attacks(port: int, args: argparse.Namespace, kinds: tuple[str, ...], done: threading.Event) -> None:
     async def main() -> None:
         stop = asyncio.Event()
-        tasks = [asyncio.ensure_future(attack) for attack in attacks(port, args, kinds, stop)]  # type: ignore[arg-type]
+        tasks = [asyncio.ensure_future(attack) for attack in attacks(port, args, kinds, stop)]
         while not done.is_set():
             await asyncio.sleep(0.05)
         stop.set()

@@ -17,7 +17,9 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -57,7 +59,7 @@ def near_singular_configurations(arm: ArmModel, rng: np.random.Generator, count:
     return configurations
 
 
-def time_per_call_us(function, arguments: list) -> np.ndarray:  # type: ignore[no-untyped-def]
+def time_per_call_us(function: Callable[[Any], object], arguments: Sequence[Any]) -> np.ndarray:
     times = np.empty(len(arguments))
     clock = time.perf_counter
     for index, argument in enumerate(arguments):

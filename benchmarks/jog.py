@@ -39,6 +39,7 @@ import sys
 import threading
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from pendant.controller import MotionStatus
@@ -47,6 +48,12 @@ from pendant.sim import MonotonicClock, SimController
 from tests.support.chromium import CHROMIUM, CHROMIUM_ARGS
 from tests.support.launchers import running_pendant_ui
 from tests.support.waiting import wait_until
+
+if TYPE_CHECKING:
+    import numpy as np
+    from playwright.sync_api import Page
+
+    from tests.support.jog_measure import Timeline
 
 CONFIRM_PERIOD_S = 0.05
 # Small, because Chromium paints WebGL in software here: a bigger canvas only measures the painting.
@@ -84,13 +91,15 @@ def server_latencies(trials: int) -> list[float]:
     moved = threading.Event()
     show = page.scene.show
 
-    def show_and_tell(q, *args, **kwargs):  # type: ignore[no-untyped-def]
+    def show_and_tell(
+        q: np.ndarray, gripper_opening: float, T_base_tcp: np.ndarray, now: float | None = None
+    ) -> None:
         before = page.scene.last_shown
-        show(q, *args, **kwargs)
+        show(q, gripper_opening, T_base_tcp, now)
         if before is not None and page.scene.last_shown is not before:
             moved.set()
 
-    page.scene.show = show_and_tell  # type: ignore[method-assign]
+    page.scene.show = show_and_tell  # type: ignore[method-assign]  # wrapped: this run sees each frame sent
     page.start()
     latencies = []
     try:
@@ -217,7 +226,7 @@ document.addEventListener("pointerup", (e) => window.__lifts.push(
 """
 
 
-def release_stages(page, timeline) -> tuple[float, float]:  # type: ignore[no-untyped-def]
+def release_stages(page: Page, timeline: Timeline) -> tuple[float, float]:
     """(input stamped by the browser -> arm still, page handled the release -> arm still), in seconds."""
     stamped, handled = page.evaluate("window.__lifts.at(-1)")
     last = timeline.last_motion_s()
@@ -303,7 +312,7 @@ window.__stages = [];
 TABLET = (768, 1024)
 
 
-def gesture_stages(page, timeline) -> dict[str, float]:  # type: ignore[no-untyped-def]
+def gesture_stages(page: Page, timeline: Timeline) -> dict[str, float]:
     """Where a press and a release spend their time (s), on the gesture's timeline (0 = press sent)."""
     marks: dict[str, float] = {}
     for name, wall in page.evaluate("window.__stages.splice(0)"):

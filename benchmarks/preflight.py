@@ -14,12 +14,15 @@ Prints
 from __future__ import annotations
 
 import statistics
-import time
+import sys
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from benchmarks._timing import wall_times_s
 from pendant.controller.cell_types import BoxObstacle
-from pendant.controller.types import MotionParams, MotionType, Pose
+from pendant.controller.types import MotionParams, MotionType, Pose, SignalLevel
 from pendant.planning.preflight import preflight
+from pendant.planning.report import PreflightReport
 from pendant.planning.twin import read_seed
 from pendant.program import ProgramRunner, RunProgress, RunState
 from pendant.program.files import parse_program
@@ -73,7 +76,7 @@ def programs() -> dict[str, Program]:
             MoveStep(waypoint="P3", speed=40.0),
             MoveStep(waypoint="P3", motion=MotionType.LINEAR, offset=UP, speed=30.0),
             MoveStep(waypoint="P4", motion=MotionType.LINEAR, speed=30.0),
-            OutputStep(port=1, level="HIGH"),  # type: ignore[arg-type]
+            OutputStep(port=1, level=SignalLevel.HIGH),
             MoveStep(waypoint="P5", motion=MotionType.LINEAR, speed=30.0),
         ),
     )
@@ -198,19 +201,13 @@ def real_run(program: Program, clock: ScaledClock | MonotonicClock) -> tuple[flo
 def main() -> None:
     seed = read_seed(SimController(clock=FakeClock()))
     sixty = long_program()
-    walls, report = [], None
-    for _ in range(REPEATS):
-        started = time.perf_counter()
-        report = preflight(sixty, seed.with_cell(cell(), None))
-        walls.append(time.perf_counter() - started)
-    assert report is not None and report.ok, report.summary if report else None
+    reports: list[PreflightReport] = []
+    walls = wall_times_s(lambda: reports.append(preflight(sixty, seed.with_cell(cell(), None))), REPEATS)
+    report = reports[-1]
+    assert report.ok, report.summary
     print(f"Pre-flight of a {report.cycle_time_s:.1f} s program ({len(report.steps)} lines, 2 obstacles, ")
     print(f"  clearance on every step): {statistics.median(walls):.2f} s wall (median of {REPEATS})")
-    walls = []
-    for _ in range(REPEATS):
-        started = time.perf_counter()
-        preflight(sixty, seed)
-        walls.append(time.perf_counter() - started)
+    walls = wall_times_s(lambda: preflight(sixty, seed), REPEATS)
     print(f"The same without obstacles: {statistics.median(walls):.2f} s wall (median of {REPEATS})")
     print()
     columns = ("pre-flight", 11), ("run", 8), ("error", 8), ("worst step", 12), ("run+plan", 10), ("error", 8)

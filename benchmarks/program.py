@@ -10,9 +10,13 @@ Prints
 from __future__ import annotations
 
 import statistics
+import sys
 import tempfile
-import time
+from collections.abc import Callable
+from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from benchmarks._timing import wall_times_s
 from pendant.controller.types import MotionParams, Pose, SignalLevel
 from pendant.program import (
     IfStep,
@@ -40,13 +44,8 @@ def waypoints(sim: SimController, clock: FakeClock) -> tuple[Waypoint, ...]:
     return tuple(taught)
 
 
-def best_of(action: object) -> float:
-    times = []
-    for _ in range(REPEATS):
-        started = time.perf_counter()
-        action()  # type: ignore[operator]
-        times.append(time.perf_counter() - started)
-    return min(times)
+def best_of(action: Callable[[], object]) -> float:
+    return min(wall_times_s(action, REPEATS))
 
 
 def main() -> None:

@@ -10,11 +10,12 @@ import os
 import sys
 import time
 import urllib.request
+from typing import Any
 
 TARGET = [-30.0, -80.0, 80.0, -90.0, -90.0, 15.0]  # degrees, J1..J6
 
 
-def call(method: str, url: str, body: object = None) -> object:
+def call(method: str, url: str, body: object = None) -> Any:  # JSON: whatever the path answers
     data = None if body is None else json.dumps(body).encode()
     headers = {"Content-Type": "application/json"}
     request = urllib.request.Request(url, data=data, method=method, headers=headers)
@@ -28,7 +29,7 @@ def main() -> None:
     call("PUT", f"{url}/pose?speed=40", {"angles": TARGET})
     while call("GET", f"{url}/status/motion") == "RUNNING":
         time.sleep(0.05)
-    angles = call("GET", f"{url}/pose")["angles"]  # type: ignore[index]
+    angles = call("GET", f"{url}/pose")["angles"]
     print("arrived at", " ".join(f"{a:.2f}" for a in angles))
 
 

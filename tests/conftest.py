@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from pendant.monitoring import DATA_DIR_ENV
@@ -13,7 +15,7 @@ pytest_plugins = ["tests.support.fixtures"]
 
 
 @pytest.fixture(autouse=True)
-def programs_folder(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch):  # type: ignore[no-untyped-def]
+def programs_folder(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch) -> Path:
     """Every test's pendant keeps its programs (and autosave) in a fresh folder, never the checkout's."""
     folder = tmp_path_factory.mktemp("programs")
     monkeypatch.setenv(PROGRAMS_DIR_ENV, str(folder))

@@ -77,6 +77,6 @@ def test_the_page_shows_the_viewer_qr_or_how_to_expose_the_page(sim: SimControll
         lan = "http://192.168.1.20:8080/"
         assert qr_html([lan]).count("<svg") == 1 and lan in qr_html([lan])
         for callback in session.join._impl.update_cb:  # pressed: the dialog opens with that QR code
-            callback(viser.GuiEvent(client=None, client_id=0, target=session.join))  # type: ignore[arg-type]
+            callback(viser.GuiEvent(client=None, client_id=0, target=session.join))
     finally:
         page.stop()

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from fastapi import FastAPI
 from fastapi.openapi.utils import get_openapi
@@ -45,6 +45,9 @@ from pendant.controller.system_types import (
 from pendant.controller.types import Pose, Position, Tool
 from pendant.eventlog import EventLog
 
+if TYPE_CHECKING:
+    from pendant.sim import SimController
+
 DESCRIPTION = """\
 The REST API of the Rozum Robotics PULSE controller, as in its API reference guide, served by the pendant
 (from its simulator, or passed through to a real arm).
@@ -82,7 +85,7 @@ while a jog is held there, 409.
 """
 
 
-def _sim_controller_type() -> type | None:
+def _sim_controller_type() -> type[SimController] | None:
     try:
         from pendant.sim import SimController
     except ImportError:  # the simulator is optional for a pendant in front of a real arm
@@ -131,21 +134,21 @@ def create_app(
     if sim_type is not None and isinstance(controller, sim_type):
         from pendant.api.routers.sim import sim_router
 
-        routers.append(sim_router(controller))  # type: ignore[arg-type]  # a SimController: checked above
+        routers.append(sim_router(controller))
     for router in routers:
         app.include_router(router)
 
     install_error_handlers(app)
     app.add_middleware(DirectDispatch, table=direct_endpoints(routers))
     if sim_type is not None and isinstance(controller, sim_type):
-        app.add_middleware(UnavailableFirst, check_alive=controller.check_alive)  # type: ignore[attr-defined]  # as above
+        app.add_middleware(UnavailableFirst, check_alive=controller.check_alive)
     if stops is not None:
         app.add_middleware(StopNotice, stops=stops)
     app.add_middleware(BodySizeLimit)  # before any body is read
     rules = access if access is not None else AccessRules(token=token, events=events)
     if rules.active:
         app.add_middleware(AccessGuard, rules=rules)  # added last: runs first (no body needed to refuse)
-    app.openapi = lambda: _openapi(app)  # type: ignore[method-assign]
+    app.openapi = lambda: _openapi(app)  # type: ignore[method-assign]  # FastAPI's documented way to extend the schema
     app.state.controller = controller
     return app
 

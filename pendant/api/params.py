@@ -134,13 +134,14 @@ AccelerationQuery = Annotated[
 ]
 
 
+# `None` is "not sent": the annotations stay plain so the OpenAPI schema shows no null (hence the ignores).
 async def motion_params(
-    speed: SpeedQuery = None,  # type: ignore[assignment]
-    motion_type: TypeQuery = None,  # type: ignore[assignment]
-    motion_type_sdk: MotionTypeQuery = None,  # type: ignore[assignment]
+    speed: SpeedQuery = None,  # type: ignore[assignment]  # None: not sent
+    motion_type: TypeQuery = None,  # type: ignore[assignment]  # None: not sent
+    motion_type_sdk: MotionTypeQuery = None,  # type: ignore[assignment]  # None: not sent
     tcp_max_velocity: TcpMaxVelocityQuery = TCP_MAX_VELOCITY_MAX,
-    velocity: VelocityQuery = None,  # type: ignore[assignment]
-    acceleration: AccelerationQuery = None,  # type: ignore[assignment]
+    velocity: VelocityQuery = None,  # type: ignore[assignment]  # None: not sent
+    acceleration: AccelerationQuery = None,  # type: ignore[assignment]  # None: not sent
 ) -> MotionParams:
     """The motion parameters of PUT /position, /pose, /positions/run, /poses/run.
 

@@ -77,7 +77,7 @@ class GuardedHttpProtocol(HttpToolsProtocol):
         self._head_bytes = 0  # received since the server started waiting, until the head is complete
         self._reading_head = True
 
-    def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]
+    def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]  # as uvicorn narrows it
         super().connection_made(transport)
         self._start_waiting()
         if len(self.connections) > self.max_connections:

@@ -6,6 +6,7 @@ end), `radius` (capsule)."""
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,6 +27,12 @@ KINDS = ("BOX", "CAPSULE", "PLANE")
 SIZE_MM_MAX = 10_000.0
 Vec3 = tuple[float, float, float]
 _OBSTACLE: TypeAdapter[Obstacle] = TypeAdapter(Obstacle)
+
+
+def vec3(values: Sequence[float]) -> Vec3:
+    """Three numbers of a vector field as floats (the field holds exactly three)."""
+    x, y, z = values
+    return float(x), float(y), float(z)
 
 
 MM_LIMIT = 2000.0  # a tool or base offset beyond 2 m is a typing error

@@ -200,7 +200,9 @@ def _folded(db: sqlite3.Connection, condition: str, args: list[object], limit: i
                     " AND id > ? AND id <= ?",
                     (*args, FOLDED_KIND, lower, newest[0]),
                 ).fetchone()
-                out.append(StoredEvent(*newest, count, first_time if count > 1 else None))  # type: ignore[call-arg]  # a row of the five columns
+                row_id, at, kind, source, message = newest  # the five columns
+                folded_from = first_time if count > 1 else None
+                out.append(StoredEvent(row_id, at, kind, source, message, count, folded_from))
         if event is not None:
             out.append(event)
     return fold_states(out, limit)

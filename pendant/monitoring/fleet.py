@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import functools
 import json
 import shutil
 import socket
@@ -186,7 +187,7 @@ def running_fleet(
         # Prometheus starts once every pendant answers, or its first scrapes would page "pendant down".
         for api, process in zip(site.pendant_apis, processes, strict=False):
             metrics = f"{api}/metrics"
-            _wait(lambda metrics=metrics: _answers(metrics), f"the pendant at {api}", process)  # type: ignore[misc]  # mypy cannot type a lambda's default argument
+            _wait(functools.partial(_answers, metrics), f"the pendant at {api}", process)
         (root / "alertmanager.yml").write_text(yaml.safe_dump(alertmanager_config(site.webhook, timings)))
         alertmanager = [_binary("prometheus-alertmanager"), f"--config.file={root / 'alertmanager.yml'}"]
         alertmanager += [f"--storage.path={root / 'alertmanager-data'}", "--cluster.listen-address="]

@@ -64,7 +64,7 @@ class BlendedRun:
         if group.by_angles:
             poses = [
                 PoseWaypoint(
-                    angles=list(t.pose.angles),  # type: ignore[union-attr]
+                    angles=list(t.expect_pose().angles),
                     blend=t.blend_mm / MM_PER_JOINT_DEGREE,
                     actions=_actions(t),
                 )
@@ -77,8 +77,8 @@ class BlendedRun:
             return
         positions = [
             PositionWaypoint(
-                point=t.position.point,  # type: ignore[union-attr]
-                rotation=t.position.rotation,  # type: ignore[union-attr]
+                point=t.expect_position().point,
+                rotation=t.expect_position().rotation,
                 blend=t.blend_mm * MM,
                 actions=_actions(t),
             )

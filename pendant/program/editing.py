@@ -14,10 +14,10 @@ from pydantic import ValidationError
 from pendant.controller import Controller, Pose, Position
 from pendant.controller.types import MotionType
 from pendant.program import tree
+from pendant.program.limits import WAYPOINT_NAME_MAX
 from pendant.program.models import (
     DEFAULT_SPEED_PERCENT,
     STRUCTURES,
-    WAYPOINT_NAME_MAX,
     MoveStep,
     PalletStep,
     Program,
@@ -204,10 +204,18 @@ class ProgramEditing:
             step = MoveStep(waypoint=waypoint.name, motion=motion, speed=speed)
             return self.insert_step(step, after=after, waypoint=waypoint)
 
-    def record_from(self, controller: Controller, *, after: int | None = None, **options: object) -> int:
+    def record_from(
+        self,
+        controller: Controller,
+        *,
+        after: int | None = None,
+        name: str | None = None,
+        motion: MotionType = MotionType.JOINT,
+        speed: float = DEFAULT_SPEED_PERCENT,
+    ) -> int:
         """Record where the arm is now (reads its pose and TCP position)."""
         pose, position = controller.get_pose(), controller.get_position()
-        return self.record(pose, position, after=after, **options)  # type: ignore[arg-type]
+        return self.record(pose, position, after=after, name=name, motion=motion, speed=speed)
 
     def add_waypoint(self, pose: Pose, position: Position, name: str | None = None) -> str:
         """A waypoint in the table that no step uses yet (e.g. a pallet corner); returns its name."""

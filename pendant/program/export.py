@@ -13,7 +13,7 @@ import re
 from datetime import UTC, datetime
 
 from pendant.access.token import TOKEN_HEADER
-from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS, MotionType
+from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS, MotionType, Position
 from pendant.program.blended import FALLBACK_NOTE, PATH_ACCELERATION_M_S2
 from pendant.program.describe import describe_step
 from pendant.program.export_template import TEMPLATE
@@ -54,14 +54,18 @@ def _operation(node: Node) -> Operation:
                 "speed": node.speed,
                 "motion": node.motion.value,
                 "targets": [
-                    [float(a) for a in t.pose.angles] if t.pose is not None else _position(t.position)
+                    (
+                        [float(a) for a in t.pose.angles]
+                        if t.pose is not None
+                        else _position(t.expect_position())
+                    )
                     for t in node.targets
                 ],
             }
             actions = [a.model_dump(mode="json") for a in node.targets[-1].actions]
             if actions:  # stop-and-set: done once the arm is at the last waypoint
                 operation["actions"] = actions
-            return rounded(operation)  # type: ignore[return-value]
+            return rounded(operation)
         case Single():
             return _single(node)
         case Loop():
@@ -101,21 +105,22 @@ def _operation(node: Node) -> Operation:
 
 def _path(node: MoveGroup) -> Operation:
     """A recorded path's run: one PUT /run/linear/positions, each corner rounded within its blend (m)."""
-    targets = node.targets
-    return rounded(  # type: ignore[return-value]
+    targets, velocity = node.targets, node.velocity_m_s
+    assert velocity is not None, "a path's group has its velocity"
+    return rounded(
         {
             "op": "run_path",
             "steps": [node.line + 1],
-            "what": f"Path {targets[0].name} .. {targets[-1].name} @ {node.velocity_m_s / MM:g} mm/s",  # type: ignore[operator]
-            "velocity": node.velocity_m_s,
+            "what": f"Path {targets[0].name} .. {targets[-1].name} @ {velocity / MM:g} mm/s",
+            "velocity": velocity,
             "acceleration": PATH_ACCELERATION_M_S2,
-            "targets": [{**_position(t.position), "blend": t.blend_mm * MM} for t in targets],
+            "targets": [{**_position(t.expect_position()), "blend": t.blend_mm * MM} for t in targets],
         }
     )
 
 
-def _position(position: object) -> Operation:
-    return rounded(position.model_dump(mode="json"))  # type: ignore[attr-defined, return-value]
+def _position(position: Position) -> Operation:
+    return rounded(position.model_dump(mode="json"))
 
 
 def _single(node: Single) -> Operation:

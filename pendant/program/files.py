@@ -14,6 +14,7 @@ import re
 import tempfile
 from datetime import UTC, datetime
 from pathlib import Path
+from typing import TypeVar, cast
 
 from pydantic import ValidationError
 
@@ -88,22 +89,28 @@ def parse_program(data: bytes, source: str) -> Program:
         raise ProgramFileError(f"{source} nests too deeply to be a program") from error
 
 
+_Json = TypeVar("_Json")
 FLOAT_DECIMALS = 9  # nanometres and nano-radians: a recorded 0 is written 0.0, not -9.5e-15
 
 
-def rounded(value: object) -> object:
+def rounded(value: _Json) -> _Json:
+    """`value` (plain JSON data) with its floats rounded: the same shape, so the same type."""
+    return cast(_Json, _rounded(value))
+
+
+def _rounded(value: object) -> object:
     if isinstance(value, float):
         return round(value, FLOAT_DECIMALS) + 0.0  # + 0.0: no "-0.0" either
     if isinstance(value, dict):
-        return {key: rounded(item) for key, item in value.items()}
+        return {key: _rounded(item) for key, item in value.items()}
     if isinstance(value, list):
-        return [rounded(item) for item in value]
+        return [_rounded(item) for item in value]
     return value
 
 
 def program_document(program: Program) -> dict[str, object]:
     """The program as the plain JSON document a file holds (floats without noise)."""
-    return rounded(program.model_dump(mode="json"))  # type: ignore[return-value]
+    return rounded(program.model_dump(mode="json"))
 
 
 def dump_program(program: Program) -> bytes:

@@ -246,8 +246,8 @@ class NodeExecutor:
         return 0
 
     def _one_linear_move(self, group: MoveGroup) -> None:
-        positions = [t.position for t in group.targets]
-        self._controller.run_positions(positions, group.params)  # type: ignore[arg-type]
+        positions = [t.expect_position() for t in group.targets]
+        self._controller.run_positions(positions, group.params)
 
     def _move(
         self,
@@ -257,21 +257,21 @@ class NodeExecutor:
         heading: Callable[[int], None],
         send: Callable[[MoveGroup], object] | None = None,
     ) -> None:
-        controller = self._controller
+        controller, blended = self._controller, self._blended
         joint = group.by_angles
         start = self._reading(joint)
         points = [_point_of(t) for t in targets]
         sub = MoveGroup(targets, group.motion, group.speed, group.velocity_m_s)
         if send is not None:
             self.command(first, lambda: send(sub))
-        elif self._blended is not None:
-            self.command(first, lambda: self._blended.run_path(sub))  # type: ignore[union-attr]
+        elif blended is not None:
+            self.command(first, lambda: blended.run_path(sub))
         elif joint:
-            poses = [t.pose for t in targets]
-            self.command(first, lambda: controller.run_poses(poses, group.params))  # type: ignore[arg-type]
+            poses = [t.expect_pose() for t in targets]
+            self.command(first, lambda: controller.run_poses(poses, group.params))
         else:
-            positions = [t.position for t in targets]
-            self.command(first, lambda: controller.run_positions(positions, group.params))  # type: ignore[arg-type]
+            positions = [t.expect_position() for t in targets]
+            self.command(first, lambda: controller.run_positions(positions, group.params))
         tol = ARRIVAL_TOL_DEG if joint else ARRIVAL_TOL_M
         issued_at = self._t.now()
         seen_running = False

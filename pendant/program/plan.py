@@ -63,6 +63,16 @@ class Target:
     blend_mm: float = 0.0
     actions: tuple[WaypointAction, ...] = ()
 
+    def expect_pose(self) -> Pose:
+        """The angles of a target of a by-angles group (every one of those has them)."""
+        assert self.pose is not None, f"{self.name} has no angles"
+        return self.pose
+
+    def expect_position(self) -> Position:
+        """The TCP position of a target of a position group (every one of those has it)."""
+        assert self.position is not None, f"{self.name} has no TCP position"
+        return self.position
+
 
 @dataclass(frozen=True)
 class MoveGroup:
@@ -242,8 +252,10 @@ class _Compiler:
             case IfStep():
                 return Branch(line, step.port, step.level, inner(step.then), inner(step.otherwise))
             case PalletStep():
-                corners = tuple(self.table(program)[name].position for name in step.corners)
-                cells = pallet_cells(corners, step.rows, step.columns, step.layers, step.layer_height_mm * MM)  # type: ignore[arg-type]
+                table = self.table(program)
+                first, row_end, column_end = (table[name].position for name in step.corners)
+                corners = (first, row_end, column_end)
+                cells = pallet_cells(corners, step.rows, step.columns, step.layers, step.layer_height_mm * MM)
                 return Pallet(
                     line, step.name, tuple(cells), step.approach_mm * MM, step.speed, inner(step.body)
                 )

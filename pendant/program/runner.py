@@ -120,7 +120,7 @@ class ProgramRunner:
 
     def _publish(self, **changes: object) -> None:
         with self._lock:
-            updated = replace(self._progress, **changes)  # type: ignore[arg-type]
+            updated = replace(self._progress, **changes)  # type: ignore[arg-type]  # RunProgress's own field names
             if updated == self._progress:
                 return
             self._progress = updated

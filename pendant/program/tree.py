@@ -6,6 +6,7 @@ first step inside it. Lines number the tree depth first, as it is listed: a stru
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from pendant.program.models import Step, children
@@ -38,10 +39,12 @@ def get(steps: tuple[Step, ...], path: Path) -> Step:
     return get(getattr(step, str(path[1])), path[2:])
 
 
-def _rebuild(steps: tuple[Step, ...], path: Path, change: object) -> tuple[Step, ...]:
+def _rebuild(
+    steps: tuple[Step, ...], path: Path, change: Callable[[tuple[Step, ...]], tuple[Step, ...]]
+) -> tuple[Step, ...]:
     """`steps` with the list that holds `path`'s last index replaced by change(that list)."""
     if len(path) == 1:
-        return change(steps)  # type: ignore[operator]
+        return change(steps)
     index, branch = int(path[0]), str(path[1])
     parent = steps[index]
     inner = _rebuild(getattr(parent, branch), path[2:], change)

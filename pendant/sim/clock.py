@@ -23,6 +23,15 @@ class Clock(Protocol):
         ...
 
 
+@runtime_checkable
+class HoldableClock(Protocol):
+    """A clock whose simulated time can be stopped and let go again (ScaledClock)."""
+
+    def hold(self) -> float: ...
+
+    def remove_stop(self, t: float) -> None: ...
+
+
 class MonotonicClock:
     """`time.monotonic`: the clock of a running pendant."""
 
@@ -161,12 +170,11 @@ def paused(clock: Clock) -> Iterator[None]:
     """Simulated time stands still inside, on a clock that can be held (ScaledClock): the simulator's own
     computing (planning a motion) then takes no simulated time, so a run K times faster stays exact. The
     real-time clocks run on, as a real controller's would while it plans."""
-    hold = getattr(clock, "hold", None)
-    if hold is None:
+    if not isinstance(clock, HoldableClock):
         yield
         return
-    held = hold()
+    held = clock.hold()
     try:
         yield
     finally:
-        clock.remove_stop(held)  # type: ignore[attr-defined]
+        clock.remove_stop(held)

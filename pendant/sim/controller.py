@@ -22,10 +22,7 @@ import threading
 import numpy as np
 
 from pendant.controller.errors import (
-    MSG_UNREACHABLE_POSE,
     Collision,
-    PreconditionFailed,
-    Unreachable,
 )
 from pendant.controller.system_types import FailureLevel, FailureType, OutputAction, RobotAction
 from pendant.controller.types import (
@@ -38,7 +35,6 @@ from pendant.controller.types import (
     Tool,
 )
 from pendant.kinematics import ArmModel
-from pendant.kinematics.contact import FLOOR
 from pendant.kinematics.transforms import position_to_matrix
 from pendant.sim.cell import (
     DEFAULT_BASE,
@@ -63,7 +59,8 @@ from pendant.sim.moves import (
 from pendant.sim.planner import FLOOR_Z_M, Planner
 from pendant.sim.pulse18 import Pulse18Operations
 from pendant.sim.queue import MAX_QUEUED_COMMANDS, MotionQueue
-from pendant.sim.states import FAULT_FAILURES, Fault, Mode, check_alive, check_can_move, motion_status
+from pendant.sim.sim_controls import SimOnlyControls
+from pendant.sim.states import Fault, Mode, check_alive, check_can_move, motion_status
 from pendant.sim.timeline import Motion
 
 __all__ = [
@@ -81,12 +78,6 @@ __all__ = [
 # Power-on pose: upper arm up, forearm forward, tool pointing straight down (degrees, base first). Chosen
 # clear of the wrist singularity (q5 = 0) and of the roll/pitch/yaw gimbal lock (pitch = +-90 degrees).
 HOME_POSE_DEG = (0.0, -90.0, 90.0, -90.0, -90.0, 0.0)
-MSG_HAND_INTO_CELL = "Collision detected: at that pose the arm or its tool would be inside {what}"
-MSG_HAND_NEEDS_RELAX = "The arm can be moved by hand only in ZERO_GRAVITY: relax it first (PUT /relax)"
-OVERHEAT_STATOR_C = 110.0  # PUT /sim/fault/overheat
-
-
-_DEAD = (Mode.EMERGENCY, Mode.NO_RESPONSE, Mode.ERROR)  # a protective stop cannot change these
 
 
 @functools.cache
@@ -95,7 +86,7 @@ def _load_arm(model: str) -> ArmModel:
     return ArmModel.load(model)
 
 
-class SimController(MotionCommands, Pulse18Operations):
+class SimController(MotionCommands, Pulse18Operations, SimOnlyControls):
     """A simulated PULSE controller: every `Controller` method, plus simulator-only controls."""
 
     def __init__(
@@ -294,48 +285,6 @@ class SimController(MotionCommands, Pulse18Operations):
             return self._frames.base
 
     # --- simulator-only controls ---------------------------------------------------------------------------
-
-    def set_input(self, port: int, level: SignalLevel) -> None:
-        """Drive a digital input (what a sensor wired to the control box would do). An input reaching the
-        level bound with PUT /stop/bind/{port}/... makes a protective stop."""
-        with self._lock:
-            was = self._io.input(port)
-            self._io.set_input(port, level)
-            bound = self._stop_bindings.get(port)
-            if bound is not None and level == bound and was != level and self._mode not in _DEAD:
-                self._protective_stop(f"Protective stop: digital input {port} went {bound.value}")
-
-    def move_by_hand(self, pose: Pose) -> None:
-        """Put the relaxed arm in `pose` as a hand would. Only in ZERO_GRAVITY; limits and collisions hold."""
-        with self._lock:
-            self.check_alive()
-            if self._mode is not Mode.ZERO_GRAVITY:
-                raise PreconditionFailed(MSG_HAND_NEEDS_RELAX)
-            q = np.radians(pose.angles)
-            if not self.arm.within_limits(q):
-                raise Unreachable(MSG_UNREACHABLE_POSE)
-            if self.arm.in_collision(q):
-                raise Collision()
-            # A test hook that silently puts the arm inside the cell is a trap; out of a contact it may go.
-            worse = self._environment.move_check(self._motions.q_now(self._now()), q)
-            if worse is not None:
-                what = "the floor (with its tool)" if worse.obstacle is FLOOR else repr(worse.obstacle)
-                raise Collision(MSG_HAND_INTO_CELL.format(what=what))
-            self._motions.place(q, self._now())
-
-    def inject_fault(self, fault: Fault) -> None:
-        """Make the controller fail: the arm stops dead where it is and the queue empties (see Fault)."""
-        with self._lock:
-            fault = Fault(fault)
-            self._motions.stop(self._now())
-            self._mode = Mode(fault.value)
-            self._failures.record(*FAULT_FAILURES[fault])
-
-    def overheat(self, stator_c: float = OVERHEAT_STATOR_C) -> None:
-        """The stator windings are suddenly this hot (a fault to test alarms on); they cool from there."""
-        with self._lock:
-            self._motions.integrate_thermal(self._now())
-            self._motions.servos.stator_c[:] = stator_c
 
     def reset(self, *, keep_cell: bool = False) -> None:
         """Back to the power-on state: home pose, IDLE, IO low, default tool and base, cool servos, no

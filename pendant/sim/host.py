@@ -1,5 +1,5 @@
-"""What the simulator's operation mixins (motion_commands.py, pulse18.py) need of the controller they are
-mixed into: its shared state and the few methods they call on each other.
+"""What the simulator's operation mixins (motion_commands.py, pulse18.py, sim_controls.py) need of the
+controller they are mixed into: its shared state and the few methods they call on each other.
 
 The mixins type `self` as this Protocol rather than as SimController, so neither imports controller.py
 (which imports them): no import circle, not even for the type checker. SimController satisfies it, which
@@ -20,6 +20,7 @@ from pendant.sim.cell import Frames
 from pendant.sim.clock import Clock
 from pendant.sim.environment import Environment
 from pendant.sim.failures import FailureLog
+from pendant.sim.io import IOBoard
 from pendant.sim.moves import Start, Step
 from pendant.sim.planner import Planner
 from pendant.sim.queue import MotionQueue
@@ -44,8 +45,10 @@ class SimHost(Protocol):
     _gripper_enabled: bool
     _stop_bindings: dict[int, SignalLevel]
     _pack_q: np.ndarray
+    _io: IOBoard
 
     def _now(self) -> float: ...
+    def check_alive(self) -> None: ...
     def _position_now(self) -> Position: ...
     def _configurations(self) -> list[np.ndarray]: ...
     def set_tool(self, tool: Tool) -> Tool: ...

@@ -31,7 +31,8 @@ from pendant.kinematics.contact import ContactGuard
 from pendant.kinematics.limits import JOINT_MAX_ACCEL_RAD_S2, JOINT_MAX_SPEED_RAD_S
 from pendant.kinematics.transforms import inverse
 from pendant.sim import profile
-from pendant.sim.paths import CartesianPath, JointPath, SampledJointPath, SplineJointPath
+from pendant.sim.curves import SampledJointPath, SplineJointPath
+from pendant.sim.paths import CartesianPath, JointPath
 from pendant.sim.profile import TimeScaling
 
 # Collision checks along a path: at least every 2 degrees of the leading joint and every 5 mm of TCP travel.

@@ -7,6 +7,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from playwright.sync_api import Browser, Page
 
 from tests.support.chromium import CHROMIUM, CHROMIUM_ARGS
 from tests.support.launchers import Pendant
@@ -31,7 +32,7 @@ def pendant() -> Iterator[Pendant]:
 
 
 @pytest.fixture(scope="module")
-def browser() -> Iterator[object]:
+def browser() -> Iterator[Browser]:
     from playwright.sync_api import sync_playwright
 
     if not Path(CHROMIUM).exists():
@@ -43,7 +44,7 @@ def browser() -> Iterator[object]:
 
 
 @pytest.fixture
-def page(browser, pendant: Pendant):  # type: ignore[no-untyped-def]
+def page(browser: Browser, pendant: Pendant) -> Iterator[Page]:
     ARTIFACTS.mkdir(exist_ok=True)
     page = browser.new_page(viewport={"width": 1400, "height": 900})
     page.goto(pendant.ui_url)

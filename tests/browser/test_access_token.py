@@ -8,7 +8,7 @@ from collections.abc import Iterator
 
 import numpy as np
 import pytest
-from playwright.sync_api import expect
+from playwright.sync_api import Browser, Page, expect
 
 from pendant.access import TOKEN_HEADER, ui_url
 
@@ -27,7 +27,7 @@ def pendant() -> Iterator[Pendant]:
         yield served
 
 
-def hold_j1_plus(page) -> None:  # type: ignore[no-untyped-def]
+def hold_j1_plus(page: Page) -> None:
     page.get_by_role("tab", name="Jog").click()
     box = page.get_by_role("button", name="J1+", exact=True).bounding_box()
     assert box is not None
@@ -48,7 +48,7 @@ def test_without_the_token_a_page_cannot_take_control_or_move_the_arm(page, pend
     assert refused.status_code == 401  # and the API without the header
 
 
-def test_the_url_with_the_token_takes_control_and_jogs(browser, pendant: Pendant) -> None:  # type: ignore[no-untyped-def]
+def test_the_url_with_the_token_takes_control_and_jogs(browser: Browser, pendant: Pendant) -> None:
     page = browser.new_page(viewport={"width": 1400, "height": 900})
     try:
         page.goto(ui_url("127.0.0.1", pendant.ui_port, TOKEN))

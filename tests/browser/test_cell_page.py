@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 from PIL import Image
+from playwright.sync_api import Page
 
 from .conftest import ARTIFACTS, Pendant
 from .test_pendant_page import SETTLE_S, wait_idle
@@ -24,7 +25,7 @@ WALL_MM = (-244.0, -415.0, 485.0)
 WALL_SIDE_MM = 120.0
 
 
-def orange_pixels(page) -> int:  # type: ignore[no-untyped-def]
+def orange_pixels(page: Page) -> int:
     """How many pixels of the 3D view (left of the control panel) are the obstacles' translucent orange: warm
     (red well above blue), where the floor, the arm and the sky are grey or white."""
     rgb = np.asarray(Image.open(io.BytesIO(page.screenshot())).convert("RGB")).astype(int)
@@ -47,7 +48,7 @@ def obstacles(pendant: Pendant) -> list[dict[str, Any]]:
     return pendant.api.get("/environment").json()
 
 
-def sent(page) -> None:  # type: ignore[no-untyped-def]
+def sent(page: Page) -> None:
     """Wait until the page has sent the last edit to the pendant.
 
     viser's page sends every control's edits through one 50 ms throttle that keeps only the latest message:
@@ -58,7 +59,7 @@ def sent(page) -> None:  # type: ignore[no-untyped-def]
     page.evaluate(f"() => new Promise(done => setTimeout(done, {PAGE_THROTTLE_FLUSH_MS}))")
 
 
-def fill_after(page, label: str, values: tuple[object, ...]) -> None:  # type: ignore[no-untyped-def]
+def fill_after(page: Page, label: str, values: tuple[object, ...]) -> None:
     """Type `values` into the inputs beside the visible field labelled `label` (a vector has three), each
     sent to the pendant before the next is typed, as a person types them."""
     for i, value in enumerate(values, start=1):

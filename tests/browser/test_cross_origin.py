@@ -11,10 +11,12 @@ import json
 import threading
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import httpx
 import pytest
 import viser
+from playwright.sync_api import Browser
 
 from .conftest import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, Pendant
 
@@ -66,10 +68,10 @@ def attack_site(root: Path, api_port: int, ui_port: int) -> Iterator[str]:
     (root / "index.html").write_text(page)
 
     class Quiet(http.server.SimpleHTTPRequestHandler):
-        def __init__(self, *args, **kwargs) -> None:  # type: ignore[no-untyped-def]
+        def __init__(self, *args: Any, **kwargs: Any) -> None:
             super().__init__(*args, directory=str(root), **kwargs)
 
-        def log_message(self, *args) -> None:  # type: ignore[no-untyped-def]
+        def log_message(self, format: str, *args: Any) -> None:
             pass
 
     server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Quiet)
@@ -83,7 +85,7 @@ def attack_site(root: Path, api_port: int, ui_port: int) -> Iterator[str]:
 
 
 @pytest.fixture(scope="module")
-def browser() -> Iterator[object]:
+def browser() -> Iterator[Browser]:
     """Chromium that resolves evil.example to 127.0.0.1, as a rebinding attacker's DNS would make it."""
     from playwright.sync_api import sync_playwright
 
@@ -103,8 +105,8 @@ def state(pendant: Pendant) -> tuple[object, ...]:
 
 
 def test_a_page_from_another_origin_cannot_change_or_drive_the_arm(
-    browser, pendant: Pendant, tmp_path
-) -> None:  # type: ignore[no-untyped-def]
+    browser: Browser, pendant: Pendant, tmp_path: Path
+) -> None:
     before = state(pendant)
     api_port = int(str(pendant.api.base_url).rsplit(":", 1)[1].rstrip("/"))
     with attack_site(tmp_path, api_port, pendant.ui_port) as url:
@@ -125,7 +127,7 @@ def test_a_page_from_another_origin_cannot_change_or_drive_the_arm(
     assert state(pendant) == before, "a foreign page changed the tool, the base or the arm"
 
 
-def test_a_dns_rebound_host_name_is_refused_on_both_ports(browser, pendant: Pendant) -> None:  # type: ignore[no-untyped-def]
+def test_a_dns_rebound_host_name_is_refused_on_both_ports(browser: Browser, pendant: Pendant) -> None:
     api_port = int(str(pendant.api.base_url).rsplit(":", 1)[1].rstrip("/"))
     page = browser.new_page()
     try:

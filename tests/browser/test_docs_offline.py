@@ -7,6 +7,7 @@ from collections.abc import Iterator
 from urllib.parse import urlsplit
 
 import pytest
+from playwright.sync_api import Browser, Route
 
 from tests.support.launchers import running_pendant
 
@@ -22,11 +23,11 @@ def api_url() -> Iterator[str]:
 
 
 @pytest.mark.parametrize("page_path", ["/docs", "/redoc"])
-def test_the_api_documentation_renders_offline(browser, api_url: str, page_path: str) -> None:  # type: ignore[no-untyped-def]
+def test_the_api_documentation_renders_offline(browser: Browser, api_url: str, page_path: str) -> None:
     page = browser.new_page()
     elsewhere: list[str] = []
 
-    def offline(route) -> None:  # type: ignore[no-untyped-def]
+    def offline(route: Route) -> None:
         if urlsplit(route.request.url).hostname == "127.0.0.1":
             route.continue_()
         else:

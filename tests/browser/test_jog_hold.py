@@ -15,6 +15,7 @@ import time
 from collections.abc import Iterator
 
 import pytest
+from playwright.sync_api import Browser, Page
 
 from tests.support.jog_measure import (
     PoseSampler,
@@ -47,7 +48,7 @@ DESKTOP, TABLET_LANDSCAPE, TABLET_PORTRAIT = (1400, 900), (1024, 768), (768, 102
 
 
 @pytest.fixture
-def touch_page(browser, pendant: Pendant) -> Iterator[object]:  # type: ignore[no-untyped-def]
+def touch_page(browser: Browser, pendant: Pendant) -> Iterator[Page]:
     page = browser.new_page(viewport={"width": 1024, "height": 768}, has_touch=True)
     open_as_operator(page, pendant.ui_url)
     yield page
@@ -108,8 +109,8 @@ STILL_AFTER_HANG_S = 1.0
 
 
 def test_a_page_that_hangs_while_a_jog_is_held_stops_the_arm_until_the_button_is_pressed_again(
-    page, pendant: Pendant
-) -> None:  # type: ignore[no-untyped-def]
+    page: Page, pendant: Pendant
+) -> None:
     ensure_operator(page)
     wait_idle(pendant.api)
     x, y = button_centre(page, "J1+")
@@ -159,7 +160,7 @@ PAGE_STOPS = {"Jog J1+ stopped: released", "Jog J1+ stopped: page closed"}
 DEADMAN_S = 0.2
 
 
-def test_closing_the_tab_while_a_jog_button_is_held_stops_the_arm(browser, pendant: Pendant) -> None:  # type: ignore[no-untyped-def]
+def test_closing_the_tab_while_a_jog_button_is_held_stops_the_arm(browser: Browser, pendant: Pendant) -> None:
     # The closing page stops the arm itself (its worker's release or its keepalive fetch, whichever comes
     # first), not the deadman once it went quiet. A try whose hold the deadman had already cut before the
     # close (the page stalled all the same) says nothing about closing and does not count; a page that never
@@ -194,7 +195,7 @@ def last_jog_stop(pendant: Pendant, since: float) -> tuple[str, float]:
     log is written by its own thread: give it a moment)."""
     deadline = time.monotonic() + 5.0
     while True:
-        query = {"text": "stopped", "limit": 1, "since": since}
+        query: dict[str, str | int | float] = {"text": "stopped", "limit": 1, "since": since}
         events = pendant.api.get("/pendant/events", params=query).json()["events"]
         if events:
             return str(events[0]["message"]), float(events[0]["time"])
@@ -203,7 +204,9 @@ def last_jog_stop(pendant: Pendant, since: float) -> tuple[str, float]:
 
 
 @pytest.mark.parametrize("viewport", [DESKTOP, TABLET_LANDSCAPE], ids=["1400x900", "1024x768"])
-def test_all_six_axes_of_the_pad_are_on_screen_without_scrolling(browser, viewport) -> None:  # type: ignore[no-untyped-def]
+def test_all_six_axes_of_the_pad_are_on_screen_without_scrolling(
+    browser: Browser, viewport: tuple[int, int]
+) -> None:
     # A pendant of its own, as an operator finds it at start-up: the earlier tests' leftovers (more browsers,
     # messages under the status) make the panel above the tabs taller.
     with running_pendant() as pendant:
@@ -214,7 +217,7 @@ def test_all_six_axes_of_the_pad_are_on_screen_without_scrolling(browser, viewpo
             page.close()
 
 
-def check_pad_on_screen(page, pendant: Pendant, viewport: tuple[int, int]) -> None:  # type: ignore[no-untyped-def]
+def check_pad_on_screen(page: Page, pendant: Pendant, viewport: tuple[int, int]) -> None:
     page.goto(pendant.ui_url)
     page.locator("#jog-pad").wait_for(timeout=60_000)
     settled(page, "J1-")
@@ -225,7 +228,9 @@ def check_pad_on_screen(page, pendant: Pendant, viewport: tuple[int, int]) -> No
 
 
 @pytest.mark.parametrize("viewport", [TABLET_PORTRAIT, DESKTOP], ids=["tablet-portrait", "desktop"])
-def test_the_panel_leaves_the_arm_in_view(browser, pendant: Pendant, viewport) -> None:  # type: ignore[no-untyped-def]
+def test_the_panel_leaves_the_arm_in_view(
+    browser: Browser, pendant: Pendant, viewport: tuple[int, int]
+) -> None:
     """The panel sits beside the 3D view, not over it: the view the camera centres the arm in is all visible,
     and it shows the arm (its pixels differ from the empty floor and sky)."""
     page = browser.new_page(viewport={"width": viewport[0], "height": viewport[1]}, has_touch=True)
@@ -263,7 +268,7 @@ def dark_pixels(png: bytes) -> int:
     return int(np.count_nonzero(grey < 110))
 
 
-def settled(page, label: str, timeout_s: float = 15.0) -> None:  # type: ignore[no-untyped-def]
+def settled(page: Page, label: str, timeout_s: float = 15.0) -> None:
     """Wait until `label` stays put: while the page loads, the docked panel opens and its text wraps narrower
     for a moment (on a loaded machine, J1 was seen 400 px lower for a second)."""
     deadline = time.monotonic() + timeout_s
@@ -276,7 +281,7 @@ def settled(page, label: str, timeout_s: float = 15.0) -> None:  # type: ignore[
         last = now
 
 
-def on_top(page, name: str) -> bool:  # type: ignore[no-untyped-def]
+def on_top(page: Page, name: str) -> bool:
     """The button is inside the viewport and nothing covers its centre."""
     return bool(
         page.get_by_role("button", name=name, exact=True).evaluate(

@@ -13,9 +13,11 @@ import re
 import time
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
+from playwright.sync_api import Page
 
 from pendant.controller import Position
 from pendant.kinematics.transforms import position_to_matrix
@@ -49,7 +51,7 @@ J1, J2 = 0, 1
 def pendant(tmp_path: Path) -> Iterator[Pendant]:
     """A pendant of this test's own: a fresh program (and its autosave) in tmp_path."""
     with running_pendant("--programs", str(tmp_path)) as served:
-        served.programs = tmp_path  # type: ignore[attr-defined]
+        served.programs = tmp_path
         yield served
 
 
@@ -62,7 +64,7 @@ def tcp(pendant: Pendant) -> np.ndarray:
     return position_to_matrix(Position.model_validate(pendant.api.get("/position").json()))
 
 
-def take_control(page) -> None:  # type: ignore[no-untyped-def]
+def take_control(page: Page) -> None:
     """On loopback the first page gets control; a loaded machine may take a while to say so (and to draw
     the page): take it if the page shows the button meanwhile, then start once the page draws."""
     mine = page.get_by_text("You have control").first
@@ -76,7 +78,7 @@ def take_control(page) -> None:  # type: ignore[no-untyped-def]
     page.evaluate("new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)))")
 
 
-def toggle_free_drive(page, pendant: Pendant, on: bool) -> None:  # type: ignore[no-untyped-def]
+def toggle_free_drive(page: Page, pendant: Pendant, on: bool) -> None:
     page.get_by_role("tab", name="Robot").click()
     # By its label (the banner says "Free drive" too while the arm is in it).
     page.get_by_label("Free drive", exact=True).click()
@@ -86,7 +88,7 @@ def toggle_free_drive(page, pendant: Pendant, on: bool) -> None:  # type: ignore
     )
 
 
-def pull(page, pendant: Pendant, joint: int, angle: float) -> None:  # type: ignore[no-untyped-def]
+def pull(page: Page, pendant: Pendant, joint: int, angle: float) -> None:
     """Pull the relaxed arm by hand: type the joint's angle in its box beside the slider (Target tab). The
     page refreshes the boxes to the arm's pose after each pull; one that lands between typing and Enter puts
     the old value back, so a pull the arm did not follow is typed again."""
@@ -102,7 +104,7 @@ def pull(page, pendant: Pendant, joint: int, angle: float) -> None:  # type: ign
     raise AssertionError(f"the arm did not follow J{joint + 1} to {angle:.1f}: at {pendant.pose()}")
 
 
-def record_by_hand(page, pendant: Pendant, moves: list[tuple[int, float]]) -> None:  # type: ignore[no-untyped-def]
+def record_by_hand(page: Page, pendant: Pendant, moves: list[tuple[int, float]]) -> None:
     """Free drive on, Record path, pull the arm through `moves` (joint, degrees), Stop and add, free drive
     off (a relaxed arm runs nothing)."""
     take_control(page)
@@ -120,19 +122,19 @@ def record_by_hand(page, pendant: Pendant, moves: list[tuple[int, float]]) -> No
     toggle_free_drive(page, pendant, False)
 
 
-def path_step(pendant: Pendant) -> dict:  # type: ignore[type-arg]
+def path_step(pendant: Pendant) -> dict[str, Any]:
     """The program's one step, as autosaved."""
-    saved = json.loads((pendant.programs / ".autosave.json").read_text())  # type: ignore[attr-defined]
+    saved = json.loads((pendant.programs / ".autosave.json").read_text())
     steps = saved["program"]["steps"]
     assert len(steps) == 1 and steps[0]["kind"] == "path", steps
     return steps[0]
 
 
-def points_of(step: dict) -> np.ndarray:  # type: ignore[type-arg]
+def points_of(step: dict[str, Any]) -> np.ndarray:
     return np.array([[p["position"]["point"][a] for a in "xyz"] for p in step["points"]])
 
 
-def run_and_sample(page, pendant: Pendant, end: np.ndarray) -> np.ndarray:  # type: ignore[no-untyped-def]
+def run_and_sample(page: Page, pendant: Pendant, end: np.ndarray) -> np.ndarray:
     """Press Run and read the TCP over the API until the arm, having left the path's end (where recording
     left it) for its start, is back there at rest: (n, 4, 4)."""
     page.get_by_role("tab", name="Program").click()
@@ -153,8 +155,8 @@ def run_and_sample(page, pendant: Pendant, end: np.ndarray) -> np.ndarray:  # ty
 
 
 def test_a_free_driven_arc_becomes_one_step_and_plays_back_through_its_waypoints(
-    page, pendant: Pendant
-) -> None:  # type: ignore[no-untyped-def]
+    page: Page, pendant: Pendant
+) -> None:
     start = pendant.pose()
     arc = [(J1, start[J1] + 3.0 * k) for k in range(1, 13)]  # 36° about the base, in 3° pulls
     record_by_hand(page, pendant, arc)
@@ -175,7 +177,9 @@ def test_a_free_driven_arc_becomes_one_step_and_plays_back_through_its_waypoints
     assert float(np.max(through)) <= TOL_MM, through
 
 
-def test_a_hand_drawn_curve_plays_back_within_the_tolerance(page, pendant: Pendant, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+def test_a_hand_drawn_curve_plays_back_within_the_tolerance(
+    page: Page, pendant: Pendant, tmp_path: Path
+) -> None:
     start = pendant.pose()
     pulls = 12
     curve: list[tuple[int, float]] = []

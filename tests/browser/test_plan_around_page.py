@@ -8,6 +8,7 @@ import time
 
 import numpy as np
 from PIL import Image
+from playwright.sync_api import Page
 
 from pendant.planning.scenes import BOX
 from tests.support.jog_measure import ensure_operator, wait_idle
@@ -21,7 +22,7 @@ SCENE_WIDTH_PX = 950  # the control panel takes the page's right side
 COURSE_PIXELS_MIN = 150  # a 4 px line over tens of centimetres of course
 
 
-def course_pixels(page) -> int:  # type: ignore[no-untyped-def]
+def course_pixels(page: Page) -> int:
     """Pixels of the scene in the course line's saturated blue (the ghost's translucent blue is paler)."""
     rgb = np.asarray(Image.open(io.BytesIO(page.screenshot())).convert("RGB")).astype(int)[:, :SCENE_WIDTH_PX]
     r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]

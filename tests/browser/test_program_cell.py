@@ -10,10 +10,11 @@ import os
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 import numpy as np
 import pytest
+from playwright.sync_api import Page
 
 from tests.support.launchers import REPO_ROOT
 
@@ -43,21 +44,21 @@ EXPECTED_STEPS = [
 def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
     programs = tmp_path_factory.mktemp("programs")
     with running_pendant("--programs", str(programs)) as served:
-        served.programs = programs  # type: ignore[attr-defined]
+        served.programs = programs
         yield served
 
 
-def click(page, name: str) -> None:  # type: ignore[no-untyped-def]
+def click(page: Page, name: str) -> None:
     page.get_by_role("button", name=name, exact=True).click()
 
 
-def choose(page, current: str, option: str) -> None:  # type: ignore[no-untyped-def]
+def choose(page: Page, current: str, option: str) -> None:
     """Pick `option` in the visible dropdown now showing `current`."""
     page.locator(f"input[value='{current}']:visible").first.click()
     page.get_by_role("option", name=option, exact=True).click()
 
 
-def wait_text(page, text: str) -> None:  # type: ignore[no-untyped-def]
+def wait_text(page: Page, text: str) -> None:
     page.get_by_text(text).first.wait_for(timeout=UI_TIMEOUT_MS)
 
 
@@ -66,14 +67,14 @@ def tcp(pendant: Pendant) -> np.ndarray:
     return np.array([point["x"], point["y"], point["z"]])
 
 
-def near_place_then_sensor(pendant: Pendant, done: object) -> None:
+def near_place_then_sensor(pendant: Pendant, done: Callable[[], bool]) -> None:
     """Once the arm has been at the place waypoint, say the tray is empty (DI1 HIGH); wait for `done()`."""
     deadline = time.monotonic() + RUN_TIMEOUT_S
     while not np.allclose(pendant.pose(), PLACE_DEG, atol=ANGLE_TOL_DEG):
         assert time.monotonic() < deadline, f"the arm never reached the place waypoint ({pendant.pose()})"
         time.sleep(POLL_S)
     pendant.api.put("/sim/signal/input/1/high").raise_for_status()
-    while not done():  # type: ignore[operator]
+    while not done():
         assert time.monotonic() < deadline, "the run did not finish"
         time.sleep(POLL_S)
 
@@ -125,7 +126,7 @@ def test_teach_and_run_a_pallet_pick_and_place(page, pendant: Pendant) -> None:
     name_box.fill("cell")
     name_box.press("Enter")
     click(page, "Save as")
-    saved = pendant.programs / "cell.json"  # type: ignore[attr-defined]
+    saved = pendant.programs / "cell.json"
     deadline = time.monotonic() + 10.0
     while not saved.exists():
         assert time.monotonic() < deadline, "Save as wrote no file"

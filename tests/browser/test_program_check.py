@@ -7,6 +7,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 import pytest
+from playwright.sync_api import Browser, Page
 
 from pendant.controller.types import MotionParams, MotionStatus, Pose
 from pendant.program import ProgramStore
@@ -34,7 +35,7 @@ def rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Pendant, Rem
 
 
 @pytest.fixture
-def page(browser, rig):  # type: ignore[no-untyped-def]
+def page(browser: Browser, rig: tuple[Pendant, RemoteController]) -> Iterator[Page]:
     served, _ = rig
     ARTIFACTS.mkdir(exist_ok=True)
     page = browser.new_page(viewport={"width": 1400, "height": 900})
@@ -44,7 +45,9 @@ def page(browser, rig):  # type: ignore[no-untyped-def]
     page.close()
 
 
-def test_check_marks_the_failing_step_and_run_waits_for_it(page, rig) -> None:  # type: ignore[no-untyped-def]
+def test_check_marks_the_failing_step_and_run_waits_for_it(
+    page: Page, rig: tuple[Pendant, RemoteController]
+) -> None:
     served, arm = rig
     take_control = page.get_by_role("button", name="Take control")
     if take_control.is_visible():

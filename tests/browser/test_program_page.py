@@ -27,7 +27,7 @@ def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
     """This module's own pendant, with its programs in a fresh folder (not the checkout's ./programs)."""
     programs = tmp_path_factory.mktemp("programs")
     with running_pendant("--programs", str(programs)) as served:
-        served.programs = programs  # type: ignore[attr-defined]
+        served.programs = programs
         yield served
 
 
@@ -85,4 +85,4 @@ def test_record_two_waypoints_and_play_them_back(page, pendant: Pendant) -> None
     np.testing.assert_allclose(pendant.pose(), POSE_B_DEG, atol=ANGLE_TOL_DEG)
     assert pendant.status() == "IDLE"
     # Recording autosaved: a kill of the pendant now would lose nothing.
-    assert "P2" in (pendant.programs / ".autosave.json").read_text()  # type: ignore[attr-defined]
+    assert "P2" in (pendant.programs / ".autosave.json").read_text()

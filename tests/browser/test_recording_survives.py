@@ -10,6 +10,7 @@ import signal
 from pathlib import Path
 
 import pytest
+from playwright.sync_api import Browser
 
 from pendant.telemetry.repair import finished
 from tests.support.launchers import STOP_TIMEOUT_S
@@ -27,7 +28,7 @@ MOVE_SPEED_PERCENT = 20
 FAR_DEG = [60.0, -60.0, 60.0, -90.0, -90.0, 30.0]
 
 
-def record_for_a_while(browser, pendant: Pendant) -> None:  # type: ignore[no-untyped-def]
+def record_for_a_while(browser: Browser, pendant: Pendant) -> None:
     """Press Start recording on the Dashboard (this browser has control on loopback), move the arm, and
     wait RECORD_S while the pendant records."""
     page = browser.new_page(viewport={"width": 1400, "height": 900})
@@ -65,7 +66,7 @@ def rate_line(how: str, times: list[int]) -> str:
     )
 
 
-def test_sigterm_finishes_the_recording(browser, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+def test_sigterm_finishes_the_recording(browser: Browser, tmp_path: Path) -> None:
     with running_pendant(env={"PENDANT_DATA_DIR": str(tmp_path)}) as pendant:
         record_for_a_while(browser, pendant)
         assert pendant.process is not None
@@ -78,7 +79,7 @@ def test_sigterm_finishes_the_recording(browser, tmp_path: Path) -> None:  # typ
     assert path.with_suffix(".csv").is_file(), "the CSV is written beside it when the recording stops"
 
 
-def test_after_kill_9_the_next_start_repairs_the_recording(browser, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+def test_after_kill_9_the_next_start_repairs_the_recording(browser: Browser, tmp_path: Path) -> None:
     data = {"PENDANT_DATA_DIR": str(tmp_path)}
     with running_pendant(env=data) as pendant:
         record_for_a_while(browser, pendant)

@@ -7,11 +7,12 @@ from __future__ import annotations
 
 import json
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
 import pytest
+from playwright.sync_api import Browser, Locator, Page
 
 from pendant.kinematics import ArmModel
 from tests.support.jog_measure import open_as_operator
@@ -33,7 +34,7 @@ MIN_ARM_VIEW_PX = 150  # the 3D view's canvas shows at least this much of itself
 DESKTOP, TABLET, PHONE = (1400, 900), (768, 1024), (390, 844)
 
 
-def wait_until(condition, what: str) -> None:  # type: ignore[no-untyped-def]
+def wait_until(condition: Callable[[], bool], what: str) -> None:
     deadline = time.monotonic() + WAIT_S
     while not condition():
         assert time.monotonic() < deadline, f"timed out waiting for {what}"
@@ -74,7 +75,7 @@ def three_moves() -> dict[str, object]:
 
 
 @pytest.fixture
-def screen(request: pytest.FixtureRequest, browser, pendant: Pendant) -> Iterator[object]:  # type: ignore[no-untyped-def]
+def screen(request: pytest.FixtureRequest, browser: Browser, pendant: Pendant) -> Iterator[Page]:
     width, height = request.param
     context = browser.new_context(viewport={"width": width, "height": height})
     page = context.new_page()
@@ -84,27 +85,28 @@ def screen(request: pytest.FixtureRequest, browser, pendant: Pendant) -> Iterato
     pendant.api.put("/sim/reset").raise_for_status()  # the next fault starts from power-on
 
 
-def banner_text(page) -> str:  # type: ignore[no-untyped-def]
+def banner_text(page: Page) -> str:
     banner = page.locator("#recovery-banner")
     banner.wait_for(timeout=UI_TIMEOUT_MS)
     return str(banner.inner_text())
 
 
-def tap(page, label: str) -> None:  # type: ignore[no-untyped-def]
+def tap(page: Page, label: str) -> None:
     page.get_by_role("button", name=label, exact=True).click(timeout=UI_TIMEOUT_MS)
 
 
-def in_sight(page, locator) -> dict[str, float]:  # type: ignore[no-untyped-def]
+def in_sight(page: Page, locator: Locator) -> dict[str, float]:
     """The part of `locator` inside the viewport, without scrolling (x, y, width, height)."""
     box = locator.bounding_box()
     assert box is not None
     view = page.viewport_size
+    assert view is not None  # every page here is opened with a viewport
     left, top = max(box["x"], 0.0), max(box["y"], 0.0)
     right, bottom = min(box["x"] + box["width"], view["width"]), min(box["y"] + box["height"], view["height"])
     return {"x": left, "y": top, "width": max(0.0, right - left), "height": max(0.0, bottom - top)}
 
 
-def assert_arm_and_freeze_in_sight(page, name: str) -> None:  # type: ignore[no-untyped-def]
+def assert_arm_and_freeze_in_sight(page: Page, name: str) -> None:
     ARTIFACTS.mkdir(exist_ok=True)
     page.screenshot(path=str(ARTIFACTS / f"recovery-{name}.png"))
     freeze = in_sight(page, page.get_by_role("button", name="Freeze"))
@@ -117,7 +119,7 @@ def assert_arm_and_freeze_in_sight(page, name: str) -> None:  # type: ignore[no-
     assert banner["height"] > 0, "the banner is out of sight"
 
 
-def back_to_idle(pendant: Pendant, page, taps: list[str]) -> None:  # type: ignore[no-untyped-def]
+def back_to_idle(pendant: Pendant, page: Page, taps: list[str]) -> None:
     assert len(taps) <= MAX_TAPS
     for label in taps:
         tap(page, label)
@@ -126,7 +128,7 @@ def back_to_idle(pendant: Pendant, page, taps: list[str]) -> None:  # type: igno
 
 
 @pytest.mark.parametrize("screen", [DESKTOP], indirect=True, ids=["1400x900"])
-def test_a_controller_error_says_why_and_recover_brings_it_back(screen, pendant: Pendant) -> None:  # type: ignore[no-untyped-def]
+def test_a_controller_error_says_why_and_recover_brings_it_back(screen: Page, pendant: Pendant) -> None:
     page = screen
     pendant.api.put("/sim/fault/error").raise_for_status()
     text = banner_text(page)
@@ -137,7 +139,7 @@ def test_a_controller_error_says_why_and_recover_brings_it_back(screen, pendant:
 
 
 @pytest.mark.parametrize("screen", [TABLET], indirect=True, ids=["768x1024"])
-def test_an_emergency_keeps_the_joints_and_the_cell(screen, pendant: Pendant) -> None:  # type: ignore[no-untyped-def]
+def test_an_emergency_keeps_the_joints_and_the_cell(screen: Page, pendant: Pendant) -> None:
     page = screen
     pendant.api.put("/environment", json=box("Fixture", np.array([0.5, -0.4, 0.1]))).raise_for_status()
     pendant.api.put("/sim/fault/emergency").raise_for_status()
@@ -150,7 +152,7 @@ def test_an_emergency_keeps_the_joints_and_the_cell(screen, pendant: Pendant) ->
 
 
 @pytest.mark.parametrize("screen", [PHONE], indirect=True, ids=["390x844"])
-def test_a_protective_stop_is_named_and_recover_leaves_it(screen, pendant: Pendant) -> None:  # type: ignore[no-untyped-def]
+def test_a_protective_stop_is_named_and_recover_leaves_it(screen: Page, pendant: Pendant) -> None:
     page = screen
     pendant.api.post("/stop").raise_for_status()
     text = banner_text(page)
@@ -160,8 +162,8 @@ def test_a_protective_stop_is_named_and_recover_leaves_it(screen, pendant: Penda
 
 
 @pytest.mark.parametrize("screen", [PHONE], indirect=True, ids=["390x844"])
-def test_a_step_refused_for_a_box_names_it_and_skip_goes_on(  # type: ignore[no-untyped-def]
-    screen, pendant: Pendant, tmp_path: Path
+def test_a_step_refused_for_a_box_names_it_and_skip_goes_on(
+    screen: Page, pendant: Pendant, tmp_path: Path
 ) -> None:
     page = screen
     arm = ArmModel.load("pulse75")

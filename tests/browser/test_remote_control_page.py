@@ -6,7 +6,9 @@ from __future__ import annotations
 import json
 import time
 
+import httpx
 import numpy as np
+from playwright.sync_api import Page
 
 from .conftest import ARTIFACTS, Pendant
 
@@ -16,11 +18,11 @@ TARGET = [15.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 ANGLE_TOL_DEG = 0.01
 
 
-def put_target(pendant: Pendant):  # type: ignore[no-untyped-def]
+def put_target(pendant: Pendant) -> httpx.Response:
     return pendant.api.put("/pose", params={"speed": 50}, json={"angles": TARGET})
 
 
-def wait_for_status(pendant: Pendant, status: int) -> object:
+def wait_for_status(pendant: Pendant, status: int) -> httpx.Response:
     deadline = time.monotonic() + SWITCH_TIMEOUT_S
     while True:
         answer = put_target(pendant)
@@ -30,7 +32,7 @@ def wait_for_status(pendant: Pendant, status: int) -> object:
         time.sleep(0.1)
 
 
-def test_the_operator_turns_remote_control_off_and_on_in_the_page(page, pendant: Pendant) -> None:  # type: ignore[no-untyped-def]
+def test_the_operator_turns_remote_control_off_and_on_in_the_page(page: Page, pendant: Pendant) -> None:
     page.get_by_text("You have control").first.wait_for(timeout=UI_TIMEOUT_MS)
     # viser draws the label beside the box, not as its <label>: the box is the checkbox in the label's row.
     row = page.get_by_text("Remote control", exact=True).locator("xpath=ancestor::div[.//input][1]")
@@ -42,7 +44,7 @@ def test_the_operator_turns_remote_control_off_and_on_in_the_page(page, pendant:
     assert not switch.is_checked()
     refused = wait_for_status(pendant, 403)
     page.screenshot(path=str(ARTIFACTS / "remote-control-off.png"))
-    message = json.loads(refused.text)  # type: ignore[attr-defined]
+    message = json.loads(refused.text)
     assert "Remote control is off" in message and "browser #" in message
     time.sleep(0.5)
     np.testing.assert_allclose(pendant.pose(), before, atol=ANGLE_TOL_DEG)

@@ -35,7 +35,7 @@ SETTLE_S = 1.5  # the browser receives the ghost's new pose
 def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
     programs, data = tmp_path_factory.mktemp("programs"), tmp_path_factory.mktemp("data")
     with running_pendant("--programs", str(programs), env={"PENDANT_DATA_DIR": str(data)}) as served:
-        served.data = data  # type: ignore[attr-defined]
+        served.data = data
         yield served
 
 
@@ -114,7 +114,7 @@ def test_replay_draws_the_recorded_arm_and_steps_at_the_slider_time(
     page.get_by_role("button", name="Stop recording").click()
     page.get_by_text(re.compile(r"Stopped · \d+ samples")).first.wait_for()
 
-    [path] = sorted(Path(pendant.data, "recordings").glob("pendant-*.mcap"))  # type: ignore[attr-defined]
+    [path] = sorted(Path(pendant.data, "recordings").glob("pendant-*.mcap"))
     _, messages = read_mcap(path)
     joints = [(t, m["position_deg"]) for topic, t, m in messages if topic == "/joints"]
     start_ns = joints[0][0]

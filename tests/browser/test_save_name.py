@@ -9,6 +9,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from playwright.sync_api import Browser
 
 from tests.support.jog_measure import open_as_operator
 
@@ -31,8 +32,8 @@ def pendant(programs: Path) -> Iterator[Pendant]:
 
 
 def test_save_of_an_unnamed_program_puts_the_cursor_in_the_name_box(
-    browser, pendant: Pendant, programs: Path
-) -> None:  # type: ignore[no-untyped-def]
+    browser: Browser, pendant: Pendant, programs: Path
+) -> None:
     page = browser.new_page(viewport={"width": 1024, "height": 768})
     try:
         open_as_operator(page, pendant.ui_url)

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from playwright.sync_api import Browser
 from playwright.sync_api import Error as PlaywrightError
 
 from .conftest import ARTIFACTS, Pendant, running_pendant
@@ -74,7 +75,9 @@ def pendant() -> Iterator[Pendant]:
 
 
 @pytest.mark.parametrize("screen", SCREENS)
-def test_freeze_on_screen_and_no_sideways_scroll_in_any_tab(browser, pendant: Pendant, screen: str) -> None:  # type: ignore[no-untyped-def]
+def test_freeze_on_screen_and_no_sideways_scroll_in_any_tab(
+    browser: Browser, pendant: Pendant, screen: str
+) -> None:
     width, height = SCREENS[screen]
     page = browser.new_page(viewport={"width": width, "height": height}, has_touch=screen != "desktop")
     try:

@@ -8,6 +8,7 @@ import time
 from collections.abc import Callable, Iterator
 
 import pytest
+from playwright.sync_api import Browser, Page
 
 from tests.support.jog_measure import PoseSampler, button_centre, open_as_operator, touch, wait_idle
 from tests.support.launchers import Pendant
@@ -21,7 +22,7 @@ NOTICE_TIMEOUT_MS = 5_000
 
 
 @pytest.fixture(scope="module")
-def operator(browser, pendant: Pendant) -> Iterator[object]:  # type: ignore[no-untyped-def]
+def operator(browser: Browser, pendant: Pendant) -> Iterator[Page]:
     page = browser.new_page(viewport={"width": 1024, "height": 768}, has_touch=True)
     open_as_operator(page, pendant.ui_url)
     yield page
@@ -29,7 +30,7 @@ def operator(browser, pendant: Pendant) -> Iterator[object]:  # type: ignore[no-
 
 
 @pytest.fixture(scope="module")
-def bystander(browser, pendant: Pendant, operator) -> Iterator[object]:  # type: ignore[no-untyped-def]
+def bystander(browser: Browser, pendant: Pendant, operator: Page) -> Iterator[Page]:
     """Another browser (a viewer: any browser may press Freeze)."""
     context = browser.new_context(viewport={"width": 1024, "height": 768})
     page = context.new_page()
@@ -39,7 +40,7 @@ def bystander(browser, pendant: Pendant, operator) -> Iterator[object]:  # type:
     context.close()
 
 
-def press(page, gesture: str) -> Callable[[], None]:  # type: ignore[no-untyped-def]
+def press(page: Page, gesture: str) -> Callable[[], None]:
     """Put J1+ down by `gesture`; the function that lets it go."""
     if gesture == "mouse":
         page.mouse.move(*button_centre(page, "J1+"))
@@ -64,8 +65,8 @@ def j1(pendant: Pendant) -> float:
     ("gesture", "source"), [("mouse", "api"), ("finger", "other browser"), ("Space", "Esc")]
 )
 def test_a_freeze_ends_the_held_jog_until_the_button_is_released_and_pressed_again(
-    operator, bystander, pendant: Pendant, gesture: str, source: str
-) -> None:  # type: ignore[no-untyped-def]
+    operator: Page, bystander: Page, pendant: Pendant, gesture: str, source: str
+) -> None:
     wait_idle(pendant.api)
     start = j1(pendant)
     release = press(operator, gesture)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import threading
+from typing import Any
 
 import numpy as np
 import pytest
@@ -133,7 +134,7 @@ class SlowController:
         self.sending = threading.Event()
         self.freezes = 0
 
-    def __getattr__(self, name: str) -> object:
+    def __getattr__(self, name: str) -> Any:  # the simulator's: a Controller to the type checker
         return getattr(self._sim, name)
 
     def set_pose(self, *args: object, **kwargs: object) -> None:
@@ -148,7 +149,7 @@ class SlowController:
 
 def test_a_slow_controller_never_delays_the_deadman_and_a_late_motion_is_frozen(sim, clock):
     slow = SlowController(sim)
-    jogger = Jogger(slow, sim.arm, clock=clock.now)  # type: ignore[arg-type]
+    jogger = Jogger(slow, sim.arm, clock=clock.now)
     request = JogRequest(JogFrame.JOINT, 0, +1, speed_percent=10)
     pressing = threading.Thread(target=jogger.hold, args=(request,))
     pressing.start()

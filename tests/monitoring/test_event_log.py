@@ -106,7 +106,7 @@ def test_bad_parameters_get_412_naming_them(tmp_path: Path, params: dict[str, ob
     store = EventStore(tmp_path)
     app = FastAPI()
     app.include_router(events_router(store))
-    answer = TestClient(app).get("/pendant/events", params=params)  # type: ignore[arg-type]
+    answer = TestClient(app).get("/pendant/events", params=params)
     store.close()
     assert answer.status_code == 412
     assert message in answer.json()

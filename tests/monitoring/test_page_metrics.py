@@ -47,12 +47,12 @@ def test_program_runs_failures_and_alarms_are_counted(
     sim.reset()
 
     workspace.start_run(loops=1)
-    runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]
+    runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]  # the run started it
     settle(sim, clock)
     assert workspace.progress.state is RunState.FINISHED
     sim.inject_fault(Fault.ERROR)
     workspace.start_run(loops=1)
-    runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]
+    runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]  # the run started it
     assert workspace.progress.state is RunState.FAILED
 
     idle, failed = MotionStatus.IDLE, MotionStatus.MOTION_FAILED

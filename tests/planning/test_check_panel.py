@@ -55,7 +55,7 @@ def check(panel: ProgramPanel, browser: FakeBrowser) -> Any:
     return panel.pending.result(timeout=WAIT_S)
 
 
-def test_run_waits_for_a_passing_check_and_check_marks_the_failing_step(panel) -> None:  # type: ignore[no-untyped-def]
+def test_run_waits_for_a_passing_check_and_check_marks_the_failing_step(panel) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace, arm = panel
     browser = FakeBrowser(1)
     section = panel.check_section
@@ -87,7 +87,7 @@ def test_run_waits_for_a_passing_check_and_check_marks_the_failing_step(panel) -
     wait_until(lambda: workspace.progress.state is RunState.FINISHED, timeout_s=WAIT_S)
 
 
-def test_playback_moves_the_ghost_and_the_step_list_follows(panel) -> None:  # type: ignore[no-untyped-def]
+def test_playback_moves_the_ghost_and_the_step_list_follows(panel) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, _, arm = panel
     arm.remove_obstacles()
     browser = FakeBrowser(1)

@@ -4,9 +4,6 @@ there; bad input is refused with the reason before any planning, and nothing mov
 
 from __future__ import annotations
 
-import time
-from collections.abc import Iterator
-
 import httpx
 import numpy as np
 import pytest
@@ -15,7 +12,7 @@ from pendant.kinematics import ArmModel
 from pendant.kinematics.cell_shapes import cell_check
 from pendant.planning import path_is_clear
 from pendant.planning.scenes import BOX, FLANGE
-from tests.support.launchers import running_pendant
+from tests.support.waiting import wait_idle
 
 ANGLE_TOL_DEG = 0.01
 MOTION_TIMEOUT_S = 20.0
@@ -24,21 +21,11 @@ SLOW = {"speed": 100}
 
 
 @pytest.fixture(scope="module")
-def api() -> Iterator[httpx.Client]:
-    with running_pendant("--time-scale", "10") as url, httpx.Client(base_url=url, timeout=15.0) as client:
-        _go(client, BOX.start_deg)  # the box stands where the arm starts (home), which would refuse it
-        added = client.put("/environment", json=BOX.obstacles[0].model_dump(mode="json"))
-        assert added.status_code == 200, added.text
-        yield client
-
-
-def _idle(api: httpx.Client) -> None:
-    deadline = time.monotonic() + MOTION_TIMEOUT_S
-    while time.monotonic() < deadline:
-        if api.get("/status/motion").json() == "IDLE":
-            return
-        time.sleep(0.05)
-    raise AssertionError("the motion did not end")
+def api(fast_api: httpx.Client) -> httpx.Client:
+    _go(fast_api, BOX.start_deg)  # the box stands where the arm starts (home), which would refuse it
+    added = fast_api.put("/environment", json=BOX.obstacles[0].model_dump(mode="json"))
+    assert added.status_code == 200, added.text
+    return fast_api
 
 
 def _go(api: httpx.Client, degrees: tuple[float, ...] | list[float]) -> None:
@@ -47,7 +34,7 @@ def _go(api: httpx.Client, degrees: tuple[float, ...] | list[float]) -> None:
     assert planned.status_code == 200, planned.text
     run = api.put("/poses/run", json=planned.json()["waypoints"][1:], params=SLOW)
     assert run.status_code == 200, run.text
-    _idle(api)
+    wait_idle(api, MOTION_TIMEOUT_S)
 
 
 def _pose(api: httpx.Client) -> np.ndarray:
@@ -78,7 +65,7 @@ def test_a_straight_move_through_the_box_is_refused_and_the_planned_one_runs_to_
 
     run = api.put("/poses/run", json=[{"angles": w} for w in waypoints[1:]], params=SLOW)
     assert run.status_code == 200, run.text
-    _idle(api)
+    wait_idle(api, MOTION_TIMEOUT_S)
     assert np.allclose(_pose(api), BOX.target_deg, atol=ANGLE_TOL_DEG)
     assert api.get("/status/motion").json() == "IDLE"
 

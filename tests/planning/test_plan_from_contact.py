@@ -4,9 +4,6 @@ out of the wall first (never deeper in), then goes round; the waypoints run as o
 
 from __future__ import annotations
 
-import time
-from collections.abc import Iterator
-
 import httpx
 import numpy as np
 import pytest
@@ -18,7 +15,7 @@ from pendant.kinematics.cell_shapes import cell_check
 from pendant.kinematics.contact import CONTACT_DEEPER_TOLERANCE_M
 from pendant.planning import path_is_clear
 from pendant.planning.scenes import FLANGE
-from tests.support.launchers import running_pendant
+from tests.support.waiting import wait_idle
 
 README_WALL = PlaneObstacle(
     obstacleType="PLANE",
@@ -33,18 +30,8 @@ SAMPLE_RAD = np.radians(0.25)
 
 
 @pytest.fixture(scope="module")
-def api() -> Iterator[httpx.Client]:
-    with running_pendant("--time-scale", "10") as url, httpx.Client(base_url=url, timeout=15.0) as client:
-        yield client
-
-
-def _idle(api: httpx.Client) -> None:
-    deadline = time.monotonic() + MOTION_TIMEOUT_S
-    while time.monotonic() < deadline:
-        if api.get("/status/motion").json() == "IDLE":
-            return
-        time.sleep(0.05)
-    raise AssertionError("the motion did not end")
+def api(fast_api: httpx.Client) -> httpx.Client:
+    return fast_api
 
 
 def test_a_plan_from_the_wall_backs_out_first_and_runs(api: httpx.Client) -> None:
@@ -69,5 +56,5 @@ def test_a_plan_from_the_wall_backs_out_first_and_runs(api: httpx.Client) -> Non
 
     run = api.put("/poses/run", json=[{"angles": a} for a in np.degrees(waypoints[1:]).tolist()])
     assert run.status_code == 200, run.text
-    _idle(api)
+    wait_idle(api, MOTION_TIMEOUT_S)
     assert np.allclose(api.get("/pose").json()["angles"], ROUND, atol=ANGLE_TOL_DEG)

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import NamedTuple
+from pathlib import Path
+from typing import Any, NamedTuple
 
 import pytest
 
@@ -49,7 +50,7 @@ def runner(sim: SimController, clock: FakeClock) -> ProgramRunner:
 
 
 @pytest.fixture
-def make_workspace(tmp_path, runner: ProgramRunner) -> Callable[[], ProgramWorkspace]:  # type: ignore[no-untyped-def]
+def make_workspace(tmp_path: Path, runner: ProgramRunner) -> Callable[[], ProgramWorkspace]:
     """A workspace on a programs folder in tmp_path; call again to simulate a restart of the pendant."""
     return lambda: ProgramWorkspace(ProgramStore(tmp_path / "programs"), runner)
 
@@ -62,9 +63,9 @@ class Taught(NamedTuple):
 
 
 def move(
-    waypoint: Waypoint, motion: MotionType = MotionType.JOINT, speed: float = 50.0, **more: object
+    waypoint: Waypoint, motion: MotionType = MotionType.JOINT, speed: float = 50.0, **more: Any
 ) -> Taught:
-    return Taught(waypoint, MoveStep(waypoint=waypoint.name, motion=motion, speed=speed, **more))  # type: ignore[arg-type]
+    return Taught(waypoint, MoveStep(waypoint=waypoint.name, motion=motion, speed=speed, **more))
 
 
 def program_of(*items: Step | Taught, name: str = "untitled", extra: tuple[Waypoint, ...] = ()) -> Program:

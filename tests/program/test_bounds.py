@@ -30,7 +30,7 @@ from pendant.program import (
     program_operations,
 )
 from pendant.program.files import MAX_FILE_BYTES, dump_program
-from pendant.program.models import MAX_STEPS, PROGRAM_NAME_MAX, WAYPOINT_NAME_MAX
+from pendant.program.limits import MAX_STEPS, PROGRAM_NAME_MAX, WAYPOINT_NAME_MAX
 from pendant.program.plan import MoveGroup
 from tests.program.conftest import Taught, move, program_of
 from tests.support.launchers import running_pendant

@@ -32,6 +32,7 @@ from pendant.program import (
     RunState,
     WaitInputStep,
     WaitStep,
+    Waypoint,
     export_script,
     program_operations,
 )
@@ -53,7 +54,22 @@ def api_url() -> Iterator[str]:
         yield url
 
 
-def pick_and_place(waypoints) -> Program:  # type: ignore[no-untyped-def]
+def run_script(script: Path, *args: str, token_env: str | None = None) -> subprocess.CompletedProcess[str]:
+    """Run an exported script with this Python; no access token inherited (`token_env` gives it one)."""
+    env = {name: value for name, value in os.environ.items() if name != TOKEN_ENV}  # none inherited
+    if token_env is not None:
+        env[TOKEN_ENV] = token_env
+    return subprocess.run(
+        [sys.executable, str(script), *args],
+        capture_output=True,
+        text=True,
+        timeout=SCRIPT_TIMEOUT_S,
+        check=False,
+        env=env,
+    )
+
+
+def pick_and_place(waypoints: dict[str, Waypoint]) -> Program:
     a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
     return program_of(
         move(a, speed=100.0),
@@ -100,13 +116,7 @@ def test_the_exported_script_ends_where_the_runner_does(
     script = tmp_path / "pick_place.py"
     script.write_text(export_script(program))
 
-    done = subprocess.run(
-        [sys.executable, str(script), api_url],
-        capture_output=True,
-        text=True,
-        timeout=SCRIPT_TIMEOUT_S,
-        check=False,
-    )
+    done = run_script(script, api_url)
     assert done.returncode == 0, done.stderr
     with httpx.Client(base_url=api_url, timeout=5.0) as api:
         pose = api.get("/pose").json()["angles"]
@@ -129,13 +139,7 @@ def test_a_refused_step_exits_1_with_the_step_and_the_controller_message(
     )
     script = tmp_path / "refused.py"
     script.write_text(export_script(program))
-    done = subprocess.run(
-        [sys.executable, str(script), api_url],
-        capture_output=True,
-        text=True,
-        timeout=SCRIPT_TIMEOUT_S,
-        check=False,
-    )
+    done = run_script(script, api_url)
     assert done.returncode == 1
     assert (
         "Step 2 (Move J to Far @ 100%) failed: PUT /poses/run answered 412: Unreachable Pose" in done.stderr
@@ -148,20 +152,6 @@ def guarded_api() -> Iterator[tuple[SimController, str]]:
     sim = SimController("pulse75", MonotonicClock())
     with serve_in_thread(create_app(sim, token=TOKEN)) as url:
         yield sim, url
-
-
-def run_script(script: Path, *args: str, token_env: str | None = None) -> subprocess.CompletedProcess[str]:
-    env = {name: value for name, value in os.environ.items() if name != TOKEN_ENV}  # none inherited
-    if token_env is not None:
-        env[TOKEN_ENV] = token_env
-    return subprocess.run(
-        [sys.executable, str(script), *args],
-        capture_output=True,
-        text=True,
-        timeout=SCRIPT_TIMEOUT_S,
-        check=False,
-        env=env,
-    )
 
 
 def test_the_exported_script_sends_an_exposed_pendants_token(
@@ -229,13 +219,7 @@ def test_every_step_type_exports_and_runs_like_the_runner(
         api.put("/sim/reset").raise_for_status()
         script = tmp_path / "every_step.py"
         script.write_text(export_script(program, store.load))
-        done = subprocess.run(
-            [sys.executable, str(script), api_url],
-            capture_output=True,
-            text=True,
-            timeout=SCRIPT_TIMEOUT_S,
-            check=False,
-        )
+        done = run_script(script, api_url)
         assert done.returncode == 0, done.stderr
         pose = api.get("/pose").json()["angles"]
         outputs = {port: api.get(f"/signal/output/{port}").text.strip('"') for port in OUTPUT_PORTS}

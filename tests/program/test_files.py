@@ -146,7 +146,7 @@ def refused_autosaves(folder: Path) -> list[Path]:
 
 def test_a_corrupt_autosave_starts_an_empty_program_and_every_refused_one_is_kept_and_explained(
     tmp_path: Path, runner
-) -> None:  # type: ignore[no-untyped-def]
+) -> None:
     from pendant.program import ProgramWorkspace
 
     folder = tmp_path / "programs"
@@ -198,7 +198,7 @@ def test_an_autosave_that_is_not_one_is_refused_with_the_reason(
 
 def test_an_autosave_that_cannot_be_moved_aside_is_left_and_the_message_says_to_copy_it(
     tmp_path: Path, monkeypatch
-) -> None:  # type: ignore[no-untyped-def]
+) -> None:
     (tmp_path / ".autosave.json").write_text("{garbage")
 
     def read_only(*_: object) -> None:

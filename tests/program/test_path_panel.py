@@ -38,9 +38,9 @@ def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup
     drawn = {node.name: node for node in panel.scene._nodes}
     polyline = drawn[f"{ROOT}/recorded_paths"]
     dots = drawn[f"{ROOT}/recorded_waypoints"]
-    assert polyline.points.shape[1:] == (2, 3) and len(polyline.points) == count - 1  # type: ignore[attr-defined]
+    assert polyline.points.shape[1:] == (2, 3) and len(polyline.points) == count - 1
     end = step.points[-1].position.point
-    assert np.allclose(dots.points[-1], [end.x, end.y, end.z], atol=1e-6)  # type: ignore[attr-defined]
+    assert np.allclose(dots.points[-1], [end.x, end.y, end.z], atol=1e-6)
     # A marker at its start (where the arm goes first) and one at its end: not one per waypoint.
     assert [step_line for _, step_line in panel.scene._markers] == [1, 1]
 
@@ -101,7 +101,7 @@ def test_on_a_controller_without_run_operations_the_tab_says_the_path_played_sto
             fire(panel.check_section.check, FakeClient())  # a real arm: Run waits for a passing check
             assert panel.pending is not None and panel.pending.result(timeout=WAIT_S).ok
             fire(panel.run, FakeClient())
-            workspace.runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]
+            workspace.runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]  # the run started it
             assert workspace.progress.state is RunState.FINISHED
             assert panel.run_status.content == f"Finished\n\n{FALLBACK_NOTE}"
         finally:

@@ -28,15 +28,14 @@ from pendant.program import (
 )
 from pendant.program.blended import FALLBACK_NOTE, BlendedRun
 from pendant.program.files import MAX_FILE_BYTES, dump_program, parse_program
-from pendant.program.models import (
+from pendant.program.limits import (
     MAX_PATH_POINTS,
     MAX_PROGRAM_PATH_POINTS,
     MAX_STEPS,
     PROGRAM_NAME_MAX,
     WAYPOINT_NAME_MAX,
-    OutputAction,
-    PathPoint,
 )
+from pendant.program.models import OutputAction, PathPoint
 from pendant.program.plan import MoveGroup
 from pendant.remote import RemoteController
 from pendant.sim import FakeClock, SimController
@@ -85,13 +84,13 @@ def test_a_path_step_plays_as_one_blended_run_within_the_tolerance(
 ) -> None:
     sampler = Sampler(sim, clock)
     log = CallLog(sim)
-    runner = ProgramRunner(log, sleep=sampler, now=clock.now)  # type: ignore[arg-type]
+    runner = ProgramRunner(log, sleep=sampler, now=clock.now)
 
     result = runner.run(Program(steps=(step,)))
 
     assert result.state is RunState.FINISHED and result.notice == ""
     assert log.names() == ["run_poses", "run_linear_positions"]  # the approach, then the whole path
-    positions, params = log.calls[1][1]  # type: ignore[misc]
+    positions, params = log.calls[1][1]
     assert len(positions) == len(step.points) - 1 and params.interpolationType.value == "BLEND"
     assert {p.blend for p in positions} == {TOL_MM / 2 / 1000.0}
     recorded = recorded_points(recording)
@@ -141,24 +140,31 @@ def test_without_run_operations_the_path_plays_stop_and_go_and_says_so(
         assert min(steps[at - 1], steps[at]) < STOPPING * cruising, f"no stop at {p}"
 
 
+def a_second_into_the_path(
+    sampler: Sampler, log: CallLog, clock: FakeClock, action: Callable[[], None]
+) -> None:
+    """Do `action` at the runner's first sleep a second after the path's run was sent."""
+    sent_at: list[float] = []
+
+    def check() -> None:
+        if "run_linear_positions" in log.names():
+            sent_at.append(clock.now())
+            if sent_at[-1] - sent_at[0] >= 1.0:
+                action()
+                return
+        sampler.at = check
+
+    sampler.at = check
+
+
 def test_a_paused_path_resumes_at_the_waypoint_it_was_heading_for(
     sim: SimController, clock: FakeClock, recording: Recording, step: PathStep
 ) -> None:
     sampler = Sampler(sim, clock)
     log = CallLog(sim)
-    runner = ProgramRunner(log, sleep=sampler, now=clock.now)  # type: ignore[arg-type]
+    runner = ProgramRunner(log, sleep=sampler, now=clock.now)
     program = Program(steps=(step,))
-    sent_at: list[float] = []
-
-    def pause_a_second_into_the_path() -> None:
-        if "run_linear_positions" in log.names():
-            sent_at.append(clock.now())
-            if sent_at[-1] - sent_at[0] >= 1.0:
-                runner.pause()
-                return
-        sampler.at = pause_a_second_into_the_path
-
-    sampler.at = pause_a_second_into_the_path
+    a_second_into_the_path(sampler, log, clock, runner.pause)
     paused = runner.run(program)
     assert paused.state is RunState.PAUSED
     heading = runner._run.interpreter.stack[-1].target  # type: ignore[union-attr]
@@ -170,7 +176,7 @@ def test_a_paused_path_resumes_at_the_waypoint_it_was_heading_for(
     assert resumed.state is RunState.FINISHED
     _, second_run = (args for name, args in log.calls if name == "run_linear_positions")
     # The second request starts at the waypoint the arm was heading for (targets are points[1:]).
-    second_positions = second_run[0]  # type: ignore[index]
+    second_positions = second_run[0]
     assert second_positions[0].point == step.points[heading + 1].position.point
     assert len(second_positions) == len(step.points) - 1 - heading
     assert stopped_at != sim.get_position()
@@ -238,7 +244,7 @@ def test_as_the_runners_blended_path_it_runs_taught_moves_with_their_actions_in_
     result = runner.run(program)
     assert result.state is RunState.FINISHED
     assert log.names() == ["run_joint_poses"]  # the action no longer ends the blend: one request
-    poses, _ = log.calls[0][1]  # type: ignore[misc]
+    poses, _ = log.calls[0][1]
     assert [p.angles for p in poses] == [waypoints[n].pose.angles for n in "ABC"]
     assert poses[0].actions[0].port == 1 and sim.get_output(1) is SignalLevel.HIGH
     assert sim.get_pose().angles == pytest.approx(waypoints["C"].pose.angles, abs=ANGLE_TOL_DEG)
@@ -249,18 +255,8 @@ def test_a_freeze_mid_path_fails_the_step_and_retry_finishes_it_from_where_it_wa
 ) -> None:
     sampler = Sampler(sim, clock)
     log = CallLog(sim)
-    runner = ProgramRunner(log, sleep=sampler, now=clock.now)  # type: ignore[arg-type]
-    sent_at: list[float] = []
-
-    def freeze_a_second_into_the_path() -> None:  # as Freeze on the page or PUT /freeze would
-        if "run_linear_positions" in log.names():
-            sent_at.append(clock.now())
-            if sent_at[-1] - sent_at[0] >= 1.0:
-                sim.freeze()
-                return
-        sampler.at = freeze_a_second_into_the_path
-
-    sampler.at = freeze_a_second_into_the_path
+    runner = ProgramRunner(log, sleep=sampler, now=clock.now)
+    a_second_into_the_path(sampler, log, clock, sim.freeze)  # as Freeze on the page or PUT /freeze would
     failed = runner.run(Program(steps=(step,)))
     assert failed.state is RunState.FAILED and failed.failed_step == 0
     assert "Step 1 (Path s1" in failed.message and "the arm stopped before reaching s1[" in failed.message

@@ -60,7 +60,7 @@ def fire(handle: Any, client: FakeClient, value: Any = None) -> None:
     if value is not None:
         handle._impl.value = value  # not `handle.value = ...`: that would also call back, as from Python
     for callback in list(handle._impl.update_cb):
-        callback(viser.GuiEvent(client=client, client_id=client.client_id, target=handle))  # type: ignore[arg-type]
+        callback(viser.GuiEvent(client=client, client_id=client.client_id, target=handle))  # type: ignore[arg-type]  # a fake client for viser's
 
 
 @pytest.fixture
@@ -71,7 +71,9 @@ def server() -> Iterator[viser.ViserServer]:
 
 
 @pytest.fixture
-def setup(server, sim: SimController, clock: FakeClock, tmp_path: Path):  # type: ignore[no-untyped-def]
+def setup(
+    server: viser.ViserServer, sim: SimController, clock: FakeClock, tmp_path: Path
+) -> Iterator[tuple[ProgramPanel, ProgramWorkspace]]:
     runner = CommandRunner(sim)
     workspace = ProgramWorkspace(
         ProgramStore(tmp_path / "programs"), ProgramRunner(sim, sleep=clock.advance, now=clock.now)
@@ -88,7 +90,7 @@ def record(panel: ProgramPanel, client: FakeClient) -> None:
     panel.pending.result(timeout=WAIT_S)
 
 
-def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]
+def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     browser = FakeClient()
     for pose in (POSE_A_DEG, POSE_B_DEG):
@@ -132,21 +134,21 @@ def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path)
     assert browser.downloads[-1][0] == "cell_4.py"
 
 
-def test_a_refused_upload_is_explained_and_changes_nothing(setup, sim) -> None:  # type: ignore[no-untyped-def]
+def test_a_refused_upload_is_explained_and_changes_nothing(setup, sim) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     browser = FakeClient()
     record(panel, browser)
     before = workspace.program
     panel.file_section.upload._impl.value = viser.UploadedFile(
         name="future.json", content=b'{"schema_version": 7}'
-    )  # type: ignore[attr-defined]
+    )
     fire(panel.file_section.upload, browser)
     assert workspace.program == before
     assert browser.notifications[-1]["title"] == "Upload refused"
     assert "newer pendant" in browser.notifications[-1]["body"]
 
 
-def test_two_browsers_see_the_same_program(setup, sim) -> None:  # type: ignore[no-untyped-def]
+def test_two_browsers_see_the_same_program(setup, sim) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     elsewhere = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)  # its own scene
     other = ProgramPanel(elsewhere, workspace, CommandRunner(sim))
@@ -158,7 +160,7 @@ def test_two_browsers_see_the_same_program(setup, sim) -> None:  # type: ignore[
         elsewhere.stop()
 
 
-def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]
+def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     browser = FakeClient()
     for pose in (POSE_A_DEG, POSE_B_DEG):
@@ -174,22 +176,22 @@ def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -
         assert ghost is not None and not ghost.show_visual  # nothing selected, nothing previewed
         teach(sim, clock, POSE_C_DEG, "ignored")
         record(reloaded, browser)
-        assert [s.waypoint for s in workspace.program.steps] == ["P1", "P2", "P3"]  # type: ignore[union-attr]
+        assert [s.waypoint for s in workspace.program.steps] == ["P1", "P2", "P3"]
         fire(reloaded.select, browser, "1. Move J to P1 @ 20%")
         assert ghost.show_visual  # a move selected: its waypoint previewed
         record(reloaded, browser)  # a selection alone still appends
-        assert workspace.program.steps[-1].waypoint == "P4"  # type: ignore[union-attr]
+        assert workspace.program.steps[-1].waypoint == "P4"
         fire(reloaded.select, browser, "1. Move J to P1 @ 20%")
         fire(reloaded.insert_after, browser, True)  # the visible toggle: after the selected step
         record(reloaded, browser)
-        assert [s.waypoint for s in workspace.program.steps] == ["P1", "P5", "P2", "P3", "P4"]  # type: ignore[union-attr]
+        assert [s.waypoint for s in workspace.program.steps] == ["P1", "P5", "P2", "P3", "P4"]
         assert reloaded.select.value == "2. Move J to P5 @ 20%"
     finally:
         reloaded.close()
         elsewhere.stop()
 
 
-def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]
+def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     folder = tmp_path / "programs"
     folder.mkdir()
     (folder / ".autosave.json").write_text("{ half a program")  # the pendant was killed mid-write by hand
@@ -206,7 +208,7 @@ def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, 
         runner.shutdown()
 
 
-def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(setup, sim, tmp_path) -> None:  # type: ignore[no-untyped-def]
+def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(setup, sim, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     browser = FakeClient()
     files = panel.file_section
@@ -248,7 +250,7 @@ def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(setup, si
     assert workspace.program.uses_of("P2") == 0
 
 
-def test_run_from_the_selected_step_and_retry_a_failed_one_from_the_banner(setup, server, sim, clock) -> None:  # type: ignore[no-untyped-def]
+def test_run_from_the_selected_step_and_retry_a_failed_one_from_the_banner(setup, server, sim, clock) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     recovery = Recovery(EventLog(), sim.arm, simulator=True)
     banner = Banner(server, recovery, panel.commands, workspace, sim=sim)
@@ -289,7 +291,7 @@ def test_run_from_the_selected_step_and_retry_a_failed_one_from_the_banner(setup
     assert read() == [] and panel.run_status.content == "Finished"
 
 
-def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]
+def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     for pose in (POSE_A_DEG, POSE_B_DEG, POSE_C_DEG):
         teach(sim, clock, pose, "ignored")
@@ -297,7 +299,7 @@ def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, cloc
     workspace.insert_step(MoveStep(waypoint="P1", motion=MotionType.LINEAR, offset=Offset(z=50.0)))
     workspace.insert_step(PalletStep(corners=("P1", "P2", "P3"), rows=3, columns=4, approach_mm=30.0))
     cells = [node for node in panel.scene._nodes if node.name == "/program/pallet_cells"]
-    assert len(cells) == 1 and cells[0].points.shape == (12, 3)  # type: ignore[attr-defined]
+    assert len(cells) == 1 and cells[0].points.shape == (12, 3)
     p1 = workspace.program.waypoint("P1").position.point
     marker_points = [np.asarray(marker.position) for marker, _ in panel.scene._markers]
     above_p1 = np.array([p1.x, p1.y, p1.z + 0.05])
@@ -305,7 +307,7 @@ def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, cloc
     assert any(abs(float(p[2]) - (p1.z + 0.03)) < 1e-4 for p in marker_points)  # above the first cell
 
 
-def test_save_of_an_unnamed_program_asks_for_its_name_then_saves(setup, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]
+def test_save_of_an_unnamed_program_asks_for_its_name_then_saves(setup, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
     panel, workspace = setup
     files, browser, folder = panel.file_section, FakeClient(), tmp_path / "programs"
     teach(sim, clock, POSE_A_DEG, "ignored")

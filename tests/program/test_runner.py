@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import pytest
@@ -31,9 +32,9 @@ class Recording:
 
     def __init__(self, sim: SimController) -> None:
         self._sim = sim
-        self.calls: list[tuple[str, object]] = []
+        self.calls: list[tuple[str, tuple[Any, ...]]] = []
 
-    def __getattr__(self, name: str) -> object:
+    def __getattr__(self, name: str) -> Any:  # the simulator's: a Controller to the type checker
         attribute = getattr(self._sim, name)
         if name.startswith("get_") or not callable(attribute):
             return attribute
@@ -78,16 +79,16 @@ def test_consecutive_moves_of_one_type_and_speed_run_as_one_blended_call(sim, cl
         move(c),
     )
     recording = Recording(sim)
-    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
+    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)
 
     result = runner.run(program)
 
     assert result.state is RunState.FINISHED and result.progress == 1.0
     assert recording.names() == ["run_poses", "run_positions", "run_poses", "set_output", "run_poses"]
-    first_poses, params = recording.calls[0][1]  # type: ignore[misc]
+    first_poses, params = recording.calls[0][1]
     assert [p.angles for p in first_poses] == [a.pose.angles, b.pose.angles]
     assert params.motion_type is MotionType.JOINT and params.speed == 50.0
-    assert len(recording.calls[1][1][0]) == 2  # type: ignore[index, arg-type]
+    assert len(recording.calls[1][1][0]) == 2
     np.testing.assert_allclose(angles(sim), c.pose.angles, atol=ANGLE_TOL_DEG)
     assert sim.get_output(1) is SignalLevel.HIGH
 
@@ -112,8 +113,8 @@ def test_outputs_are_set_only_once_the_arm_has_arrived(sim, clock, waypoints) ->
         seen.append(angles(sim))
         sim.set_output(port, level)
 
-    recording.set_output = set_output  # type: ignore[method-assign]
-    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
+    recording.set_output = set_output
+    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)
     runner.run(program_of(move(a), OutputStep(port=2, level=SignalLevel.HIGH)))
     np.testing.assert_allclose(seen[0], a.pose.angles, atol=ANGLE_TOL_DEG)
 
@@ -126,7 +127,7 @@ def test_loop_count_repeats_the_whole_program(sim, clock, waypoints) -> None:
         GripperStep(action=GripperAction.OPEN, timeout_ms=100),
     )
     recording = Recording(sim)
-    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
+    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)
     progress: list[float] = []
     runner.add_listener(lambda p: progress.append(p.progress))
 

@@ -3,6 +3,8 @@ group, the runner freezes the arm, so it does not finish the group while the pag
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from pendant.controller import MotionStatus, MotionType, NotResponding
@@ -23,7 +25,7 @@ class FlakyStatus:
         self._sim, self._clock, self._fail_at = sim, clock, fail_at
         self.failed = False
 
-    def __getattr__(self, name: str) -> object:
+    def __getattr__(self, name: str) -> Any:  # the simulator's: a Controller to the type checker
         return getattr(self._sim, name)
 
     def get_motion_status(self) -> MotionStatus:

@@ -4,6 +4,7 @@ waypoint actions, pallets, called programs, run from a line and resume a failed 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -62,7 +63,7 @@ def test_a_loop_repeats_its_body_n_times_and_comments_do_nothing(sim, clock, way
         ),
     )
     recording = Recording(sim)
-    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
+    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)
     result = runner.run(program_of(loop, OutputStep(port=1, level=SignalLevel.HIGH), extra=(a, b)))
     assert result.state is RunState.FINISHED
     assert recording.names() == ["run_poses", "close_gripper", "run_poses"] * 3 + ["set_output"]
@@ -77,7 +78,7 @@ def test_a_loop_on_an_input_stops_when_the_sensor_says_so(sim, clock, waypoints,
     recording = Recording(sim)
     # The tray becomes empty (DI1 HIGH) after a few seconds of picking.
     runner = ProgramRunner(
-        recording,  # type: ignore[arg-type]
+        recording,
         now=clock.now,
         sleep=sleeping(clock, 4.0, lambda: sim.set_input(1, SignalLevel.HIGH)),
     )
@@ -87,7 +88,7 @@ def test_a_loop_on_an_input_stops_when_the_sensor_says_so(sim, clock, waypoints,
     assert passes >= 2  # it looped while the input said to, and then stopped
     np.testing.assert_allclose(angles(sim), b.pose.angles, atol=ANGLE_TOL_DEG)  # a whole pass, not half
     again = Recording(sim)
-    ProgramRunner(again, sleep=clock.advance, now=clock.now).run(program_of(loop, extra=(a, b)))  # type: ignore[arg-type]
+    ProgramRunner(again, sleep=clock.advance, now=clock.now).run(program_of(loop, extra=(a, b)))
     assert again.names() == []  # the condition is checked before the first pass too
 
 
@@ -129,12 +130,12 @@ def test_a_waypoint_action_is_done_once_the_arm_is_there_and_ends_the_blend(sim,
         seen.append(angles(sim))
         sim.set_output(port, level)
 
-    recording.set_output = set_output  # type: ignore[method-assign]
+    recording.set_output = set_output
     at_a = move(
         a,
         actions=(OutputAction(port=1, value=SignalLevel.HIGH), GripperAtWaypoint(value=GripperAction.CLOSE)),
     )
-    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
+    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)
     assert runner.run(program_of(at_a, move(b))).state is RunState.FINISHED
     assert recording.names() == ["run_poses", "close_gripper", "run_poses"]  # not one blended call
     np.testing.assert_allclose(seen[0], a.pose.angles, atol=ANGLE_TOL_DEG)
@@ -154,16 +155,16 @@ def test_a_pallet_takes_the_next_cell_each_pass_and_starts_over(sim, clock, wayp
     )
     program = program_of(LoopStep(times=7, body=(pallet,)), extra=(a, b, c))
     recording = Recording(sim)
-    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
+    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)
     assert runner.run(program).state is RunState.FINISHED
 
     cells = pallet_cells((a.position, b.position, c.position), 2, 3, 1, 0.0)
     expected = [cells[k % 6] for k in range(7)]  # row by row, then the first cell again
     calls = [args for name, args in recording.calls if name == "run_positions"]
     assert len(calls) == 7 * 3  # above, down, up
-    downs = [calls[3 * k + 1][0][0] for k in range(7)]  # type: ignore[index]
+    downs = [calls[3 * k + 1][0][0] for k in range(7)]
     assert downs == expected
-    above = calls[0][0][0]  # type: ignore[index]
+    above = calls[0][0][0]
     assert above.point.z == pytest.approx(expected[0].point.z + 0.04)
     np.testing.assert_allclose(cells[2].point.x, b.position.point.x)  # the row ends at the second corner
     np.testing.assert_allclose(cells[3].point.y, c.position.point.y)  # the column ends at the third
@@ -203,7 +204,7 @@ def test_a_failed_run_resumes_at_the_failed_step_and_not_before(sim, clock, wayp
         move(b),
     )
     recording = Recording(sim)
-    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
+    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)
     failed = runner.run(program)
     assert failed.state is RunState.FAILED and failed.failed_step == 3  # line 4: inside the loop
     assert (
@@ -228,10 +229,10 @@ def test_run_from_a_line_skips_what_is_before_it(sim, clock, waypoints) -> None:
         extra=(b, c),
     )
     recording = Recording(sim)
-    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
+    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)
     result = runner.run(program, start_line=4)  # line 5: "Move to C" inside the loop
     assert result.state is RunState.FINISHED
-    poses = [args[0] for name, args in recording.calls if name == "run_poses"]  # type: ignore[index]
+    poses = [args[0] for name, args in recording.calls if name == "run_poses"]
     assert [[p.angles for p in call] for call in poses] == [[c.pose.angles], [b.pose.angles, c.pose.angles]]
     assert sim.get_output(1) is SignalLevel.LOW
 
@@ -258,7 +259,7 @@ class FailingInput:
     def __init__(self, sim: SimController, after: int) -> None:
         self._sim, self._left = sim, after
 
-    def __getattr__(self, name: str) -> object:
+    def __getattr__(self, name: str) -> Any:  # the simulator's: a Controller to the type checker
         return getattr(self._sim, name)
 
     def get_input(self, port: int) -> SignalLevel:
@@ -274,7 +275,7 @@ def test_a_failed_input_read_at_the_end_of_a_pass_fails_the_loop_and_a_retry_rea
     a = waypoints["A"]
     loop = LoopStep(mode=LoopMode.UNTIL, port=1, level=SignalLevel.HIGH, body=(move(a).step,))
     flaky = FailingInput(sim, after=1)  # the check before the first pass answers, the next does not
-    runner = ProgramRunner(flaky, sleep=clock.advance, now=clock.now)  # type: ignore[arg-type]
+    runner = ProgramRunner(flaky, sleep=clock.advance, now=clock.now)
     failed = runner.run(program_of(CommentStep(text="cell"), loop, extra=(a,)))
     assert failed.state is RunState.FAILED and failed.failed_step == 1
     assert failed.message.startswith("Step 2 (Loop until DI1 HIGH) failed: ")

@@ -19,7 +19,7 @@ from pendant.program import (
     RunState,
     WaitStep,
 )
-from pendant.program.models import WAYPOINT_NAME_MAX
+from pendant.program.limits import WAYPOINT_NAME_MAX
 
 from .conftest import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, settle, teach
 
@@ -192,7 +192,7 @@ def test_runs_in_the_background_and_reports_progress(sim, clock, make_workspace)
     seen: list[Change] = []
     workspace.on_change(seen.append)
     workspace.start_run(loops=1)
-    workspace.runner._worker.join(timeout=10)  # type: ignore[union-attr]
+    workspace.runner._worker.join(timeout=10)
     settle(sim, clock)
     assert workspace.progress.state is RunState.FINISHED
     assert Change.RUN in seen

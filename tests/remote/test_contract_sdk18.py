@@ -25,7 +25,7 @@ LONG_ENOUGH_S = 60.0
 LINEAR = LinearMotionParameters(velocity=0.3, acceleration=1.0)
 
 
-def beside(controller: Controller, dy: float, actions: list | None = None) -> PositionWaypoint:  # type: ignore[type-arg]
+def beside(controller: Controller, dy: float, actions: list | None = None) -> PositionWaypoint:
     here = controller.get_position()
     point = Point(x=here.point.x, y=here.point.y + dy, z=here.point.z)
     return PositionWaypoint(point=point, rotation=here.rotation, actions=actions)

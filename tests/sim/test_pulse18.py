@@ -15,9 +15,17 @@ from pendant.controller.system_types import (
     LinearMotionParameters,
     OutputAction,
     PositionWaypoint,
+    RobotAction,
     SystemState,
 )
-from pendant.controller.types import InterpolationType, MotionParams, Point, RecoverResult, SignalLevel
+from pendant.controller.types import (
+    InterpolationType,
+    MotionParams,
+    Point,
+    Position,
+    RecoverResult,
+    SignalLevel,
+)
 from pendant.sim import FakeClock, Fault, SimController
 
 from .helpers import finish, position, record, shifted
@@ -37,11 +45,11 @@ def sim(clock: FakeClock) -> SimController:
     return SimController(clock=clock)
 
 
-def waypoint(p, blend: float = 0.0, actions=None) -> PositionWaypoint:  # type: ignore[no-untyped-def]
+def waypoint(p: Position, blend: float = 0.0, actions: list[RobotAction] | None = None) -> PositionWaypoint:
     return PositionWaypoint(point=p.point, rotation=p.rotation, blend=blend, actions=actions)
 
 
-def box_at(p, name: str = "box", side: float = 0.04) -> BoxObstacle:  # type: ignore[no-untyped-def]
+def box_at(p: Position, name: str = "box", side: float = 0.04) -> BoxObstacle:
     return BoxObstacle(
         obstacleType="BOX",
         name=name,

@@ -26,7 +26,7 @@ class FakeBrowser:
 
 
 def event(handle: Any, browser: FakeBrowser) -> viser.GuiEvent:
-    return viser.GuiEvent(client=browser, client_id=browser.client_id, target=handle)  # type: ignore[arg-type]
+    return viser.GuiEvent(client=browser, client_id=browser.client_id, target=handle)  # type: ignore[arg-type]  # a fake client for viser's
 
 
 def fire(handle: Any, browser: FakeBrowser, value: Any = None) -> None:

@@ -14,6 +14,8 @@ from typing import Any
 
 import httpx
 
+from tests.support.waiting import wait_idle
+
 JOG_SPEED_PERCENT = 10
 FAR_DEG = 90.0  # a target further than any hold reaches: the API-sent motion is frozen on the way
 MOVED_DEG = 0.01  # J1 changed by more than this: the arm moved
@@ -104,13 +106,6 @@ class PoseSampler:
         self._stop.set()
         self._thread.join()
         return Timeline(list(self._samples), released_at, self.t0_wall)
-
-
-def wait_idle(api: httpx.Client, timeout_s: float = 30.0) -> None:
-    deadline = time.monotonic() + timeout_s
-    while api.get("/status/motion").text.strip('"') != "IDLE":
-        assert time.monotonic() < deadline, "the arm did not come to rest"
-        time.sleep(0.05)
 
 
 def api_hold(api: httpx.Client, hold_s: float, direction: int = +1) -> Timeline:

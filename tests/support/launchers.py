@@ -33,7 +33,7 @@ def child_env(extra: dict[str, str] | None = None) -> dict[str, str]:
     return {**os.environ, "PYTHONPATH": path, "PYTHONUNBUFFERED": "1", **(extra or {})}
 
 
-def stop(process: subprocess.Popen, timeout_s: float = STOP_TIMEOUT_S) -> None:  # type: ignore[type-arg]
+def stop(process: subprocess.Popen, timeout_s: float = STOP_TIMEOUT_S) -> None:
     """SIGTERM, then SIGKILL if it has not exited within `timeout_s`."""
     if process.poll() is None:
         process.terminate()
@@ -110,6 +110,10 @@ def _wait_until_serving(process: subprocess.Popen[str], base_url: str) -> None:
 class Pendant:
     """A running pendant with its page: the page's URL, an HTTP client of its API, and its process (to
     signal)."""
+
+    # The folders of a test module that starts its pendant with its own (set by that module).
+    programs: Path
+    data: Path
 
     def __init__(self, ui_port: int, api_port: int, process: subprocess.Popen[bytes] | None = None) -> None:
         self.process = process

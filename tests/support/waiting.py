@@ -31,3 +31,14 @@ def answers(url: str) -> bool:
     """Anything at `url` answers HTTP at all."""
     httpx.get(url, timeout=1.0)
     return True
+
+
+MOTION_TIMEOUT_S = 30.0
+
+
+def wait_idle(api: httpx.Client, timeout_s: float = MOTION_TIMEOUT_S) -> None:
+    """Poll GET /status/motion until the arm is IDLE; AssertionError after `timeout_s`."""
+    deadline = time.monotonic() + timeout_s
+    while api.get("/status/motion").text.strip('"') != "IDLE":
+        assert time.monotonic() < deadline, "the arm did not come to rest"
+        time.sleep(POLL_S)

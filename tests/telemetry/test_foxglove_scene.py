@@ -5,6 +5,7 @@ program step running is a series of its own. Read back with the official reader 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -60,14 +61,14 @@ def test_the_recording_draws_the_arm_the_cell_and_the_course(
     [recording] = telemetry.recordings()
     schemas, messages = read_mcap(recording.files[0])
     assert schemas["/tf"] == "foxglove.FrameTransforms" and schemas["/arm"] == "foxglove.SceneUpdate"
-    by_topic: dict[str, list[object]] = {}
+    by_topic: dict[str, list[Any]] = {}
     for topic, _, message in messages:
         by_topic.setdefault(topic, []).append(message)
 
     [meshes] = by_topic["/arm"]
-    links = {entity.frame_id for entity in meshes.entities}  # type: ignore[attr-defined]
+    links = {entity.frame_id for entity in meshes.entities}
     assert {"base_link", "link1", "link6"} <= links
-    for entity in meshes.entities:  # type: ignore[attr-defined]
+    for entity in meshes.entities:
         assert entity.frame_locked and entity.models[0].media_type == "model/gltf-binary"
         assert entity.models[0].data[:4] == b"glTF", "the mesh itself is in the file"
 
@@ -75,7 +76,7 @@ def test_the_recording_draws_the_arm_the_cell_and_the_course(
     assert len(transforms) == N_SAMPLES
     for q, message in zip(angles, transforms, strict=True):
         expected = arm.fk_all_links(q)
-        frames = {t.child_frame_id: t for t in message.transforms}  # type: ignore[attr-defined]
+        frames = {t.child_frame_id: t for t in message.transforms}
         assert set(frames) == set(expected)
         for link, T in expected.items():
             t = frames[link]
@@ -87,7 +88,7 @@ def test_the_recording_draws_the_arm_the_cell_and_the_course(
     assert not np.allclose(angles[0], angles[-1]), "the arm moved during the recording"
 
     [cell] = by_topic["/cell"]  # written once: the cell did not change
-    [box] = cell.entities  # type: ignore[attr-defined]
+    [box] = cell.entities
     assert box.id == "cell/fixture"
     size = box.cubes[0].size
     assert (size.x, size.y, size.z) == pytest.approx((0.2, 0.1, 0.3))
@@ -96,12 +97,12 @@ def test_the_recording_draws_the_arm_the_cell_and_the_course(
     path_points = [
         (p.x, p.y, p.z)
         for update in by_topic["/tcp_path"]
-        for entity in update.entities  # type: ignore[attr-defined]
+        for entity in update.entities
         for p in entity.lines[0].points
     ]
     tcp = [arm.fk_all_links(q)["tcp"][:3, 3] for q in angles]
     assert len(by_topic["/tcp_path"]) == 2, "a piece per second of 10 samples"
     assert np.allclose(path_points[0], tcp[0]) and np.allclose(path_points[-1], tcp[19])
 
-    steps = [(m["line"], m["step"]) for m in by_topic["/program"]]  # type: ignore[index]
+    steps = [(m["line"], m["step"]) for m in by_topic["/program"]]
     assert steps == [(2, "Move J to P1"), (3, "Wait 1 s")], "written when the step changes"

@@ -47,15 +47,16 @@ class JsonDecoder(McapDecoderFactory):
         return json.loads if message_encoding == "json" else None
 
 
-def read_mcap(path: Path) -> tuple[dict[str, object], list[tuple[str, int, object]]]:
+def read_mcap(path: Path) -> tuple[dict[str, Any], list[tuple[str, int, Any]]]:
     """Schemas by topic (JSON schemas parsed; protobuf ones by name), and (topic, log time ns, message) in
-    file order: JSON messages as dicts, Foxglove's protobuf messages decoded from the file's own schemas."""
+    file order: JSON messages as dicts, Foxglove's protobuf messages decoded from the file's own schemas (Any:
+    each topic has its own kind)."""
     decoder = DecoderFactory()
     with path.open("rb") as stream:
         reader = make_reader(stream, decoder_factories=[decoder, JsonDecoder()])
         summary = reader.get_summary()
         assert summary is not None
-        schemas: dict[str, object] = {}
+        schemas: dict[str, Any] = {}
         for channel in summary.channels.values():
             schema = summary.schemas[channel.schema_id]
             if channel.topic in FOXGLOVE_SCHEMAS:
@@ -65,7 +66,7 @@ def read_mcap(path: Path) -> tuple[dict[str, object], list[tuple[str, int, objec
             else:
                 assert (schema.encoding, channel.message_encoding) == ("jsonschema", "json")
                 schemas[channel.topic] = json.loads(schema.data)
-        messages: list[tuple[str, int, object]] = []
+        messages: list[tuple[str, int, Any]] = []
         for _, channel, message, decoded in reader.iter_decoded_messages(log_time_order=False):
             messages.append((channel.topic, message.log_time, decoded))
     return schemas, messages
@@ -92,13 +93,13 @@ def test_a_recording_opens_in_an_mcap_reader(
     assert mcap_path.suffix == ".mcap" and csv_path.suffix == ".csv"
     schemas, messages = read_mcap(mcap_path)
     assert set(schemas) >= TOPICS
-    assert "position_deg" in schemas["/joints"]["properties"]  # type: ignore[index]
+    assert "position_deg" in schemas["/joints"]["properties"]
 
     by_topic: dict[str, list[tuple[int, Any]]] = {topic: [] for topic in TOPICS}
     for topic, time_ns, message in messages:
         by_topic[topic].append((time_ns, message))
-    assert [m.message for _, m in by_topic["/events"]] == ["[command] Move J"]  # type: ignore[attr-defined]
-    assert [m.name for _, m in by_topic["/events"]] == ["browser #1 (127.0.0.1)"]  # type: ignore[attr-defined]
+    assert [m.message for _, m in by_topic["/events"]] == ["[command] Move J"]
+    assert [m.name for _, m in by_topic["/events"]] == ["browser #1 (127.0.0.1)"]
     assert {len(by_topic[t]) for t in ("/joints", "/tcp", "/motors", "/io")} == {N_SAMPLES}
     for i, ((position, motors), (time_ns, joints), (_, tcp), (_, motor_msg), (_, io_msg)) in enumerate(
         zip(
@@ -111,7 +112,7 @@ def test_a_recording_opens_in_an_mcap_reader(
         assert tcp["x"] == position.point.x and tcp["yaw"] == position.rotation.yaw
         assert io_msg == {"outputs": [1.0, 0.0], "inputs": [0.0, 0.0, 0.0, 0.0], "motion_status": "RUNNING"}
     first, last = by_topic["/joints"][0][1], by_topic["/joints"][-1][1]
-    assert last["position_deg"][0] > first["position_deg"][0] + 1.0, "J1 turning is in the file"  # type: ignore[index]
+    assert last["position_deg"][0] > first["position_deg"][0] + 1.0, "J1 turning is in the file"
 
     rows = list(csv.reader(io.StringIO(csv_path.read_text())))
     assert rows[0] == csv_header() and len(rows) == 1 + N_SAMPLES

@@ -90,7 +90,7 @@ def test_the_cell_tab_adds_renames_and_deletes_on_the_controller(
     assert ui.cell.selected.value == "table"  # the one just added is the one being edited
 
     fire(ui.cell.name, browser, "bench")  # rename: same obstacle, new name
-    ui.cell.submit(browser).result(timeout=WAIT_S)  # type: ignore[union-attr]
+    ui.cell.submit(browser).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
     assert names(sim) == ["bench"]
     pendant_ui.refresh_cell()
     assert ui.cell.selected.value == "bench"
@@ -110,7 +110,7 @@ def test_update_edits_the_selected_obstacle_and_add_never_replaces_one(
         fire(ui.cell.selected, browser, NEW)
         fire(ui.cell.name, browser, name)
         fire(ui.cell.at, browser, (x, 300.0, 100.0))
-        ui.cell.submit(browser, add=True).result(timeout=WAIT_S)  # type: ignore[union-attr]
+        ui.cell.submit(browser, add=True).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
         pendant_ui.refresh_cell()
     fire(ui.cell.selected, browser, "left")
     fire(ui.cell.at, browser, (450.0, 350.0, 100.0))  # moved, then Update: the same obstacle, moved
@@ -140,7 +140,7 @@ def test_a_capsule_from_the_form_keeps_its_ends_and_radius(ui: ClientSession, si
     fire(ui.cell.at, browser, (400.0, 300.0, 0.0))
     fire(ui.cell.end, browser, (400.0, 300.0, 600.0))
     fire(ui.cell.radius, browser, 40.0)
-    ui.cell.submit(browser, add=True).result(timeout=WAIT_S)  # type: ignore[union-attr]
+    ui.cell.submit(browser, add=True).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
     post = sim.get_obstacle("post")
     assert isinstance(post, CapsuleObstacle)
     assert post.radius == pytest.approx(0.04)
@@ -228,7 +228,7 @@ def test_the_ghost_turns_red_for_a_target_or_a_path_through_an_obstacle(
 
     halfway = q.copy()
     halfway[0] += np.radians(45.0)
-    sim.add_obstacle(box("in the way", tuple(sim.arm.fk(halfway)[:3, 3])))  # type: ignore[arg-type]
+    sim.add_obstacle(box("in the way", tuple(sim.arm.fk(halfway)[:3, 3])))
     pendant_ui.refresh_cell()  # the cell changed: the target is checked again
     assert not panel.check.ok
     assert panel.check.reason == "Collision detected: the path to the target passes through 'in the way'"
@@ -236,7 +236,7 @@ def test_the_ghost_turns_red_for_a_target_or_a_path_through_an_obstacle(
     assert panel.move_j.disabled and panel.move_l.disabled
     assert panel.obstacles_hit == {"in the way": True}  # drawn red in this browser
 
-    sim.add_obstacle(box("at the target", tuple(sim.arm.fk(around)[:3, 3])))  # type: ignore[arg-type]
+    sim.add_obstacle(box("at the target", tuple(sim.arm.fk(around)[:3, 3])))
     pendant_ui.refresh_cell()
     assert panel.check.reason == "Collision detected: the arm would touch 'at the target'"
 
@@ -251,7 +251,7 @@ def test_the_tool_shape_is_drawn_on_the_flange_and_the_ghost_checks_it(
 ) -> None:
     flange = sim.arm.fk(home_q(sim))
     along = flange[:3, 2]  # the flange's z axis: where the tool points
-    sim.add_obstacle(box("below the tool", tuple(flange[:3, 3] + 0.25 * along), side=0.04))  # type: ignore[arg-type]
+    sim.add_obstacle(box("below the tool", tuple(flange[:3, 3] + 0.25 * along), side=0.04))
     pendant_ui.refresh_cell()
     lowered = flange.copy()
     lowered[:3, 3] += 0.1 * along
@@ -284,7 +284,7 @@ def test_a_cell_file_is_saved_loaded_and_applied(
 
     sim.remove_obstacles()
     sim.add_obstacle(box("other", (-0.4, 0.3, 0.2)))
-    ui.cell.load_file("line 3", browser).result(timeout=WAIT_S)  # type: ignore[union-attr]
+    ui.cell.load_file("line 3", browser).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
     assert names(sim) == ["fixture"]  # exactly the saved cell
 
 
@@ -317,7 +317,7 @@ def test_the_robot_tab_sets_the_tool_shape_and_shows_the_controllers(
 ) -> None:
     browser = FakeBrowser(OPERATOR)
     fire(ui.tool_shape.capsules, browser, "30: 0 0 0 -> 0 0 150; 20: 0 0 150 -> 0 60 200")
-    ui.tool_shape.submit(browser).result(timeout=WAIT_S)  # type: ignore[union-attr]
+    ui.tool_shape.submit(browser).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
     shape = sim.get_tool_shape().shape
     assert [c.radius for c in shape] == pytest.approx([0.03, 0.02])
     assert (shape[1].finish.y, shape[1].finish.z) == pytest.approx((0.06, 0.2))
@@ -343,7 +343,7 @@ def test_a_jog_towards_an_obstacle_stops_short_of_it(
     q = home_q(sim)
     at = q.copy()
     at[0] += np.radians(30.0)
-    sim.add_obstacle(box("fixture", tuple(sim.arm.fk(at)[:3, 3])))  # type: ignore[arg-type]
+    sim.add_obstacle(box("fixture", tuple(sim.arm.fk(at)[:3, 3])))
     pendant_ui.refresh_cell()
     request = JogRequest(JogFrame.JOINT, 0, +1, speed_percent=50, step=np.radians(10.0))  # the largest
     assert pendant_ui.jogger.step(request)

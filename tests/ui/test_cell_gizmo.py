@@ -132,7 +132,7 @@ def test_a_placement_the_controller_refuses_puts_the_gizmo_back_and_says_why(
     away = sim.get_pose().angles
     away[0] += 30.0
     sim.set_pose(Pose(angles=away), MotionParams(speed=10.0))  # the fake clock holds the arm in motion
-    drag(gizmo, operator, [pose((0.5, 0.3, 0.3)), pose(tuple(flange))])  # type: ignore[arg-type]
+    drag(gizmo, operator, [pose((0.5, 0.3, 0.3)), pose(tuple(flange))])
     wait_for(lambda: bool(operator.notifications), "the refusal")
     assert operator.notifications == [
         "Update obstacle 'table' refused: Collision detected: the obstacle touches the arm or its tool while "

@@ -59,7 +59,7 @@ def test_in_free_drive_the_sliders_move_the_arm_but_not_into_an_obstacle(
 
     further = turned.copy()
     further[0] += np.radians(30.0)
-    sim.add_obstacle(box("in the way", tuple(sim.arm.fk(further)[:3, 3])))  # type: ignore[arg-type]
+    sim.add_obstacle(box("in the way", tuple(sim.arm.fk(further)[:3, 3])))
     pendant_ui.refresh_cell()
     check = ui.target_panel.set_joint_target(further, operator)
     assert not check.ok and "Collision detected" in (check.reason or "")

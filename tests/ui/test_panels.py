@@ -55,7 +55,9 @@ class Commands:
         self._futures: list[Future[object]] = []
         log = page.runner.on_submit
 
-        def on_submit(label, client, refusal, future):  # type: ignore[no-untyped-def]
+        def on_submit(
+            label: str, client: viser.ClientHandle | None, refusal: str | None, future: Future[object] | None
+        ) -> None:
             if log is not None:
                 log(label, client, refusal, future)
             if future is not None:

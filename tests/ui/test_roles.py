@@ -4,6 +4,7 @@ pendant, and the operator leaving stops a jog. Headless: sessions on the server'
 from __future__ import annotations
 
 from collections.abc import Iterator
+from concurrent.futures import Future
 
 import numpy as np
 import pytest
@@ -50,7 +51,7 @@ def angles(sim: SimController) -> np.ndarray:
     return np.asarray(sim.get_pose().angles)
 
 
-def move(ui: PendantUI, client: FakeBrowser):  # type: ignore[no-untyped-def]
+def move(ui: PendantUI, client: FakeBrowser) -> Future[object]:
     return ui.runner.submit("Move J", lambda c: c.set_pose(HOME_MOVE, MotionParams(speed=50.0)), client)
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import asyncio
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from urllib.parse import parse_qs, urlsplit
 
 import pytest
@@ -36,7 +36,7 @@ def exposed() -> Iterator[tuple[PendantUI, int]]:
     page.stop()
 
 
-async def _wait_for(condition, timeout_s: float = CONNECT_TIMEOUT_S) -> None:  # type: ignore[no-untyped-def]
+async def _wait_for(condition: Callable[[], bool], timeout_s: float = CONNECT_TIMEOUT_S) -> None:
     deadline = time.monotonic() + timeout_s
     while not condition():
         assert time.monotonic() < deadline, "the pendant did not see the browser in time"

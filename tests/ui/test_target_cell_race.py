@@ -27,7 +27,7 @@ def test_a_target_set_while_an_obstacle_arrives_is_checked_against_it(
     around, halfway = q.copy(), q.copy()
     around[0] += np.radians(90.0)
     halfway[0] += np.radians(45.0)
-    wall = box("wall", tuple(sim.arm.fk(halfway)[:3, 3]))  # type: ignore[arg-type]
+    wall = box("wall", tuple(sim.arm.fk(halfway)[:3, 3]))
     cells = {"now": CellModel(sim.arm, [], ToolShape(shape=[]))}
     operator = threading.Thread(target=lambda: panel.set_joint_target(around), name="operator")
     script = threading.Thread(target=lambda: (cells.update(now=with_wall), panel.recheck()), name="script")

@@ -8,7 +8,8 @@ import asyncio
 import json
 import time
 import uuid
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from pathlib import Path
 
 import msgspec
 import pytest
@@ -28,7 +29,7 @@ HUGE_PARTS = 60  # 60 MB, as in the audit
 
 
 @pytest.fixture
-def page(tmp_path) -> Iterator[tuple[PendantUI, int]]:  # type: ignore[no-untyped-def]
+def page(tmp_path: Path) -> Iterator[tuple[PendantUI, int]]:
     port = free_port()
     sim = SimController("pulse75", MonotonicClock())
     ui = new_page(sim, sim.arm, port=port, mode_line="sim", programs_dir=str(tmp_path))
@@ -63,7 +64,7 @@ def part_message(button_uuid: str, transfer: str, index: int, content: bytes) ->
     )
 
 
-async def wait_for(condition, timeout_s: float = WAIT_S) -> None:  # type: ignore[no-untyped-def]
+async def wait_for(condition: Callable[[], bool], timeout_s: float = WAIT_S) -> None:
     deadline = time.monotonic() + timeout_s
     while not condition():
         assert time.monotonic() < deadline, "did not happen in time"

@@ -6,7 +6,7 @@ loop they would hold up every other client, PUT /freeze included.
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, cast
 
 from fastapi import APIRouter, Depends, Request
 from fastapi.concurrency import run_in_threadpool
@@ -16,7 +16,7 @@ from pendant.api.params import POSES, TARGET_POSE, json_body, motion_params, rea
 from pendant.api.wire import JSONBytesResponse, TextResponse, empty_result, timestamped_result
 from pendant.controller.protocol import Controller
 from pendant.controller.system_types import PoseTimestamp
-from pendant.controller.types import MotionParams
+from pendant.controller.types import MotionParams, Pose
 
 Params = Annotated[MotionParams, Depends(motion_params)]
 
@@ -73,8 +73,8 @@ def pose_router(controller: Controller) -> APIRouter:
     )
     async def run_poses(request: Request, params: Params) -> TextResponse:
         waypoints = await read_body(request, POSES)
-        # A PoseWaypoint is a Pose with a blend; the list is only read.
-        await run_in_threadpool(controller.run_poses, waypoints, params)  # type: ignore[arg-type]
+        # A PoseWaypoint is a Pose with a blend; the list is only read (so list's invariance does not bite).
+        await run_in_threadpool(controller.run_poses, cast(list[Pose], waypoints), params)
         return empty_result()
 
     return router

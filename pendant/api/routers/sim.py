@@ -14,15 +14,15 @@ from pendant.api.params import POSE, InputPort, json_body, read_body
 from pendant.api.wire import TextResponse, empty_result
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSE
 from pendant.controller.types import SignalLevel
-from pendant.sim.controller import MSG_HAND_INTO_CELL, MSG_HAND_NEEDS_RELAX
 from pendant.sim.fault_kinds import FAULT_KINDS, FAULT_KINDS_BY_NAME, fault_kinds_description
+from pendant.sim.sim_controls import MSG_HAND_INTO_CELL, MSG_HAND_NEEDS_RELAX
 
 if TYPE_CHECKING:
     from pendant.sim import SimController
 
 
 # The faults the simulator can play, as they appear in the path: the fault kinds table's names.
-FaultName = StrEnum("FaultName", [(kind.name, kind.name) for kind in FAULT_KINDS])  # type: ignore[misc]
+FaultName = StrEnum("FaultName", [(kind.name, kind.name) for kind in FAULT_KINDS])  # type: ignore[misc]  # mypy reads only literal members
 
 FaultPath = Annotated[FaultName, Path(description=fault_kinds_description())]
 

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import viser
 
-from pendant.cell.forms import KINDS, ObstacleForm, form_from_obstacle, obstacle_from_form
+from pendant.cell.forms import KINDS, ObstacleForm, form_from_obstacle, obstacle_from_form, vec3
 from pendant.cell.placement import gizmo_pose, moved_form
 from pendant.controller import Controller
 from pendant.controller.cell_types import Obstacle
@@ -106,10 +106,10 @@ class CellPanel:
         return ObstacleForm(
             kind=str(self.kind.value),
             name=str(self.name.value),
-            at_mm=tuple(float(v) for v in self.at.value),  # type: ignore[arg-type]
-            rpy_deg=tuple(float(v) for v in self.rpy.value),  # type: ignore[arg-type]
-            size_mm=tuple(float(v) for v in self.size.value),  # type: ignore[arg-type]
-            end_mm=tuple(float(v) for v in self.end.value),  # type: ignore[arg-type]
+            at_mm=vec3(self.at.value),
+            rpy_deg=vec3(self.rpy.value),
+            size_mm=vec3(self.size.value),
+            end_mm=vec3(self.end.value),
             radius_mm=float(self.radius.value),
         )
 

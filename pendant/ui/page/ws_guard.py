@@ -102,8 +102,8 @@ def guarded_viser_server(policy: OriginPolicy | None, wrap: Wrap | None = None) 
                 handler, *args, process_request=process_request, process_response=process_response, **kwargs
             )
 
-        ws_server.serve = serve  # type: ignore[misc,assignment]
+        ws_server.serve = serve  # type: ignore[misc,assignment]  # patching the module's function for this scope
         try:
             yield
         finally:
-            ws_server.serve = original  # type: ignore[misc]
+            ws_server.serve = original  # type: ignore[misc]  # as above: put the module's own back

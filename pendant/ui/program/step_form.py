@@ -25,7 +25,7 @@ from pendant.program import (
     WaitInputStep,
     WaitStep,
 )
-from pendant.program.models import (
+from pendant.program.limits import (
     MAX_GRID,
     MAX_LOOP_TIMES,
     MAX_WAIT_MS,
@@ -259,9 +259,10 @@ class StepForm:
             case CallStep():
                 updated = CallStep(program=str(self.call.value))
             case PalletStep():
+                first, last_in_row, last_in_column = (str(c.value) for c in self.corners)
                 updated = PalletStep(
                     name=str(self.pallet_name.value),
-                    corners=tuple(str(c.value) for c in self.corners),  # type: ignore[arg-type]
+                    corners=(first, last_in_row, last_in_column),
                     rows=int(self.rows.value),
                     columns=int(self.columns.value),
                     layers=int(self.layers.value),

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import html
 from collections.abc import Sequence
+from concurrent.futures import Future
 
 import viser
 
@@ -122,7 +123,7 @@ class RobotSafetyPanel:
         self.input_stop.set_locked(locked)
         self.free_drive_availability.set_locked(locked)
 
-    def bind_stop(self, client: viser.ClientHandle | None = None):  # type: ignore[no-untyped-def]
+    def bind_stop(self, client: viser.ClientHandle | None = None) -> Future[object]:
         port = int(str(self.stop_port.value).removeprefix("DI"))
         level = SignalLevel(self.stop_level.value)
         return self.input_stop.learn(
@@ -131,7 +132,7 @@ class RobotSafetyPanel:
             )
         )
 
-    def set_free_drive(self, on: bool, client: viser.ClientHandle | None = None):  # type: ignore[no-untyped-def]
+    def set_free_drive(self, on: bool, client: viser.ClientHandle | None = None) -> Future[object]:
         label, action = ("Free drive on", _zg_on) if on else ("Free drive off", _zg_off)
         future = self.free_drive_availability.learn(self._runner.submit(label, action, client))
         future.add_done_callback(lambda f: self._show_free_drive(not on) if f.exception() else None)

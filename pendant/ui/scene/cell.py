@@ -11,6 +11,7 @@ import viser.transforms as vtf
 
 from pendant.cell.forms import plane_frame
 from pendant.controller.cell_types import BoxObstacle, CapsuleObstacle, Obstacle, ToolShape
+from pendant.controller.types import Point
 from pendant.kinematics.obstacles import Capsule, capsule_shape
 from pendant.kinematics.transforms import position_to_matrix
 
@@ -23,7 +24,7 @@ PLANE_SIZE_M = 2.0  # a plane is infinite; this much of it is drawn around its f
 PLANE_THICKNESS_M = 0.002
 
 
-def _vector(point) -> np.ndarray:  # type: ignore[no-untyped-def]
+def _vector(point: Point) -> np.ndarray:
     return np.array([point.x, point.y, point.z])
 
 

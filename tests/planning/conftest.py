@@ -1,0 +1,17 @@
+"""What the planning tests share: a `pendant --no-ui` on a fast clock, one per test module."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import httpx
+import pytest
+
+from tests.support.launchers import running_pendant
+
+
+@pytest.fixture(scope="module")
+def fast_api() -> Iterator[httpx.Client]:
+    """A client of the simulator's API, ten times faster than real time."""
+    with running_pendant("--time-scale", "10") as url, httpx.Client(base_url=url, timeout=15.0) as client:
+        yield client
