@@ -124,6 +124,19 @@ class Jogger:
         finally:
             self._lock.release()
 
+    def still_held(self, releases: int, holder: object = None) -> None:
+        """The holder's confirmation as it arrives, before `hold` asks the controller on a worker thread: the
+        running jog's deadman is confirmed at once, so a late worker (many browsers, a busy interpreter)
+        does not count against the operator. Never starts nor restarts anything: only the jog `holder` is
+        running, with no stop or release since `releases`, is kept alive."""
+        with self._state:
+            if self._active is None or self._latch is not None or holder != self._holder:
+                return
+            if releases != self._released:
+                return
+            self._confirmed_at = self._clock()
+            self.deadman.confirm()
+
     def _keep_moving(self, request: JogRequest, releases: int, now: float) -> bool:
         status = self._controller.get_motion_status()
         running = status is MotionStatus.RUNNING

@@ -111,6 +111,29 @@ def test_the_deadman_stop_holds_when_confirmations_come_back(sim, clock, jogger)
     moves_after_release_and_press(jogger, sim, clock)
 
 
+def test_a_confirmation_heard_on_arrival_keeps_only_the_running_jog_alive(sim, clock, jogger):
+    # viser's loop hears each confirmation (still_held) before a worker thread asks the controller (hold):
+    # with the workers late (many browsers), the arrivals alone keep the operator's running jog alive...
+    confirm(jogger, clock, 0.3)
+    for _ in range(10):  # 0.5 s, more than twice the deadman
+        jogger.still_held(jogger.releases, BROWSER)
+        clock.advance(CONFIRM_PERIOD_S)
+        assert not jogger.check_deadman()
+    # ...but not another browser's, and never after a stop: nothing moves again until a new press.
+    for _ in range(5):
+        jogger.still_held(jogger.releases, OTHER_BROWSER)
+        clock.advance(CONFIRM_PERIOD_S)
+    assert jogger.check_deadman()
+    stopped_at = j1(sim)
+    for _ in range(10):
+        jogger.still_held(jogger.releases, BROWSER)
+        clock.advance(CONFIRM_PERIOD_S)
+        jogger.check_deadman()
+    assert abs(j1(sim) - stopped_at) < STILL_TOL_DEG
+    assert jogger.latch_cause(BROWSER).startswith("deadman")
+    moves_after_release_and_press(jogger, sim, clock)
+
+
 @pytest.mark.parametrize("how", ["freeze", "input"])
 def test_a_stop_the_pendant_did_not_hear_of_is_seen_and_holds(sim, clock, how):
     jogger = Jogger(sim, sim.arm, clock=clock.now)  # no bus: a real controller's own stops

@@ -177,6 +177,7 @@ class JogPanel:
             # Here, on viser's event loop, the page's messages arrive in the order it sent them: note how
             # many releases came before this confirmation, then talk to the controller on a thread.
             releases = self._jogger.releases
+            self._jogger.still_held(releases, event.client_id)  # the deadman hears it now, not after the hop
             future = asyncio.get_running_loop().run_in_executor(
                 None, self._hold, event.client, axis, direction, releases
             )
