@@ -134,6 +134,33 @@ def test_a_confirmation_heard_on_arrival_keeps_only_the_running_jog_alive(sim, c
     moves_after_release_and_press(jogger, sim, clock)
 
 
+API_STOPS = ["Freeze from the API (127.0.0.1)", "Protective stop from the API (127.0.0.1)"]
+
+
+@pytest.mark.parametrize("stop", API_STOPS)
+def test_an_api_stop_amid_confirmations_holds_until_the_operator_acts(sim, clock, stops, jogger, stop):
+    # PUT /freeze or POST /stop while J1+ is held: the arrivals heard on viser's loop (still_held) and the
+    # workers' holds that follow keep coming, and the arm stays still until release and a new press (after
+    # Recover, for a protective stop).
+    confirm(jogger, clock, 0.3)
+    count = jogger.releases  # an arrival read before the stop, handled after it
+    stops.notify(stop)
+    sim.stop() if stop.startswith("Protective") else sim.freeze()
+    stopped_at = j1(sim)
+    for _ in range(20):
+        jogger.still_held(count, BROWSER)
+        jogger.still_held(jogger.releases, BROWSER)
+        assert not jogger.hold(J1_PLUS, jogger.releases, BROWSER)
+        clock.advance(CONFIRM_PERIOD_S)
+        jogger.check_deadman()
+    assert abs(j1(sim) - stopped_at) < STILL_TOL_DEG
+    assert jogger.latch_cause(BROWSER) == stop
+    if stop.startswith("Protective"):
+        assert sim.get_motion_status() is MotionStatus.ERROR  # still stopped: only Recover leaves it
+        assert sim.recover().value == "SUCCESS"
+    moves_after_release_and_press(jogger, sim, clock)
+
+
 @pytest.mark.parametrize("how", ["freeze", "input"])
 def test_a_stop_the_pendant_did_not_hear_of_is_seen_and_holds(sim, clock, how):
     jogger = Jogger(sim, sim.arm, clock=clock.now)  # no bus: a real controller's own stops
