@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 import threading
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import coal
@@ -288,36 +288,33 @@ class CellCheck:
     def clearance(self, q: np.ndarray, *, with_itself: bool = False) -> Clearance:
         """The smallest distance from the arm and its tool to the obstacles and the floor at q (signed:
         negative is a penetration depth), without the margin; `with_itself`: the arm's own pairs too."""
-        data, geometry_data = self._scratch()
-        q_pin = self._to_pin(joint_vector(q))
-        pin.updateGeometryPlacements(self.model, data, self.geometry_model, geometry_data, q_pin)
         pairs = (
             range(len(self.geometry_model.collisionPairs))
             if with_itself
             else (*self._obstacle_of_pair, *self._floor_pairs)
         )
-        best = Clearance(np.inf, "")
-        for index in pairs:
-            distance = pin.computeDistance(self.geometry_model, geometry_data, index).min_distance
-            if distance < best.distance_m:
-                best = Clearance(float(distance), self._what(index))
-        return best
+        nearest = self._nearest_pair(q, pairs)
+        return Clearance(np.inf, "") if nearest is None else Clearance(nearest[1], self._what(nearest[0]))
 
     def closest_obstacle(self, q: np.ndarray) -> Approach | None:
         """The arm's or tool's closest approach to an obstacle at q (signed, without the margin) and which
         link (TOOL_LINK for the tool) and obstacle; None in a cell without obstacles. (The pre-flight's.)"""
-        if not self._obstacle_of_pair:
+        nearest = self._nearest_pair(q, self._obstacle_of_pair)
+        if nearest is None:
             return None
+        index, distance = nearest
+        return Approach(distance, self._contact_of_pair[index][1], self._obstacle_of_pair[index])
+
+    def _nearest_pair(self, q: np.ndarray, pairs: Iterable[int]) -> tuple[int, float] | None:
+        """Of the collision pairs `pairs`, the nearest at q and its signed distance; None for no pairs."""
         data, geometry_data = self._scratch()
         q_pin = self._to_pin(joint_vector(q))
         pin.updateGeometryPlacements(self.model, data, self.geometry_model, geometry_data, q_pin)
-        best: Approach | None = None
-        for index, (obstacle, link) in self._contact_of_pair.items():
-            if index not in self._obstacle_of_pair:
-                continue  # the tool and the floor
-            distance = pin.computeDistance(self.geometry_model, geometry_data, index).min_distance
-            if best is None or distance < best.distance_m:
-                best = Approach(float(distance), link, str(obstacle))
+        best: tuple[int, float] | None = None
+        for index in pairs:
+            distance = float(pin.computeDistance(self.geometry_model, geometry_data, index).min_distance)
+            if best is None or distance < best[1]:
+                best = (index, distance)
         return best
 
     def _what(self, index: int) -> str:
