@@ -144,8 +144,7 @@ class PendantUI:
         self.tool_shape = ToolShapeDrawing(self.server.scene)
         self.recorder = PathRecorder(recordings)  # "Record path": fed every reading below, kept there
         self.programs.path_recordings = recordings  # a Path step simplified again reads its recording there
-        self.browsers = Browsers()
-        self.browsers.builder.hold_back = lambda: self.jogger.pressed  # the operator's jog first
+        self.browsers = Browsers(hold_back=lambda: self.jogger.pressed)  # the operator's jog first
         self.sessions = self.browsers.sessions  # by client id (tests add theirs under the lock)
         self._sessions_lock = self.browsers.lock
         self.dashboard_feed = DashboardFeed(self.telemetry, self.events)

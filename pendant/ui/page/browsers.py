@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import logging
 import threading
+from collections.abc import Callable
 from urllib.parse import parse_qs, urlsplit
 
 import viser
@@ -20,8 +21,8 @@ class Browsers:
     while its panels wait to be built (they never are) or are being built: its session is then closed as it
     is added, never kept for a client that is gone."""
 
-    def __init__(self) -> None:
-        self.builder = SessionBuilder()
+    def __init__(self, hold_back: Callable[[], bool] = lambda: False) -> None:
+        self.builder = SessionBuilder(hold_back=hold_back)  # `hold_back`: builds wait (the operator jogs)
         self.sessions: dict[int, ClientSession] = {}
         self.lock = threading.Lock()
         self._gone: set[int] = set()  # clients that left before their session was built

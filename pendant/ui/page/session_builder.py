@@ -69,7 +69,7 @@ class SessionBuilder:
         hold_back: Callable[[], bool] = lambda: False,
     ) -> None:
         self._oldest_wait_s = oldest_wait_s
-        self.hold_back = hold_back  # True while builds should wait (the operator is jogging)
+        self._hold_back = hold_back  # True while builds should wait (the operator is jogging)
         self._clock = clock
         self._waiting: dict[int, _Waiting] = {}  # by client id, in arrival order
         self._wake = threading.Condition()
@@ -118,7 +118,7 @@ class SessionBuilder:
 
     def _holding_back(self) -> bool:
         try:
-            return bool(self.hold_back())
+            return bool(self._hold_back())
         except Exception:  # a broken check must not stop every build
             log.exception("the builder's hold-back check failed")
             return False
