@@ -118,8 +118,11 @@ def main(argv: Sequence[str] | None = None, planner_for: Callable[[str], PathPla
     print(f"Running {program.name!r} ({path}) on {where}", flush=True)
     # Against a pendant: a stop it hears from anywhere ends this run too (a bare controller cannot say).
     watch = StopWatch(http_client(args), args.robot, runner.stop_heard) if args.robot else None
-    if watch is not None and not watch.start():
-        print("The controller does not report stops: only this run's own stops end it", file=sys.stderr)
+    if watch is not None:
+        if watch.start():
+            runner.hear_stops_now = watch.poll_now
+        else:
+            print("The controller does not report stops: only this run's own stops end it", file=sys.stderr)
     try:
         result = runner.run(program, args.loops)
     except PlanError as error:

@@ -108,6 +108,9 @@ class ProgramRunner:
         # A failed step's reason in the page's words (a bare "Collision detected" gets the obstacle named):
         # given the program, the failed lines (first, last: a blended group refused whole) and the reason.
         self.explain_failure: Callable[[Program, int, int, str], str] = lambda program, first, last, why: why
+        # Collects a stop still on its way before a failed step is judged (`pendant run` polls a pendant's
+        # stops: its protective stop may show as the step failing before the poll hears it).
+        self.hear_stops_now: Callable[[], None] = lambda: None
         self._executor = NodeExecutor(
             controller,
             Timing(sleep, now, poll_s),
@@ -270,6 +273,7 @@ class ProgramRunner:
         except Interrupted:
             return self._interrupted(run)
         except NodeFailed as failure:
+            self.hear_stops_now()
             if self._heard.since_start:  # the stop landed between two looks: the arm stopped short for it
                 return self._interrupted(run)
             return self._failed(run, failure)

@@ -39,6 +39,8 @@ class StopWatch:
         self._heard = heard
         self._done = threading.Event()
         self._thread: threading.Thread | None = None
+        self._seen = 0
+        self._seen_lock = threading.Lock()  # the watcher's thread and a failing step's poll_now
 
     def start(self) -> bool:
         """Begin watching; False (nothing started) when the other end does not count stops."""
@@ -48,24 +50,32 @@ class StopWatch:
             first = None
         if first is None:
             return False
-        self._thread = threading.Thread(
-            target=self._watch, args=(first[0],), name="pendant-stop-watch", daemon=True
-        )
+        self._seen = first[0]
+        self._thread = threading.Thread(target=self._watch, name="pendant-stop-watch", daemon=True)
         self._thread.start()
         return True
+
+    def poll_now(self) -> None:
+        """Read the count at once (a step just failed: was it a stop on its way?)."""
+        with self._seen_lock:
+            self._check()
 
     def stop(self) -> None:
         self._done.set()
         if self._thread is not None:
             self._thread.join(timeout=1.0)
 
-    def _watch(self, seen: int) -> None:
+    def _watch(self) -> None:
         while not self._done.wait(POLL_S):
-            try:
-                now = read_count(self._client, self._base_url)
-            except (httpx.HTTPError, ValueError, KeyError, TypeError) as error:
-                log.debug("reading the pendant's stops failed: %s", error)
-                continue
-            if now is not None and now[0] != seen:
-                seen = now[0]
-                self._heard(now[1] or "a stop sent to the pendant")
+            with self._seen_lock:
+                self._check()
+
+    def _check(self) -> None:
+        try:
+            now = read_count(self._client, self._base_url)
+        except (httpx.HTTPError, ValueError, KeyError, TypeError) as error:
+            log.debug("reading the pendant's stops failed: %s", error)
+            return
+        if now is not None and now[0] != self._seen:
+            self._seen = now[0]
+            self._heard(now[1] or "a stop sent to the pendant")
