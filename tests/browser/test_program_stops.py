@@ -133,7 +133,8 @@ def test_a_stop_during_a_still_step_ends_the_run_and_the_banner_offers_retry(
     # The run's own words; a protective stop's banner leads with the controller's state, the run's after it.
     banner.get_by_text(f"Stopped at step {line} by").wait_for(timeout=UI_TIMEOUT_MS)
     text = banner.inner_text()
-    assert ("Protective stop" if source == "POST /stop (urllib)" else f"Program stopped at step {line}") in text
+    title = "Protective stop" if source == "POST /stop (urllib)" else f"Program stopped at step {line}"
+    assert title in text, text
     held = np.array(pendant.pose())
     np.testing.assert_allclose(held, A_DEG, atol=0.05)
     time.sleep(HELD_S)
