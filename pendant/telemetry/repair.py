@@ -100,7 +100,7 @@ def repair(path: Path, time_limit_s: float = REPAIR_TIME_LIMIT_S) -> str:
                 try:
                     for record in records(stream, path.stat().st_size, time_limit_s):
                         copy.add(record)
-                    damage = "it holds bytes after its end"  # finished() said it does not end there
+                    # Its data section is whole: killed while it wrote the summary, which is written anew.
                 except Truncated:
                     pass  # the unfinished chunk at the end: everything before it is kept
                 except Damaged as error:

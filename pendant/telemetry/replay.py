@@ -153,7 +153,7 @@ def load_replay(
                         steps.append((record.log_time, step))
     except Truncated as error:
         raise ReplayError(
-            f"{path.name} is not finished ({error}): the pendant finishes it on its next start"
+            f"{path.name} is not finished ({error}): the pendant finishes such a file when it starts"
         ) from error
     except Damaged as error:
         raise ReplayError(f"{path.name} cannot be read as a recording: {error}") from error

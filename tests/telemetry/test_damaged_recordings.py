@@ -94,6 +94,18 @@ def test_a_finished_recording_whose_summary_points_past_its_end_is_replayed_from
     assert load_replay(path).duration_s > 0.0
 
 
+def test_a_recording_killed_while_writing_its_summary_is_repaired_whole(real: bytes, tmp_path: Path) -> None:
+    footer = len(real) - 8 - 29  # the footer record (opcode, length, three fields), then the magic
+    summary_start = int.from_bytes(real[footer + 9 : footer + 17], "little")
+    path = tmp_path / NAME
+    path.write_bytes(real[: summary_start + 10])
+    finished_copy = tmp_path / "finished.mcap"
+    finished_copy.write_bytes(real)
+    [note] = repair_all(tmp_path)
+    assert "repaired" in note and finished(path) and not (tmp_path / DAMAGED).exists(), note
+    assert message_count(path) == message_count(finished_copy)
+
+
 def test_random_bytes_after_a_real_start_are_moved_aside_keeping_what_was_readable(
     unfinished: bytes, tmp_path: Path
 ) -> None:
