@@ -35,7 +35,7 @@ def add_monitoring(app: FastAPI, metrics: PendantMetrics | None, store: EventSou
         app.include_router(events_router(store))
     if metrics is not None:
         app.include_router(metrics_router(metrics))
-        app.add_middleware(CommandMetrics, metrics=metrics)
+        app.add_middleware(CommandMetrics, metrics=metrics, served=app)
 
 
 __all__ = [

@@ -3,6 +3,11 @@
 Counters are kept by the pendant as things happen (commands by endpoint and status, refusals, motion
 failures, events, program runs); the arm's readings are read from the controller at scrape time
 (controller_metrics.py). A read like any GET: open without the access token.
+
+Every API command series exists at 0 from the start (each changing route by its template, each answer
+status): Prometheus' rate() and increase() need a sample before the first event, or a fresh site's first
+command and first refusal of each kind would never show. Labels are route templates (`DELETE
+/environment/{obstacle}`), never raw paths, so the number of series is fixed at start.
 """
 
 from __future__ import annotations
@@ -12,8 +17,16 @@ import threading
 import time
 from collections.abc import Iterable
 
-from fastapi import APIRouter
-from prometheus_client import CONTENT_TYPE_LATEST, CollectorRegistry, Counter, Gauge, Info, generate_latest
+from fastapi import APIRouter, FastAPI
+from prometheus_client import (
+    CONTENT_TYPE_LATEST,
+    CollectorRegistry,
+    Counter,
+    Gauge,
+    Info,
+    disable_created_metrics,
+    generate_latest,
+)
 from prometheus_client.core import CounterMetricFamily, GaugeMetricFamily, Metric
 from prometheus_client.registry import Collector
 from starlette.responses import Response
@@ -21,12 +34,19 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from pendant import __version__
 from pendant.access.token import changes_robot
+from pendant.controller.operations import OPERATIONS, find_operation
 from pendant.controller.protocol import Controller
 from pendant.eventlog import Event, EventLog
 from pendant.monitoring.controller_metrics import ControllerCollector
 
 METRICS_PATH = "/metrics"
-MAX_ENDPOINTS = 100  # distinct endpoint labels; more are counted as "other" (a label per URL would explode)
+MAX_ENDPOINTS = 100  # distinct page labels; more are counted as "other" (a label per URL would explode)
+OTHER = "other"  # a command to no route of the pendant (answered 404 or 405)
+# Every status the pendant answers a command with (the PULSE API's, the access guard's, the proxy's).
+ACCEPTED_STATUSES = ("200",)
+REFUSAL_STATUSES = tuple(
+    str(status) for status in (400, 401, 403, 404, 405, 409, 412, 413, 415, 422, 429, 431, 500, 502, 503, 504)
+)
 MOTION_ENDPOINTS = frozenset({"/pose", "/position", "/poses/run", "/positions/run", "/pack"})
 MOTION_FAILURE_STATUSES = frozenset(
     {412, 500, 502, 503}
@@ -60,6 +80,9 @@ class PendantMetrics:
     """The pendant's Prometheus registry. `viewers` is set by the page (browsers connected)."""
 
     def __init__(self, controller: Controller, *, mode: str, model: str, robot_url: str | None) -> None:
+        # No `*_created` sample beside each counter: it would double a scrape made of ~1,400 series at 0,
+        # and Prometheus' rate() does not read it.
+        disable_created_metrics()
         self.registry = CollectorRegistry()
         r = self.registry
         Info("pendant", "The pendant serving this arm", registry=r).info(
@@ -97,8 +120,17 @@ class PendantMetrics:
         self._endpoints: set[str] = set()
         self._lock = threading.Lock()
 
+    def start_at_zero(self, endpoints: Iterable[str], source: str = "api") -> None:
+        """Create every (endpoint, status) series of `source` at 0, refusals too."""
+        for endpoint in endpoints:
+            for status in ACCEPTED_STATUSES:
+                self.commands.labels(source, endpoint, status)
+            for status in REFUSAL_STATUSES:
+                self.commands.labels(source, endpoint, status)
+                self.refusals.labels(source, endpoint, status)
+
     def endpoint(self, label: str) -> str:
-        """A bounded label: numbers in paths folded (`/signal/output/{n}/high`), at most MAX_ENDPOINTS."""
+        """A bounded page label: numbers folded (`DO{n} HIGH`), at most MAX_ENDPOINTS."""
         label = _NUMBER.sub("/{n}", label)[:80]
         with self._lock:
             if label in self._endpoints:
@@ -109,7 +141,9 @@ class PendantMetrics:
             return label
 
     def count_command(self, source: str, endpoint: str, status: str, *, failed: bool, motion: bool) -> None:
-        endpoint = self.endpoint(endpoint)
+        """Count a command; `endpoint` is a route template (API) or a page label (folded and capped)."""
+        if source != "api":
+            endpoint = self.endpoint(endpoint)
         self.commands.labels(source, endpoint, status).inc()
         if failed:
             self.refusals.labels(source, endpoint, status).inc()
@@ -129,25 +163,61 @@ class PendantMetrics:
         return generate_latest(self.registry)
 
 
-class CommandMetrics:
-    """ASGI middleware (outermost): counts every PUT/POST by endpoint and the status it was answered with."""
+Template = tuple[str, str, re.Pattern[str]]  # method, route template, its regex
 
-    def __init__(self, app: ASGIApp, metrics: PendantMetrics) -> None:
+
+def command_templates(app: FastAPI) -> list[Template]:
+    """The app's own routes that change something, from its OpenAPI paths (FastAPI's public view of its
+    routes, included routers flattened); the PULSE operations are named by the operations table."""
+    found: list[Template] = []
+    for path, item in app.openapi().get("paths", {}).items():
+        regex = re.compile(re.sub(r"\\\{[^}]+\\\}", "[^/]+", re.escape(path)) + "/?")
+        found += [(method.upper(), path, regex) for method in item if changes_robot(method.upper())]
+    return found
+
+
+def route_label(method: str, path: str, templates: Iterable[Template]) -> str:
+    """`METHOD template` of the operation or route `path` asks for, else OTHER: never the raw path."""
+    operation = find_operation(method, path)
+    if operation is not None:
+        return f"{operation.method} {operation.path}"
+    for verb, template, regex in templates:
+        if verb == method and regex.fullmatch(path):
+            return f"{verb} {template}"
+    return OTHER
+
+
+def command_endpoints(templates: Iterable[Template]) -> list[str]:
+    """Every label a command can take: the table's changing operations, the app's routes, OTHER."""
+    labels = [f"{op.method} {op.path}" for op in OPERATIONS if changes_robot(op.method)]
+    labels += [f"{method} {template}" for method, template, _ in templates]
+    return [*dict.fromkeys([*labels, OTHER])]
+
+
+class CommandMetrics:
+    """ASGI middleware (outermost): counts every PUT/POST/DELETE by route template and the status it was
+    answered with. Built by Starlette at the first request, once every route is included: its series are
+    created then, before the first scrape answers."""
+
+    def __init__(self, app: ASGIApp, metrics: PendantMetrics, served: FastAPI) -> None:
         self.app = app
         self.metrics = metrics
+        self.templates = command_templates(served)
+        metrics.start_at_zero(command_endpoints(self.templates))
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http" or not changes_robot(scope["method"]):
             await self.app(scope, receive, send)
             return
         path: str = scope["path"]
+        label = route_label(scope["method"], path, self.templates)
 
         async def send_and_count(message: Message) -> None:
             if message["type"] == "http.response.start":
                 status = int(message["status"])
                 self.metrics.count_command(
                     "api",
-                    f"{scope['method']} {path}",
+                    label,
                     str(status),
                     failed=status >= 400,
                     motion=path in MOTION_ENDPOINTS and status in MOTION_FAILURE_STATUSES,

@@ -6,9 +6,10 @@ from pathlib import Path
 
 import httpx
 
+from pendant.controller.operations import OPERATIONS
 from tests.support.launchers import running_pendant
 
-from .scrape import scrape, values
+from .scrape import Samples, scrape, values
 
 REACHABLE_POSE = {"angles": [10.0, -90.0, 90.0, -90.0, -90.0, 0.0]}
 
@@ -28,19 +29,57 @@ def test_commands_are_counted_by_endpoint_and_status(tmp_path: Path) -> None:
     counts = {
         (labels["endpoint"], labels["status"]): value
         for labels, value in samples["pendant_commands_total"]
-        if labels["source"] == "api"
+        if labels["source"] == "api" and value > 0
     }
     assert counts == {
         ("PUT /pose", "200"): 1.0,
         ("PUT /pose", "400"): 1.0,
         ("PUT /pose", "401"): 1.0,
-        ("PUT /signal/output/{n}/high", "200"): 1.0,
+        ("PUT /signal/output/{port}/high", "200"): 1.0,
     }
     refused = {
-        (labels["endpoint"], labels["status"]) for labels, _ in samples["pendant_command_refusals_total"]
+        (labels["endpoint"], labels["status"])
+        for labels, value in samples["pendant_command_refusals_total"]
+        if value > 0
     }
     assert refused == {("PUT /pose", "400"), ("PUT /pose", "401")}
     assert values(samples, "pendant_motion_failures_total") == [0.0, 0.0, 0.0, 0.0], (
         "a malformed or unauthorised move is no motion failure (each source counted from 0)"
     )
     assert values(samples, "pulse_digital_output")[0] == 1.0, "DO1 went HIGH"
+
+
+def series(samples: Samples, name: str) -> dict[tuple[str, str, str], float]:
+    return {
+        (labels["source"], labels["endpoint"], labels["status"]): value for labels, value in samples[name]
+    }
+
+
+def test_every_command_series_exists_at_zero_before_the_first_command(tmp_path: Path) -> None:
+    """rate() and increase() need a sample before the first event: a fresh pendant shows every operation of
+    the table, and the pendant's own routes, at 0 for every answer."""
+    with running_pendant("--data", str(tmp_path)) as base:
+        commands = series(scrape(base), "pendant_commands_total")
+        refusals = series(scrape(base), "pendant_command_refusals_total")
+    for op in OPERATIONS:
+        if op.method == "GET":
+            continue
+        endpoint = f"{op.method} {op.path}"
+        for status in ("200", "400", "401", "403", "409", "412", "500", "503"):
+            assert commands.get(("api", endpoint, status)) == 0.0, (endpoint, status)
+        assert refusals.get(("api", endpoint, "400")) == 0.0, endpoint
+    assert commands.get(("api", "POST /pendant/plan", "200")) == 0.0, "the pendant's own routes too"
+    assert ("api", "PUT /pose", "200") not in refusals, "an accepted answer is no refusal"
+
+
+def test_obstacle_names_make_no_new_series(tmp_path: Path) -> None:
+    """100 distinct `DELETE /environment/<name>`: counted under the route template, the series unchanged."""
+    with running_pendant("--data", str(tmp_path)) as base:
+        before = series(scrape(base), "pendant_commands_total")
+        statuses = {httpx.delete(f"{base}/environment/box-{i}", timeout=10.0).status_code for i in range(100)}
+        httpx.put(f"{base}/no/such/{'x' * 40}", timeout=10.0)
+        after = series(scrape(base), "pendant_commands_total")
+    assert len(statuses) == 1, statuses
+    assert set(after) == set(before), f"new series: {set(after) - set(before)}"
+    assert after[("api", "DELETE /environment/{obstacle}", str(statuses.pop()))] == 100.0
+    assert after[("api", "other", "404")] == 1.0, "a path of no route is counted as other"

@@ -12,7 +12,7 @@ import httpx
 import pytest
 
 from pendant.monitoring.fleet import Site, Timings, query, running_fleet
-from tests.monitoring.test_deploy_files import dashboard_queries
+from tests.support.prometheus import dashboard_panels
 
 T = TypeVar("T")
 FAST = Timings(scrape_interval="1s", alert_for="2s", group_wait="1s")
@@ -65,7 +65,7 @@ def test_three_pendants_scraped_alerted_and_charted_by_the_real_tools() -> None:
         for api in site.pendant_apis:
             assert httpx.put(f"{api}/pose?speed=20", json=REACHABLE_POSE, timeout=10).status_code == 200
             assert httpx.put(f"{api}/pose?speed=20", json={"angles": [1, 2]}, timeout=10).status_code == 400
-        for expr in dashboard_queries():
+        for expr in dashboard_panels().values():
             eventually(lambda expr=expr: query(site.prometheus, expr), bool, f"dashboard query {expr}")
         assert firing_at_webhook(site) == set(), "a healthy site pages nobody"
 

@@ -40,7 +40,7 @@ def test_proxy_serves_the_arm_counts_commands_and_reports_the_link_down(sim: Sim
         assert httpx.put(f"{base}/signal/output/2/high", timeout=5.0).status_code == 200
         after = scrape(base)
         assert [labels["port"] for labels, v in after["pulse_digital_output"] if v == 1.0] == ["2"]
-        command = {"source": "api", "endpoint": "PUT /signal/output/{n}/high", "status": "200"}
+        command = {"source": "api", "endpoint": "PUT /signal/output/{port}/high", "status": "200"}
         assert (command, 1.0) in after["pendant_commands_total"]
         assert values(after, "pulse_controller_responding") == [1.0]
 
