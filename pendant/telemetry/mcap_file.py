@@ -1,7 +1,8 @@
 """A recording as an MCAP file written with Foxglove's SDK, which Foxglove opens as it is: the arm in 3D
 (/tf: foxglove.FrameTransforms of every link; /arm: foxglove.SceneUpdate of the links' meshes, locked to their
 frames), the cell (/cell), the TCP's course (/tcp_path), the event log (/events: foxglove.Log), and JSON
-series for plots: /joints, /tcp, /motors, /io, /program (the step running). Log times are wall-clock ns.
+series for plots: /joints, /tcp, /motors, /io, /program (the step running), each message built from its model
+in messages.py, whose JSON schema the channel carries. Log times are wall-clock ns.
 
 Chunks are flushed to disk at least every FLUSH_PERIOD_S, so a pendant killed with -9 leaves a file readable
 up to its last flush (repair.py finishes it on the next start)."""
@@ -9,14 +10,14 @@ up to its last flush (repair.py finishes it on the next start)."""
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
 import foxglove
 import numpy as np
 from foxglove.channels import FrameTransformsChannel, LogChannel, SceneUpdateChannel
 from foxglove.mcap import MCAPWriteOptions
+from pydantic import BaseModel
 
 from pendant import __version__
 from pendant.controller.cell_types import Obstacle
@@ -24,68 +25,11 @@ from pendant.controller.types import MotorStatus, Position
 from pendant.eventlog import Event
 from pendant.telemetry import foxglove_scene
 from pendant.telemetry.arm_scene import ArmDrawing
-from pendant.telemetry.recorder import CSV_FIELDS
+from pendant.telemetry.messages import CHANNELS, Io, Joints, MotorReading, Motors, ProgramStep, Tcp
 
 FLUSH_PERIOD_S = 1.0  # at most this much of a recording is lost to a kill -9
 TCP_LINK = "tcp"  # the URDF's frame at the flange's TCP: its course is drawn as /tcp_path
 PATH_PIECE_SAMPLES = 10  # the TCP's course is written a second at a time (at 10 samples a second)
-
-_NUMBER = {"type": "number"}
-_NUMBERS = {"type": "array", "items": _NUMBER}
-_STRINGS = {"type": "array", "items": {"type": "string"}}
-
-# topic -> (schema name, JSON schema of its messages)
-CHANNELS: dict[str, tuple[str, dict[str, Any]]] = {
-    "/joints": (
-        "pendant.Joints",
-        {
-            "type": "object",
-            "title": "Joint angles",
-            "properties": {"name": _STRINGS, "position_deg": _NUMBERS, "velocity_rpm": _NUMBERS},
-        },
-    ),
-    "/tcp": (
-        "pendant.Tcp",
-        {
-            "type": "object",
-            "title": "TCP in the zero-point frame (m, rad; R = Rz(yaw) Ry(pitch) Rx(roll))",
-            "properties": {k: _NUMBER for k in ("x", "y", "z", "roll", "pitch", "yaw")},
-        },
-    ),
-    "/motors": (
-        "pendant.Motors",
-        {
-            "type": "object",
-            "title": "GET /status/motors, the controller's field names",
-            "properties": {
-                "motors": {
-                    "type": "array",
-                    "items": {"type": "object", "properties": {f: _NUMBER for f in CSV_FIELDS}},
-                }
-            },
-        },
-    ),
-    "/io": (
-        "pendant.Io",
-        {
-            "type": "object",
-            "title": "Digital outputs and inputs (1 HIGH, 0 LOW) and the motion status",
-            "properties": {"outputs": _NUMBERS, "inputs": _NUMBERS, "motion_status": {"type": "string"}},
-        },
-    ),
-    "/program": (
-        "pendant.ProgramStep",
-        {
-            "type": "object",
-            "title": "The program step running: its line as the page numbers it (1-based) and its text",
-            "properties": {
-                "line": {"type": "integer"},
-                "step": {"type": "string"},
-                "state": {"type": "string"},
-            },
-        },
-    ),
-}
 
 
 class McapFile:
@@ -127,8 +71,8 @@ class McapFile:
         self._program: tuple[int, str, str] | None = None
         self.messages = 0
 
-    def write(self, topic: str, time_ns: int, message: Mapping[str, Any]) -> None:
-        self._json[topic].log(dict(message), log_time=time_ns)
+    def write(self, topic: str, time_ns: int, message: BaseModel) -> None:
+        self._json[topic].log(message.model_dump(), log_time=time_ns)
         self.messages += 1
 
     def write_event(self, event: Event) -> None:
@@ -143,7 +87,7 @@ class McapFile:
         """The step running, written when it changes."""
         if self._program != (line, step, state):
             self._program = (line, step, state)
-            self.write("/program", time_ns, {"line": line, "step": step, "state": state})
+            self.write("/program", time_ns, ProgramStep(line=line, step=step, state=state))
 
     def write_sample(
         self,
@@ -154,23 +98,18 @@ class McapFile:
         inputs: Sequence[float],
         motion_status: str | None,
     ) -> None:
-        self.write(
-            "/joints",
-            time_ns,
-            {
-                "name": [f"J{i + 1}" for i in range(len(motors))],
-                "position_deg": [m.angle for m in motors],
-                "velocity_rpm": [m.rotorVelocity for m in motors],
-            },
+        joints = Joints(
+            name=[f"J{i + 1}" for i in range(len(motors))],
+            position_deg=[m.angle for m in motors],
+            velocity_rpm=[m.rotorVelocity for m in motors],
         )
-        self.write("/motors", time_ns, {"motors": [m.model_dump() for m in motors]})
+        self.write("/joints", time_ns, joints)
+        readings = [MotorReading.model_validate(m.model_dump()) for m in motors]
+        self.write("/motors", time_ns, Motors(motors=readings))
         if tcp is not None:
-            self.write("/tcp", time_ns, {**tcp.point.model_dump(), **tcp.rotation.model_dump()})
-        self.write(
-            "/io",
-            time_ns,
-            {"outputs": list(outputs), "inputs": list(inputs), "motion_status": motion_status or ""},
-        )
+            self.write("/tcp", time_ns, Tcp(**tcp.point.model_dump(), **tcp.rotation.model_dump()))
+        io = Io(outputs=list(outputs), inputs=list(inputs), motion_status=motion_status or "")
+        self.write("/io", time_ns, io)
         if self._arm is not None and len(motors) == 6:
             q = np.radians([m.angle for m in motors])
             poses = self._arm.link_poses(q)
