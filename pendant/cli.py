@@ -49,6 +49,8 @@ from pendant.monitoring import PendantMetrics, data_dir, open_event_store
 from pendant.monitoring.state_watch import StateWatch
 
 if TYPE_CHECKING:
+    from pendant.telemetry import Telemetry
+    from pendant.telemetry.recordings_api import RecordingDesk
     from pendant.ui.app import PendantUI
 
 
@@ -104,6 +106,7 @@ def make_api_app(
     access: AccessRules | None = None,
     metrics: PendantMetrics | None = None,
     stops: StopBus | None = None,
+    recordings: RecordingDesk | None = None,
 ) -> ASGIApp:
     """The app on the API port: the simulator's PULSE API, or a transparent proxy to the real controller;
     both also answer GET /pendant/health, POST /pendant/plan, GET /metrics and (with a stored log)
@@ -132,6 +135,10 @@ def make_api_app(
         )
         proxy.include_router(plan_router(controller, ArmModel.load(settings.model)))
         proxy.include_router(_preflight_router(settings, controller))
+        if recordings is not None:
+            from pendant.telemetry.recordings_api import recordings_router
+
+            proxy.include_router(recordings_router(recordings))
         return proxy
     from pendant.api import create_app
 
@@ -141,6 +148,10 @@ def make_api_app(
         plan_router(controller, getattr(controller, "arm", None) or ArmModel.load(settings.model))
     )
     app.include_router(_preflight_router(settings, controller))
+    if recordings is not None:
+        from pendant.telemetry.recordings_api import recordings_router
+
+        app.include_router(recordings_router(recordings))
     if metrics is None:
         metrics = PendantMetrics(controller, mode="sim", model=settings.model, robot_url=None)
     add_monitoring(app, metrics, store)
@@ -213,6 +224,19 @@ def repair_recordings(paths: list[Path], events: EventLog) -> None:
         repair_in_background(paths, lambda note: events.record(EventKind.ERROR, "pendant", note))
 
 
+def _headless_telemetry(settings: Settings, controller: Controller, events: EventLog) -> Telemetry:
+    """With --no-ui, the recorder the API's recordings use (the page's has the same folder and drawing)."""
+    from pendant.kinematics import ArmModel
+    from pendant.telemetry import Telemetry, arm_drawing, recordings_dir
+
+    arm = getattr(controller, "arm", None) or ArmModel.load(settings.model)
+    telemetry = Telemetry(
+        controller, recordings_folder=recordings_dir(resolve_data_dir(settings)), arm=arm_drawing(arm)
+    )
+    events.on_record(telemetry.log_event)
+    return telemetry
+
+
 def resolve_data_dir(settings: Settings) -> Path:
     return data_dir(settings.data_dir, settings.programs_dir)
 
@@ -275,10 +299,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     metrics.watch(events)
     access = access_rules(settings, events)  # one switch and one set of rules for both ports
     stops = StopBus()  # the API's stops end the page's held jog
-    api_app = make_api_app(settings, controller, started_at, events, access, metrics, stops)
+    from pendant.telemetry.headless import RecordingSampler
+    from pendant.telemetry.recordings_api import RecordingDesk
+
+    desk = RecordingDesk(events=events)  # POST /pendant/recordings: the page's recorder, or one of its own
+    api_app = make_api_app(settings, controller, started_at, events, access, metrics, stops, desk)
     ui = None if settings.no_ui else start_ui(settings, controller, events, access, metrics, stops)
     # Without the page's refresh loop, a thread of its own logs the arm's state changes.
     watch = StateWatch(controller, events, metrics).start() if ui is None else None
+    desk.telemetry = ui.telemetry if ui is not None else _headless_telemetry(settings, controller, events)
+    sampler = RecordingSampler(controller, desk.telemetry).start() if ui is None else None
     announce(settings)
     from pendant.api.quitting import freeze_on_quit
 
@@ -293,6 +323,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             ui.stop()
         if watch is not None:
             watch.stop()
+        if sampler is not None:
+            sampler.stop()
+            desk.telemetry.stop_recording()  # a recording still running is finished, readable
         if store is not None:
             store.close()
     return 0

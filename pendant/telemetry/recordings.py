@@ -4,6 +4,7 @@ at most MAX_KEPT of them (the oldest are deleted when a new one starts)."""
 from __future__ import annotations
 
 import datetime as dt
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -14,6 +15,38 @@ SUFFIXES = (".mcap", ".csv")
 
 class RecordingError(Exception):
     """A recording cannot be written where it must go; the message says where, why and what to do."""
+
+
+class RecordingRefused(Exception):
+    """A recording cannot start or stop as asked (a bad or taken name, one already running, none running);
+    `status` is the HTTP answer that says so (400 or 409)."""
+
+    def __init__(self, status: int, message: str) -> None:
+        super().__init__(message)
+        self.status = status
+
+
+# A name a script gives a recording: a file name on any system, no path, no hidden file.
+NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,63}")
+
+
+def named_stem(folder: Path, name: str) -> str:
+    """`pendant-<name>`, refused (400) when `name` is not a plain file name, (409) when it is taken."""
+    if not NAME.fullmatch(name) or name.endswith(SUFFIXES):
+        raise RecordingRefused(
+            400,
+            f"Bad recording name {name[:80]!r}: 1 to 64 letters, digits, '-', '_' or '.', starting with a "
+            "letter or digit, no file suffix",
+        )
+    stem = PREFIX + name
+    if any((folder / f"{stem}{s}").exists() for s in SUFFIXES):
+        raise RecordingRefused(409, f"A recording named {name!r} already exists: choose another name")
+    return stem
+
+
+def name_of(stem: str) -> str:
+    """The name a recording goes by (the Dashboard's and the API's): its stem without the prefix."""
+    return stem.removeprefix(PREFIX)
 
 
 def recordings_dir(data_dir: str | Path) -> Path:

@@ -26,7 +26,10 @@ from pendant.telemetry.recordings import (
     MAX_KEPT,
     Recording,
     RecordingError,
+    RecordingRefused,
     list_recordings,
+    name_of,
+    named_stem,
     new_stem,
     prune,
 )
@@ -126,14 +129,26 @@ class Telemetry:
         if not self.recorder.recording:  # the CSV reached its limit: so does the MCAP
             self._close_files()
 
-    def start_recording(self) -> None:
+    @property
+    def running(self) -> str | None:
+        """The name of the recording being written, if any."""
+        return name_of(self.last_stem) if self.mcap is not None and self.last_stem is not None else None
+
+    def start_recording(self, name: str | None = None, *, exclusive: bool = False) -> str:
+        """Start a recording (named `name`, else by its start time) and return its name. The Dashboard's
+        button finishes a running one first; `exclusive` (scripts) refuses instead (RecordingRefused)."""
         with self._lock:
+            if exclusive and self.running is not None:
+                raise RecordingRefused(
+                    409, f"Recording {self.running!r} is running: stop it first (one recording at a time)"
+                )
+            stem = None if name is None else named_stem(self.recordings_folder, name)
             self._close_files()
             now, wall = self._now(), self._wall_now()
             try:
                 self.recordings_folder.mkdir(parents=True, exist_ok=True)
                 prune(self.recordings_folder, keep=MAX_KEPT - 1)  # room for this one
-                stem = new_stem(self.recordings_folder, wall)
+                stem = stem or new_stem(self.recordings_folder, wall)
                 self.mcap = McapFile(
                     self.recordings_folder / f"{stem}.mcap", self._arm, start_ns=int(wall * 1e9)
                 )
@@ -148,6 +163,7 @@ class Telemetry:
             self._wall_offset = wall - now
             self._pending_events.clear()
             self._cell_written = None
+            return name_of(stem)
 
     def stop_recording(self) -> int:
         with self._lock:

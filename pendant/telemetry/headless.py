@@ -1,0 +1,44 @@
+"""With `--no-ui` no page samples the arm: while a recording started from the API runs, this thread reads
+the motors, the TCP and the motion status at the page's rate and writes them to it."""
+
+from __future__ import annotations
+
+import threading
+
+from pendant.controller import Controller, ControllerError
+from pendant.telemetry.sampler import SAMPLE_HZ, ArmState, Telemetry
+
+IDLE_CHECK_S = 0.1  # how soon a started recording gets its first sample
+
+
+class RecordingSampler:
+    def __init__(self, controller: Controller, telemetry: Telemetry) -> None:
+        self._controller = controller
+        self._telemetry = telemetry
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._loop, name="pendant-recording-sampler", daemon=True)
+
+    def start(self) -> RecordingSampler:
+        self._thread.start()
+        return self
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._thread.join(timeout=2.0)
+
+    def _state(self) -> ArmState:
+        try:
+            return ArmState(
+                tcp=self._controller.get_position(),
+                motion_status=self._controller.get_motion_status().value,
+            )
+        except ControllerError:
+            return ArmState()
+
+    def _loop(self) -> None:
+        while not self._stop.is_set():
+            if self._telemetry.running is None:
+                self._stop.wait(IDLE_CHECK_S)
+                continue
+            self._telemetry.sample(self._state())
+            self._stop.wait(1.0 / SAMPLE_HZ)
