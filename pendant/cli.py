@@ -49,6 +49,7 @@ from pendant.monitoring import PendantMetrics, data_dir, open_event_store
 from pendant.monitoring.state_watch import StateWatch
 
 if TYPE_CHECKING:
+    from pendant.cell.keeper import CellKeeper
     from pendant.telemetry import Telemetry
     from pendant.telemetry.recordings_api import RecordingDesk
     from pendant.ui.app import PendantUI
@@ -224,6 +225,20 @@ def repair_recordings(paths: list[Path], events: EventLog) -> None:
         repair_in_background(paths, lambda note: events.record(EventKind.ERROR, "pendant", note))
 
 
+def _keep_sim_cell(settings: Settings, controller: Controller, events: EventLog) -> CellKeeper | None:
+    """The simulator's cell, tool and base: put back as they were, kept in the data folder from now on."""
+    if settings.robot_url is not None:
+        return None  # a real controller keeps its own
+    from pendant.cell.keeper import keep_cell
+
+    keeper, restored = keep_cell(controller, resolve_data_dir(settings), fresh=settings.fresh_cell)
+    if restored is not None:
+        print(restored.message, file=sys.stderr, flush=True)
+        if restored.trouble:
+            events.record(EventKind.ERROR, "pendant", restored.message)
+    return keeper
+
+
 def _headless_telemetry(settings: Settings, controller: Controller, events: EventLog) -> Telemetry:
     """With --no-ui, the recorder the API's recordings use (the page's has the same folder and drawing)."""
     from pendant.kinematics import ArmModel
@@ -290,6 +305,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(storage_problem, file=sys.stderr, flush=True)
     events = EventLog(store=store, storage_problem=storage_problem)
     repair_recordings(unfinished, events)
+    keeper = _keep_sim_cell(settings, controller, events)
     metrics = PendantMetrics(
         controller,
         mode="robot" if settings.robot_url else "sim",
@@ -323,6 +339,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             ui.stop()
         if watch is not None:
             watch.stop()
+        if keeper is not None:
+            keeper.stop()  # the cell as it is now, for the next start
         if sampler is not None:
             sampler.stop()
             desk.telemetry.stop_recording()  # a recording still running is finished, readable

@@ -98,6 +98,12 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
     )
     parser.add_argument("--no-ui", action="store_true", help="serve the PULSE REST API only")
     parser.add_argument(
+        "--fresh-cell",
+        action="store_true",
+        help="simulator: start with no obstacle and the default tool and base instead of the cell kept in "
+        "the data folder (the kept one is replaced at the first change)",
+    )
+    parser.add_argument(
         "--time-scale",
         type=float,
         default=_DEFAULTS.time_scale,
@@ -129,6 +135,7 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         allowed_hosts=tuple(args.allowed_host),
         remote_control=None if args.remote_control is None else args.remote_control == "on",
         time_scale=args.time_scale,
+        fresh_cell=args.fresh_cell,
     )
 
 
