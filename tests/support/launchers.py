@@ -14,6 +14,8 @@ from pathlib import Path
 
 import httpx
 
+from pendant.monitoring import DATA_DIR_ENV
+
 from .ports import LOOPBACK, free_port
 from .waiting import answers, wait_until
 
@@ -60,9 +62,14 @@ def pendant_process(
     """running_pendant(), also giving the process (to read its memory, say)."""
     port = free_port()
     command = pendant_command("--no-ui", "--host", LOOPBACK, "--api-port", str(port), *extra_args)
+    # A data folder of its own unless the test names one: a module's pendant starts before the per-test
+    # $PENDANT_DATA_DIR is set, and the checkout's pendant-data/ would carry its kept cell to the next run.
+    data = tempfile.TemporaryDirectory(prefix="pendant-data-")
+    env = {**os.environ, DATA_DIR_ENV: os.environ.get(DATA_DIR_ENV) or data.name}
     process = subprocess.Popen(
         command,
         cwd=REPO_ROOT,
+        env=env,
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
         text=True,
@@ -76,6 +83,7 @@ def pendant_process(
         stop(process)
         if process.stdout is not None:
             process.stdout.close()
+        data.cleanup()
 
 
 def _limit_open_files(count: int) -> None:
