@@ -291,6 +291,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         from pendant.program import history_cli
 
         return (history_cli.diff_main if args[0] == "diff" else history_cli.history_main)(args[1:])
+    if args[:1] == ["record"]:  # `pendant record --robot URL --seconds N`: a recording, no page
+        from pendant.remote.record_cli import main as record
+
+        return record(args[1:])
     if args[:1] == ["preflight"]:  # `pendant preflight PROGRAM.json ...`: checked on the twin, nothing moves
         from pendant.planning.command import main as preflight_program
 
