@@ -9,6 +9,7 @@ Active wherever the package is installed (a `pytest11` entry point), or with `py
         pulse_sim.at(2.0, "emergency")            # at simulated time 2 s
         pulse_sim.on_waypoint(2, "error")         # when the current run reaches its 2nd waypoint
         pulse_sim.on_command(3, "no_response")    # when the 3rd command arrives
+        pulse_sim.record("pick", tmp_path)        # an MCAP + CSV of the test's run, finished at its end
 
 One simulator serves per session (per xdist worker) and model, over real HTTP on a free loopback port,
 reset to its power-on state before each test (well under a millisecond). Options, on the command line, in
@@ -100,6 +101,33 @@ class PulseSim:
         self.model: str = server.model
         self.time_scale = time_scale
         self.events: list[ScriptedEvent] = []
+        self._recording: tuple[Any, Any] | None = None  # (Telemetry, RecordingSampler) while recording
+
+    def record(self, name: str | None = None, folder: str | Path | None = None) -> Path:
+        """Record the arm from now to the end of the test (or `stop_recording()`): the pendant's MCAP and
+        CSV files, `folder/pendant-NAME.mcap` (default folder: the pendant's data folder's recordings/,
+        default name: the start time). Log times follow the simulated clock. The .mcap's path."""
+        from pendant.monitoring import data_dir
+        from pendant.telemetry import Telemetry, arm_drawing, recordings_dir
+        from pendant.telemetry.headless import RecordingSampler
+
+        if self._recording is not None:
+            raise PulseSimError("pulse_sim.record(): this test is already recording")
+        sim = self._server.sim
+        target = Path(folder) if folder is not None else recordings_dir(data_dir(None))
+        telemetry = Telemetry(sim, self._server.clock.now, recordings_folder=target, arm=arm_drawing(sim.arm))
+        started = telemetry.start_recording(name, exclusive=True)
+        self._recording = (telemetry, RecordingSampler(sim, telemetry).start())
+        return target / f"pendant-{started}.mcap"
+
+    def stop_recording(self) -> int:
+        """Finish the test's recording (done for you at its end); the number of samples, 0 if none."""
+        if self._recording is None:
+            return 0
+        telemetry, sampler = self._recording
+        self._recording = None
+        sampler.stop()
+        return int(telemetry.stop_recording())
 
     def begin(self) -> None:
         """Start the test's simulated time now (done for you when the test function starts)."""
@@ -241,7 +269,10 @@ def pulse_sim(request: pytest.FixtureRequest, _pulse_sim_servers: _Servers) -> I
     cell = _option(request, "cell")
     if cell:
         handle.apply_cell(Path(str(request.config.rootpath), str(cell)))
-    yield handle
+    try:
+        yield handle
+    finally:
+        handle.stop_recording()  # a recording of the test is finished, readable, whatever its outcome
     errors = server.script.errors
     server.reset(time_scale)  # nothing scripted outlives its test
     if errors:
