@@ -31,6 +31,7 @@ from pendant.ui.kit.snapshot import Snapshot
 from pendant.ui.page.banner import Banner
 from pendant.ui.page.recovery import Recovery
 from pendant.ui.program.panel import NO_SELECTION, ProgramPanel
+from tests.support.doubles import committed
 from tests.support.ports import free_port
 
 from .conftest import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, teach
@@ -57,6 +58,7 @@ class FakeClient:
 
 def fire(handle: Any, client: FakeClient, value: Any = None) -> None:
     """What viser does when a browser clicks or edits `handle`: set the value, call the callbacks once."""
+    handle, value = committed(handle, value)
     if value is not None:
         handle._impl.value = value  # not `handle.value = ...`: that would also call back, as from Python
     for callback in list(handle._impl.update_cb):

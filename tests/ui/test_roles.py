@@ -114,7 +114,7 @@ def test_a_viewers_page_has_its_controls_disabled_except_freeze(local_ui: Pendan
         local_ui.sessions[2] = viewer
     assert viewer.control.take() is None  # no token on loopback
     assert not viewer.locked
-    assert not viewer.jog.buttons[(0, 1)].disabled and not viewer.target_panel.sliders[0].disabled
+    assert not viewer.jog.buttons[(0, 1)].disabled and not viewer.target_panel.joints[0].disabled
     assert viewer.target_panel.set_joint_target(np.radians(HOME_MOVE.angles)).ok
     assert not viewer.target_panel.move_j.disabled
     assert not viewer.dashboard.record_start.disabled

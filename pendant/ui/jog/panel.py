@@ -18,6 +18,7 @@ from pendant.ui.jog.pad import axis_name, axis_values, cap_line, render_pad, tcp
 from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.snapshot import Snapshot
+from pendant.ui.kit.typed_field import FieldInvalid, NumberField
 
 log = logging.getLogger(__name__)
 
@@ -62,8 +63,8 @@ class JogPanel:
         self.pad = target.gui.add_html("")
         self.frame = target.gui.add_dropdown("Frame", [f.value for f in JogFrame], initial_value="Joint")
         self.step = target.gui.add_dropdown("Step (mm / °)", STEP_CHOICES, initial_value=CONTINUOUS)
-        self.speed = target.gui.add_slider(
-            "Speed %", min=1.0, max=100.0, step=1.0, initial_value=DEFAULT_SPEED_PERCENT
+        self.speed = NumberField(
+            target.gui, "Speed %", DEFAULT_SPEED_PERCENT, low=1.0, high=100.0, decimals=0
         )
         self._snapshot = Snapshot(taken_at=0.0)
         self._locked = False
@@ -71,7 +72,7 @@ class JogPanel:
         self._refused_at = -math.inf
         self._told_stop = False  # this press's stop was told to the page (once per press)
         self.frame.on_update(lambda _: self._relabel())
-        self.speed.on_update(lambda _: self._render())
+        self.speed.on_commit(lambda _: self._render())
         self._render()
 
     @property
@@ -96,10 +97,11 @@ class JogPanel:
         if self.step.value != CONTINUOUS:
             amount = float(self.step.value)
             step = amount / 1000.0 if frame is not JogFrame.JOINT and axis < 3 else math.radians(amount)
-        speed = self.speed.value
-        if isinstance(speed, bool) or not isinstance(speed, int | float):
-            raise JogRefused("Jog speed must be a number")
-        return JogRequest(frame, axis, direction, float(speed), step)
+        try:
+            speed = self.speed.value
+        except FieldInvalid as error:  # empty or letters: no jog at a speed the operator did not type
+            raise JogRefused(error.message) from None
+        return JogRequest(frame, axis, direction, speed, step)
 
     def show(self, snapshot: Snapshot) -> None:
         """The live values (at most every PAD_REFRESH_S)."""
@@ -111,7 +113,7 @@ class JogPanel:
         frame = JogFrame(self.frame.value)
         note = ""
         if frame is JogFrame.JOINT and self._snapshot.q is not None:
-            speed = float(self.speed.value)
+            speed = self.speed.parse() if self.speed.reason is None else DEFAULT_SPEED_PERCENT
             note = cap_line(tcp_capped_joint_speeds(self._arm, self._snapshot.q, self._current_tool(), speed))
         uuids = {key: button._impl.uuid for key, button in self.buttons.items()}
         values = axis_values(frame, self._snapshot)

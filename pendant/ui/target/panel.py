@@ -1,4 +1,4 @@
-"""Drag to target: a gizmo at the TCP and joint sliders pose a ghost arm; Move J / Move L run it."""
+"""Drag to target: a gizmo at the TCP and typed joint angles pose a ghost arm; Move J / Move L run it."""
 
 from __future__ import annotations
 
@@ -16,8 +16,9 @@ from pendant.cell.geometry import CellModel
 from pendant.controller import Controller, MotionParams, MotionType, Pose, Position
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import inverse, matrix_to_position, position_to_matrix
-from pendant.ui.kit.commands import CommandRunner
+from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.typed_field import FieldInvalid, NumberField, read_all
 from pendant.ui.scene.cell import ObstacleDrawing
 from pendant.ui.target.check import TargetCheck, check_flange_target, check_joint_target
 from pendant.ui.target.hand_guide import HandGuide
@@ -32,8 +33,8 @@ DEFAULT_MOVE_SPEED_PERCENT = 20.0
 class TargetPanel:
     """The target the operator is preparing; never moves the arm until Move J or Move L is pressed.
 
-    Until the operator sets a target (drags the gizmo, moves a slider), the target follows the arm: no ghost,
-    nothing to run, and no stale target left behind where the arm was when the page opened.
+    Until the operator sets a target (drags the gizmo, types a joint angle), the target follows the arm: no
+    ghost, nothing to run, and no stale target left behind where the arm was when the page opened.
     """
 
     def __init__(
@@ -72,23 +73,29 @@ class TargetPanel:
         self._ghost_q: np.ndarray | None = None  # where the ghost stands: the last target IK could solve
         self.ghost_shown: bool | None = None  # True: the blue (executable) ghost, False: the red one
 
-        self.reason = target.gui.add_markdown("Drag the gizmo or the sliders to set a target.")
-        self.sliders = [
-            target.gui.add_slider(
+        self.reason = target.gui.add_markdown("Drag the gizmo or type joint angles to set a target.")
+        # Typed, committed on Enter or leaving the box (kit/typed_field.py): the ghost and Move J use the
+        # number typed, and a box left empty or with letters refuses Move J with the reason.
+        self.joints = [
+            NumberField(
+                target.gui,
                 f"J{i + 1} °",
-                min=math.degrees(arm.lower[i]),
-                max=math.degrees(arm.upper[i]),
-                step=0.1,
-                initial_value=0.0,
+                0.0,
+                low=math.floor(math.degrees(arm.lower[i]) * 10) / 10,
+                high=math.ceil(math.degrees(arm.upper[i]) * 10) / 10,
+                name=f"J{i + 1}",
             )
             for i in range(6)
         ]
-        self.speed = target.gui.add_slider(
-            "Move speed %", min=1.0, max=100.0, step=1.0, initial_value=DEFAULT_MOVE_SPEED_PERCENT
+        self.speed = NumberField(
+            target.gui, "Move speed %", DEFAULT_MOVE_SPEED_PERCENT, low=1.0, high=100.0, decimals=0
         )
         self.from_current = target.gui.add_button("Target = current", icon=viser.Icon.TARGET)
         self.move_j = target.gui.add_button("Move J", disabled=True)
         self.move_l = target.gui.add_button("Move L", disabled=True)
+        # The boxes' text when the target was last set from them or shown in them: other text at Move J is a
+        # commit whose check has not run yet (viser runs callbacks on a pool, the click's may come first).
+        self._shown_texts = self._typed_texts()
         self.plan = PlanSection(target, arm, runner, self, current_tool)
         self._show_ghost(self.check)
 
@@ -101,10 +108,8 @@ class TargetPanel:
             ).as_matrix()
             self.set_tcp_target(T_base_tcp, event.client)
 
-        for slider in self.sliders:
-            slider.on_update(
-                lambda event: None if self._syncing else self.set_joint_target(self._slider_q(), event.client)
-            )
+        for field in self.joints:
+            field.on_commit(lambda event: self._joints_typed(event.client))
         self.from_current.on_click(lambda _: self.reset_to_current())
         self.move_j.on_click(lambda event: self.run(MotionType.JOINT, event.client))
         self.move_l.on_click(lambda event: self.run(MotionType.LINEAR, event.client))
@@ -125,7 +130,7 @@ class TargetPanel:
 
     def follow(self, q: np.ndarray | None, *, moving: bool) -> None:
         """The arm is at `q` now: the target moves with it unless the operator has set one. While the arm
-        moves the gizmo is hidden rather than chased (six sliders and a gizmo to every browser, 5 times a
+        moves the gizmo is hidden rather than chased (six boxes and a gizmo to every browser, 5 times a
         second); it comes back at the TCP when the arm stops."""
         if not self.following or q is None:
             return
@@ -162,6 +167,17 @@ class TargetPanel:
             self._guide(client)
             return check
 
+    def _joints_typed(self, client: viser.ClientHandle | None) -> None:
+        """The operator committed a joint box: the target is the six numbers typed (none while one is not)."""
+        try:
+            q = self._joint_q()
+        except FieldInvalid as error:
+            with self._checking:
+                self.reason.content = f"**Cannot set the target:** {error.message}"
+                self.move_j.disabled = self.move_l.disabled = True
+            return
+        self.set_joint_target(q, client)
+
     def _guide(self, client: viser.ClientHandle | None) -> None:
         """In free drive the target is where the hand pulls the arm: an executable one moves it there, and
         the target follows the arm again (no ghost, nothing to run)."""
@@ -192,10 +208,21 @@ class TargetPanel:
     # --- running it ---------------------------------------------------------------------------------
     def run(self, motion: MotionType, client: viser.ClientHandle | None = None) -> Future[object] | None:
         """Send the target as a Move J or Move L; None when the target cannot be executed."""
+        label = "Move J" if motion is MotionType.JOINT else "Move L"
+        try:
+            speed = self.speed.value
+            if not self.following:
+                with self._checking:  # a box committed just before the click: its check may not have run yet
+                    q_typed = self._joint_q()
+                    if self._typed_texts() != self._shown_texts:
+                        self.set_joint_target(q_typed, client)
+        except FieldInvalid as error:
+            notify_refusal(client, f"{label} refused", error.message)
+            return None
         check = self.check
         if not self.executable or check.q is None:
             return None
-        params = MotionParams(speed=float(self.speed.value), motion_type=motion)
+        params = MotionParams(speed=speed, motion_type=motion)
         q_target = check.q.copy()
         if motion is MotionType.JOINT:
             pose = Pose(angles=[float(v) for v in np.degrees(q_target)])
@@ -228,7 +255,7 @@ class TargetPanel:
         self.plan.refresh(check)  # first: a plan to the former target stops playing before the ghost moves
         self._show_ghost(check)
         if self.following:
-            text = "Drag the gizmo or move a slider to set a target."
+            text = "Drag the gizmo or type joint angles to set a target."
         elif check.ok:
             text = "**Target ready** — Move J or Move L runs it."
         else:
@@ -241,8 +268,9 @@ class TargetPanel:
             return
         self._syncing = True
         try:
-            for slider, value in zip(self.sliders, np.degrees(check.q), strict=True):
-                slider.value = float(np.clip(value, slider.min, slider.max))
+            for field, value in zip(self.joints, np.degrees(check.q), strict=True):
+                field.show(float(value))
+            self._shown_texts = self._typed_texts()
             if move_gizmo:
                 T = self._arm.fk(check.q) @ self._current_tool()
                 self._gizmo.position = T[:3, 3]
@@ -289,5 +317,9 @@ class TargetPanel:
         """Where the gizmo stands (base frame, metres): the target's TCP."""
         return np.asarray(self._gizmo.position, dtype=float)
 
-    def _slider_q(self) -> np.ndarray:
-        return np.radians([float(s.value) for s in self.sliders])
+    def _typed_texts(self) -> tuple[str, ...]:
+        return tuple(field.text for field in self.joints)
+
+    def _joint_q(self) -> np.ndarray:
+        """The six typed angles (FieldInvalid naming each box that holds no usable number)."""
+        return np.radians(read_all(self.joints))
