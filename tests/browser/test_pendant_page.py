@@ -6,6 +6,8 @@ import time
 
 import numpy as np
 
+from tests.support.typed import typed_box
+
 from .conftest import ARTIFACTS, Pendant
 
 HOLD_S = 1.2
@@ -53,7 +55,7 @@ def test_sliders_pose_the_ghost_and_move_j_runs_it(page, pendant: Pendant) -> No
     page.get_by_role("tab", name="Target").click()
     page.get_by_role("button", name="Target = current").click()
     target_j1 = round(pendant.pose()[0] - 25.0, 1)
-    j1_input = page.locator("input.mantine-NumberInput-input:visible").first  # J1 box beside its slider
+    j1_input = typed_box(page, "J1 °")
     j1_input.fill(str(target_j1))
     j1_input.press("Enter")
     time.sleep(SETTLE_S)

@@ -12,6 +12,7 @@ from playwright.sync_api import Page
 
 from pendant.planning.scenes import BOX
 from tests.support.jog_measure import ensure_operator, wait_idle
+from tests.support.typed import typed_box
 
 from .conftest import ARTIFACTS, Pendant
 
@@ -41,7 +42,7 @@ def test_plan_around_a_box_shows_the_path_and_move_runs_it_to_the_target(page, p
         page.get_by_role("tab", name="Target").click()
         page.get_by_role("button", name="Move J").wait_for(timeout=SHOWN_WITHIN_S * 1000)
         before = course_pixels(page)
-        j1 = page.locator("input.mantine-NumberInput-input:visible").first
+        j1 = typed_box(page, "J1 °")
         j1.fill(f"{BOX.target_deg[0]:.1f}")
         j1.press("Enter")
         page.get_by_text("the path to the target passes through 'box'").wait_for(
