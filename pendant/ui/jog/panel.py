@@ -14,7 +14,15 @@ import viser
 from pendant.controller import ControllerError
 from pendant.jog import JogFrame, Jogger, JogRefused, JogRequest
 from pendant.kinematics import ArmModel
-from pendant.ui.jog.pad import axis_name, axis_values, cap_line, render_pad, tcp_capped_joint_speeds
+from pendant.ui.jog.pad import (
+    axis_name,
+    axis_values,
+    cap_line,
+    render_note,
+    render_pad,
+    render_values,
+    tcp_capped_joint_speeds,
+)
 from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.snapshot import Snapshot
@@ -60,13 +68,16 @@ class JogPanel:
         self.stop = target.gui.add_button("Stop jog", visible=False)
         self.stop.on_click(lambda _: self._cancelled())
         # The pad first, its settings under it: all six rows fit a 1024x768 screen with the status above.
-        self.pad = target.gui.add_html("")
+        self.pad = target.gui.add_html("")  # rebuilt only with the frame or the role (see pad.py)
+        self.values = target.gui.add_html("")  # the live values, put in the pad's labels in place
+        self.note = target.gui.add_html("")  # when the 250 mm/s TCP limit slows a joint jog
         self.frame = target.gui.add_dropdown("Frame", [f.value for f in JogFrame], initial_value="Joint")
         self.step = target.gui.add_dropdown("Step (mm / °)", STEP_CHOICES, initial_value=CONTINUOUS)
         self.speed = NumberField(
             target.gui, "Speed %", DEFAULT_SPEED_PERCENT, low=1.0, high=100.0, decimals=0
         )
         self._snapshot = Snapshot(taken_at=0.0)
+        self._pad_key: tuple[JogFrame, bool] | None = None
         self._locked = False
         self._shown_at = -math.inf
         self._refused_at = -math.inf
@@ -117,10 +128,17 @@ class JogPanel:
             note = cap_line(tcp_capped_joint_speeds(self._arm, self._snapshot.q, self._current_tool(), speed))
         uuids = {key: button._impl.uuid for key, button in self.buttons.items()}
         values = axis_values(frame, self._snapshot)
-        content = render_pad(frame, values, uuids, self.stop._impl.uuid, disabled=self._locked, note=note)
         self._shown_at = time.monotonic()
-        if content != self.pad.content:
-            self.pad.content = content
+        shown = render_values(values)
+        if shown != self.values.content:
+            self.values.content = shown
+        note_html = render_note(note)
+        if note_html != self.note.content:
+            self.note.content = note_html
+        key = (frame, self._locked)
+        if key != self._pad_key:  # not on a value: the pad's buttons keep their focus (see pad.py)
+            self._pad_key = key
+            self.pad.content = render_pad(frame, values, uuids, self.stop._impl.uuid, disabled=self._locked)
 
     def _relabel(self) -> None:
         if self.frame.value not in {f.value for f in JogFrame}:

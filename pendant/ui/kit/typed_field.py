@@ -201,6 +201,8 @@ class VectorField(TypedField):
 
     def parse(self) -> tuple[float, ...]:
         parts = [p for p in self.text.replace(",", " ").split() if p]
+        if not parts:
+            raise ValueError(f"empty: type {self.count} numbers, e.g. {self._format([0.0] * self.count)}")
         if len(parts) != self.count:
             raise ValueError(f"type {self.count} numbers, e.g. {self._format([0.0] * self.count)}")
         values = []
