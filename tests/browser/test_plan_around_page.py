@@ -70,5 +70,12 @@ def test_plan_around_a_box_shows_the_path_and_move_runs_it_to_the_target(page, p
             assert pendant.status() not in ("ERROR", "MOTION_FAILED"), pendant.api.get("/status/failure").text
             time.sleep(0.2)
         assert page.get_by_text("refused").count() == 0  # no refusal notification (no 412)
+        # One truth on screen (issue 31): the target reached is not "cannot execute", and the plan is gone.
+        page.get_by_text("Target reached").wait_for(timeout=SHOWN_WITHIN_S * 1000)
+        assert (
+            page.get_by_text("Cannot execute").count() == 0
+            and page.get_by_text("No straight path").count() == 0
+        )
+        assert page.get_by_text("Path planned").count() == 0
     finally:
         pendant.api.delete("/environment").raise_for_status()

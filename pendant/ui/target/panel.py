@@ -22,12 +22,14 @@ from pendant.ui.kit.typed_field import FieldInvalid, NumberField, read_all
 from pendant.ui.scene.cell import ObstacleDrawing
 from pendant.ui.target.check import TargetCheck, check_flange_target, check_joint_target
 from pendant.ui.target.hand_guide import HandGuide
-from pendant.ui.target.plan_section import PlanSection
+from pendant.ui.target.plan_section import PlanSection, needs_plan
 
 GHOST_OK_RGBA = (0.25, 0.55, 1.0, 0.35)
 GHOST_BAD_RGBA = (0.95, 0.15, 0.15, 0.45)
 GIZMO_SCALE = 0.18
 DEFAULT_MOVE_SPEED_PERCENT = 20.0
+REACHED_TOL_RAD = 1e-3  # the arm at rest this close to the target has reached it (0.06°)
+REST_TOL_RAD = 1e-6  # the arm at rest where the target was last checked from: nothing to check again
 
 
 class TargetPanel:
@@ -72,6 +74,7 @@ class TargetPanel:
         self.following = True  # the target is where the arm is (see the class doc)
         self._ghost_q: np.ndarray | None = None  # where the ghost stands: the last target IK could solve
         self.ghost_shown: bool | None = None  # True: the blue (executable) ghost, False: the red one
+        self._checked_from: np.ndarray | None = None  # where the arm was when the target was last checked
 
         self.reason = target.gui.add_markdown("Drag the gizmo or type joint angles to set a target.")
         # Typed, committed on Enter or leaving the box (kit/typed_field.py): the ghost and Move J use the
@@ -132,7 +135,11 @@ class TargetPanel:
         """The arm is at `q` now: the target moves with it unless the operator has set one. While the arm
         moves the gizmo is hidden rather than chased (six boxes and a gizmo to every browser, 5 times a
         second); it comes back at the TCP when the arm stops."""
-        if not self.following or q is None:
+        if q is None:
+            return
+        if not self.following:
+            if not moving:
+                self._arrived(q)
             return
         if moving:
             if self._gizmo.visible:
@@ -141,6 +148,19 @@ class TargetPanel:
             with self._checking:
                 if self.following:  # still: the operator may have set a target meanwhile
                     self._target_joints(q)
+
+    def _arrived(self, q: np.ndarray) -> None:
+        """The arm came to rest somewhere new: the verdict is made again from here (a target reached by a
+        planned move is not "cannot execute"), and a plan the arm has run is cleared with its path."""
+        checked_from = self._checked_from
+        if checked_from is not None and np.allclose(checked_from, q, atol=REST_TOL_RAD):
+            return
+        with self._checking:
+            if self.following or self.check.q is None:
+                return
+            if np.allclose(q, self.check.q, atol=REACHED_TOL_RAD):
+                self.plan.forget()
+            self._target_joints(self.check.q)
 
     def set_flange_target(
         self, T_base_flange: np.ndarray, client: viser.ClientHandle | None = None
@@ -189,7 +209,8 @@ class TargetPanel:
 
     def _target_joints(self, q: np.ndarray) -> TargetCheck:
         cell = None if self.following else self._current_cell()  # the arm where it is: nothing to check
-        self.check = check_joint_target(self._arm, np.asarray(q, dtype=float), cell, self._current_q())
+        self._checked_from = self._current_q()
+        self.check = check_joint_target(self._arm, np.asarray(q, dtype=float), cell, self._checked_from)
         self._show(move_gizmo=True)
         return self.check
 
@@ -256,8 +277,12 @@ class TargetPanel:
         self._show_ghost(check)
         if self.following:
             text = "Drag the gizmo or type joint angles to set a target."
+        elif check.ok and self._at_target(check.q):
+            text = "**Target reached** — the arm is there."
         elif check.ok:
             text = "**Target ready** — Move J or Move L runs it."
+        elif needs_plan(check):  # the target is fine, the straight way to it is not: Plan around
+            text = f"**No straight path:** {check.reason}"
         else:
             text = f"**Cannot execute:** {check.reason}"
         if self.reason.content != text:
@@ -307,6 +332,10 @@ class TargetPanel:
                 cfg = np.zeros(len(ghost.get_actuated_joint_names()))
                 cfg[:6] = q
                 ghost.update_cfg(cfg)
+
+    def _at_target(self, q: np.ndarray | None) -> bool:
+        here = self._current_q()
+        return q is not None and here is not None and bool(np.allclose(here, q, atol=REACHED_TOL_RAD))
 
     @property
     def gizmo_shown(self) -> bool:
