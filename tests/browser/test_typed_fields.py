@@ -1,15 +1,17 @@
-"""What the operator types is what is used, and focus stays where the operator put it (issue 31, items 3-4).
+"""What the operator types is what is used, focus stays where the operator put it, one truth (issue 31, 3-5).
 
 One page for the whole module. Typed fast or slowly, "-69.3" in the Target tab's J1 box is where Move J
 takes joint 1 (the server's answer to "-6" used to land in the box after "-69" was typed). A box left
 empty or holding letters refuses the action that needs it, with the reason, and nothing moves or is added.
-While the arm moves (driven through the API), the jog pad's J2+ keeps the keyboard focus.
+While the arm moves (driven through the API), the jog pad's J2+ keeps the keyboard focus. A refused upload
+says only the refusal (not viser's "File uploaded successfully." beside it).
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Iterator
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -118,3 +120,14 @@ def test_focus_on_j2_plus_stays_while_the_arm_moves(page: Page, pendant: Pendant
         assert focused == "J2+"
     finally:
         pendant.api.put("/freeze").raise_for_status()
+
+
+def test_a_refused_upload_says_only_the_refusal(page: Page, tmp_path: Path) -> None:
+    bad = tmp_path / "not_a_program.json"
+    bad.write_text("{ this is not json")
+    page.get_by_role("tab", name="Program").click()
+    page.locator("input[type=file]").first.set_input_files(str(bad))
+    page.get_by_text("Upload refused").first.wait_for(timeout=SHOWN_TIMEOUT_MS)
+    time.sleep(0.5)  # the page's pass over the notifications
+    assert not page.get_by_text("File uploaded successfully.").is_visible()
+    assert not page.get_by_text("File received.").is_visible()

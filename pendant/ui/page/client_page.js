@@ -15,6 +15,7 @@
 // 6. Focus on request: a question in the panel (pendant/ui/kit/focus_request.py) puts the cursor in the text box
 //    it names (Save of an unnamed program asks for the name there).
 // 7. The jog pad's live values written into its labels in place (the pad itself is not rebuilt on a value).
+// 8. An upload's outcome: viser's "File uploaded successfully." says "File received.", hidden by a refusal.
 (() => {
   "use strict";
   (function tokenIntoWebsocketUrl() {
@@ -316,6 +317,29 @@
       });
     }
     new MutationObserver(apply).observe(document.documentElement, { childList: true, subtree: true });
+  })();
+
+  // --- 8. An upload's outcome is the pendant's to say -------------------------------------------------
+  // viser says "File uploaded successfully." as soon as the bytes are in, before the pendant has read them:
+  // a refused file showed it beside "Upload refused". Here it says "File received.", and a refusal that
+  // comes after it hides it, so only the refusal is said.
+  (function uploadOutcome() {
+    const seen = new WeakMap(); // notification -> when it first appeared
+    const REFUSAL = /refused|not loaded|not uploaded/i;
+    let order = 0;
+    function pass() {
+      const notes = [...document.querySelectorAll(".mantine-Notification-root")];
+      for (const note of notes) if (!seen.has(note)) seen.set(note, ++order);
+      const title = (note) => (note.querySelector(".mantine-Notification-title") || {}).textContent || "";
+      const lastRefusal = Math.max(0, ...notes.filter((n) => REFUSAL.test(title(n))).map((n) => seen.get(n)));
+      for (const note of notes) {
+        if (!title(note).startsWith("Uploading ")) continue;
+        const text = note.querySelector(".mantine-Notification-description");
+        if (text !== null && text.textContent.trim() === "File uploaded successfully.") text.textContent = "File received.";
+        if (lastRefusal > seen.get(note) && note.style.display !== "none") note.style.display = "none";
+      }
+    }
+    new MutationObserver(pass).observe(document.documentElement, { childList: true, subtree: true });
   })();
 
   // --- 6. Focus on request ----------------------------------------------------------------------------
