@@ -151,6 +151,7 @@ class PendantUI:
         self.reader = ControllerReader(controller)
         self.desk.on_change(self._control_changed)
         self.remote.on_change(self.browsers.show_remote)
+        self.desk.on_ask(lambda asker, operator: self.browsers.tell_asked(operator, self.desk.name(asker)))
         self.server.on_client_connect(self._connect)
         self.server.on_client_disconnect(self._disconnect)
         if metrics is not None:

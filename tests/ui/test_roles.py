@@ -215,3 +215,16 @@ def test_a_viewer_cannot_record_or_run_a_program_and_the_log_says_who_did_what(
     assert len(local_ui.programs.program.steps) == 1
     commands = [(e.source, e.message) for e in local_ui.events.recent() if e.kind is EventKind.COMMAND]
     assert ("browser #1", "Record") in commands
+
+
+def test_the_operator_is_told_when_another_browser_asks_for_control(local_ui: PendantUI) -> None:
+    local_ui.desk.join(1)
+    local_ui.desk.join(2)
+    operator = local_ui.open_session(local_ui.server, client_id=1)
+    with local_ui._sessions_lock:
+        local_ui.sessions[1] = operator
+    assert "asks for control" not in operator.control.role.content
+    assert local_ui.desk.take(2) is not None  # refused: browser #1 has control
+    assert "browser #2 asks for control" in operator.control.role.content
+    assert local_ui.desk.release(1) and local_ui.desk.take(2) is None
+    assert "asks for control" not in operator.control.role.content  # answered: control changed hands
