@@ -9,11 +9,14 @@ import math
 import numpy as np
 import pytest
 
-from pendant.controller import MotionType
+from pendant.controller import MotionParams, MotionType, Pose
+from pendant.planning.scenes import BOX
 from pendant.sim import FakeClock, SimController
+from pendant.ui.app import PendantUI
 from pendant.ui.kit.typed_field import format_number, parse_number
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser, fire
+from tests.support.waiting import wait_until
 
 from .test_panels import finish_motion, pose_deg
 
@@ -110,3 +113,31 @@ def test_an_emptied_position_adds_no_obstacle(
     assert ui.cell.submit(operator, add=True) is None  # type: ignore[arg-type]
     assert "Position mm: type 3 numbers" in operator.notifications[-1]
     assert sim.get_obstacles() == []
+
+
+def test_a_target_reached_by_a_planned_move_is_not_cannot_execute(
+    ui: ClientSession, pendant_ui: PendantUI, operator: FakeBrowser, sim: SimController, clock: FakeClock
+) -> None:
+    panel = ui.target_panel
+    sim.set_pose(Pose(angles=list(BOX.start_deg)), MotionParams(speed=100.0))
+    finish_motion(sim, clock)
+    for obstacle in BOX.obstacles:
+        sim.add_obstacle(obstacle)
+    pendant_ui.refresh(with_io=True)
+    pendant_ui.refresh_cell()
+    for field, angle in zip(panel.joints, BOX.target_deg, strict=True):
+        fire(field, operator, f"{angle:.1f}")
+    assert panel.reason.content.startswith("**No straight path:**") and "'box'" in panel.reason.content
+    planned = panel.plan.plan(operator)  # type: ignore[arg-type]  # a fake browser
+    assert planned is not None
+    planned.result(timeout=30.0)
+    wait_until(lambda: panel.plan.path is not None, 10.0, f"a plan ({panel.plan.status.content})")
+    assert panel.plan.course_shown
+    moved = panel.plan.run(operator)  # type: ignore[arg-type]
+    assert moved is not None
+    moved.result(timeout=10.0)
+    finish_motion(sim, clock)
+    pendant_ui.refresh(with_io=True)  # the arm at rest at the target: the page's verdict is made again
+    np.testing.assert_allclose(pose_deg(sim), np.round(BOX.target_deg, 1), atol=1e-6)
+    assert panel.reason.content == "**Target reached** — the arm is there."
+    assert panel.plan.path is None and not panel.plan.course_shown and panel.plan.status.content == ""

@@ -151,15 +151,17 @@ class TargetPanel:
 
     def _arrived(self, q: np.ndarray) -> None:
         """The arm came to rest somewhere new: the verdict is made again from here (a target reached by a
-        planned move is not "cannot execute"), and a plan the arm has run is cleared with its path."""
+        planned move is not "cannot execute"), and a plan from elsewhere (run, or stale: a program, a jog
+        moved the arm) is cleared with its drawn path."""
         checked_from = self._checked_from
         if checked_from is not None and np.allclose(checked_from, q, atol=REST_TOL_RAD):
             return
         with self._checking:
             if self.following or self.check.q is None:
                 return
-            if np.allclose(q, self.check.q, atol=REACHED_TOL_RAD):
-                self.plan.forget()
+            path = self.plan.path
+            if path is not None and not np.allclose(path.waypoints[0], q, atol=REACHED_TOL_RAD):
+                self.plan.forget()  # run (the arm is at its end) or stale (the arm left its start)
             self._target_joints(self.check.q)
 
     def set_flange_target(
