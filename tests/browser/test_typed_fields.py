@@ -69,6 +69,7 @@ def test_j1_typed_at_any_pace_is_where_move_j_goes(
 def typed_and_moved(page: Page, pendant: Pendant, delay_ms: int) -> None:
     page.get_by_role("tab", name="Target").click()
     page.get_by_role("button", name="Target = current").click()
+    type_into(page, "Move speed %", "100")  # a quick move (the speed typed is the one used too)
     box = type_into(page, "J1 °", f"{TYPED_DEG}", delay_ms=delay_ms)
     assert box.input_value() == f"{TYPED_DEG}"  # the box still says what was typed
     page.get_by_role("button", name="Move J").click()
