@@ -4,7 +4,8 @@ One page for the whole module. Typed fast or slowly, "-69.3" in the Target tab's
 takes joint 1 (the server's answer to "-6" used to land in the box after "-69" was typed). A box left
 empty or holding letters refuses the action that needs it, with the reason, and nothing moves or is added.
 While the arm moves (driven through the API), the jog pad's J2+ keeps the keyboard focus. A refused upload
-says only the refusal (not viser's "File uploaded successfully." beside it).
+says only the refusal (not viser's "File uploaded successfully." beside it). Run pressed with Enter (disabled
+while its run goes) leaves the focus in the panel, not on the page's body.
 """
 
 from __future__ import annotations
@@ -132,3 +133,29 @@ def test_a_refused_upload_says_only_the_refusal(page: Page, tmp_path: Path) -> N
     time.sleep(0.5)  # the page's pass over the notifications
     assert not page.get_by_text("File uploaded successfully.").is_visible()
     assert not page.get_by_text("File received.").is_visible()
+
+
+def test_run_pressed_with_enter_leaves_the_focus_on_the_panel(page: Page, pendant: Pendant) -> None:
+    go_home(pendant)
+    page.get_by_role("tab", name="Program").click()
+    page.get_by_role("button", name="Record", exact=True).click()
+    page.get_by_text("Move J to P1").first.wait_for(timeout=SHOWN_TIMEOUT_MS)
+    far = [90.0, -90.0, 90.0, -90.0, -90.0, 0.0]
+    pendant.api.put("/pose", params={"speed": 100}, json={"angles": far}).raise_for_status()
+    wait_until(
+        lambda: abs(pendant.pose()[0] - 90.0) < ANGLE_TOL_DEG and pendant.status() == "IDLE",
+        MOVE_TIMEOUT_S,
+        "far",
+    )
+    run = page.get_by_role("button", name="Run", exact=True)
+    run.focus()
+    page.keyboard.press(
+        "Enter"
+    )  # the run goes back to P1 (seconds at the step's 20 %): Run is disabled meanwhile
+    wait_until(lambda: pendant.status() == "RUNNING", MOVE_TIMEOUT_S, "the run moving the arm")
+    time.sleep(MOVING_S)
+    focused = page.evaluate(
+        "() => document.activeElement === document.body ? null : document.activeElement.textContent"
+    )
+    pendant.api.put("/freeze").raise_for_status()
+    assert focused is not None, "the focus fell to the page's body"
