@@ -15,8 +15,10 @@ be read) and the worker answers an Outcome (the report, or the reason it is refu
 
 from __future__ import annotations
 
+import contextlib
 import json
 import multiprocessing
+import os
 import threading
 import time
 import traceback
@@ -34,6 +36,7 @@ START_TIMEOUT_S = 60.0  # a loaded machine imports the planner in seconds, not a
 # Beyond the worker's own wall-time check (which answers 422 itself): a call that never returns to Python.
 HARD_MARGIN_S = 10.0
 POLL_S = 0.05
+WORKER_NICENESS = 10
 READY = "ready"
 MSG_QUITTING = "the pendant is quitting: pre-flights are stopped"
 MSG_WORKER_LOST = "the pre-flight process ended unexpectedly: {why}"
@@ -166,6 +169,8 @@ class _Timeout(Exception):
 # --- the worker's side (runs in the child process) ------------------------------------------------------
 def serve(conn: Connection, idle_s: float) -> None:
     """The child's loop: one pre-flight per request, until idle for `idle_s` or the pipe closes."""
+    with contextlib.suppress(OSError):
+        os.nice(WORKER_NICENESS)  # on a busy machine the server (and PUT /freeze) gets the CPU first
     try:
         while conn.poll(idle_s):
             body = conn.recv_bytes()
