@@ -41,9 +41,10 @@ PLAN = {"target": {"angles": [60, -90, 90, -90, -90, 0]}}
 
 
 def big_program(waypoints: int) -> bytes:
-    """~165 bytes a waypoint, as the audit sent: a table (no recorded position) and one move to each."""
+    """~140 bytes a waypoint (the audit sent ~165): a table, no recorded positions, a move to each."""
     table = [{"name": f"w{i}", "pose": {"angles": [i % 90, -90, 90, -90, -90, 0]}} for i in range(waypoints)]
-    steps = [{"kind": "move", "waypoint": f"w{i}", "motion": "JOINT", "speed": 40.0} for i in range(waypoints)]
+    move = {"kind": "move", "motion": "JOINT", "speed": 40.0}
+    steps = [{**move, "waypoint": f"w{i}"} for i in range(waypoints)]
     document = {"schema_version": 2, "name": "big", "waypoints": table, "steps": steps}
     return json.dumps(document).encode()
 
@@ -91,8 +92,17 @@ def rss_mb(pid: int) -> float:
 
 
 def children(pid: int) -> list[int]:
-    path = Path(f"/proc/{pid}/task/{pid}/children")
-    return [int(p) for p in path.read_text().split()] if path.exists() else []
+    """The processes whose parent is `pid` (the pre-flight worker, multiprocessing's helpers)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                stat = (entry / "stat").read_text()
+            except OSError:
+                continue
+            if int(stat.rsplit(")", 1)[1].split()[1]) == pid:
+                found.append(int(entry.name))
+    return found
 
 
 def load_round(url: str, clients: int, seconds: float, big: bytes) -> dict[int, int]:
@@ -129,6 +139,8 @@ def main() -> int:
     parser.add_argument("--clients", type=int, default=8)
     args = parser.parse_args()
     with pendant_process() as (process, url):
+        # Its log goes to a pipe: read it, or a full pipe stops the server (every refusal is a line).
+        threading.Thread(target=lambda: process.stdout and process.stdout.read(), daemon=True).start()
         port = int(url.rsplit(":", 1)[1])
         httpx.post(f"{url}/pendant/preflight", json=SMALL, timeout=120)  # the worker started (since the fix)
         idle = freeze_latencies_ms(port, args.seconds, args.period_ms / 1e3)

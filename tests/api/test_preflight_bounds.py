@@ -11,6 +11,7 @@ import signal
 import subprocess
 import threading
 from collections.abc import Iterator
+from pathlib import Path
 
 import httpx
 import pytest
@@ -24,6 +25,10 @@ from tests.support.waiting import wait_until
 # Far beyond what quitting takes (freeze, close the server); a pre-flight left running took 30 s and more.
 QUIT_TIMEOUT_S = 10.0
 REQUEST_TIMEOUT_S = 60.0
+# The bound: the server's memory stays flat (+/- 20 MB) however many big bodies arrive.
+RSS_FLAT_MB = 20.0
+BIG_BODY_SENDERS = 4
+BIG_BODIES_EACH = 3
 ORIGIN = {"point": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": {"roll": 0.0, "pitch": 0.0, "yaw": 0.0}}
 
 
@@ -187,3 +192,33 @@ def test_freeze_stops_the_arm_while_a_5_mb_body_is_being_refused(api: httpx.Clie
     assert answers and answers[0].status_code == 400
     assert "too big to be a program" in answers[0].json()
     assert api.get("/pose").json()["angles"] == where  # frozen: it did not move on
+
+
+def _rss_mb(pid: int) -> float:
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024
+    raise AssertionError(f"no VmRSS for process {pid}")
+
+
+def test_the_server_keeps_its_memory_while_5_mb_bodies_keep_arriving() -> None:
+    body = _big_program(22_000)
+    with pendant_process() as (process, url):
+        threading.Thread(target=lambda: process.stdout and process.stdout.read(), daemon=True).start()
+        with httpx.Client(base_url=url, timeout=REQUEST_TIMEOUT_S) as client:
+            assert client.post("/pendant/preflight", content=body).status_code == 400  # warmed up
+            before = _rss_mb(process.pid)
+
+            def send_bodies() -> None:
+                with httpx.Client(base_url=url, timeout=REQUEST_TIMEOUT_S) as sender:
+                    for _ in range(BIG_BODIES_EACH):
+                        assert sender.post("/pendant/preflight", content=body).status_code in (400, 409)
+
+            senders = [threading.Thread(target=send_bodies) for _ in range(BIG_BODY_SENDERS)]
+            for sender in senders:
+                sender.start()
+            for sender in senders:
+                sender.join()
+            assert client.put("/freeze").status_code == 200
+            grown = _rss_mb(process.pid) - before
+    assert grown < RSS_FLAT_MB, f"the server grew {grown:.0f} MB"
