@@ -192,6 +192,13 @@ class ProgramRunner:
         worker = self._worker
         return worker is not None and worker.is_alive()
 
+    def join(self, timeout: float | None = None) -> bool:
+        """Wait for the command started on the worker thread to end; whether it has (False: timed out)."""
+        worker = self._worker
+        if worker is not None:
+            worker.join(timeout)
+        return not self.busy
+
     def start(self, command: Callable[[], RunProgress]) -> threading.Thread:
         """Run a blocking command (e.g. `lambda: runner.run(program, 3)`) on the worker thread."""
         with self._lock:

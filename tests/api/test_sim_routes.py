@@ -9,8 +9,7 @@ from fastapi.testclient import TestClient
 
 from pendant.api import errors as api_errors
 from pendant.controller.errors import MSG_EMERGENCY, MSG_NOT_RESPONDING
-
-from .helpers import TEXT, angles_close
+from tests.support.api_client import TEXT, angles_close
 
 
 def assert_empty_ok(response: object) -> None:

@@ -22,7 +22,7 @@ from pendant.api import create_app
 from pendant.eventlog import EventKind, EventLog
 from pendant.remote import create_proxy_app
 from pendant.sim import FakeClock, SimController
-from tests.remote.servers import http_answer, raw_server
+from tests.support.bad_servers import http_answer, raw_server
 from tests.support.launchers import REPO_ROOT, running_pendant
 from tests.support.threads import serve_in_thread
 

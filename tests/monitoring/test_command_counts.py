@@ -7,8 +7,7 @@ from pathlib import Path
 import httpx
 
 from tests.support.launchers import running_pendant
-
-from .scrape import scrape, values
+from tests.support.metrics import scrape, values
 
 REACHABLE_POSE = {"angles": [10.0, -90.0, 90.0, -90.0, -90.0, 0.0]}
 

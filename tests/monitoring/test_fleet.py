@@ -12,7 +12,7 @@ import httpx
 import pytest
 
 from pendant.monitoring.fleet import Site, Timings, query, running_fleet
-from tests.monitoring.test_deploy_files import dashboard_queries
+from tests.support.metrics import dashboard_queries
 
 T = TypeVar("T")
 FAST = Timings(scrape_interval="1s", alert_for="2s", group_wait="1s")

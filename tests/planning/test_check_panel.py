@@ -16,10 +16,10 @@ from pendant.program import ProgramRunner, ProgramStore, ProgramWorkspace, RunSt
 from pendant.remote import RemoteController
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.program.panel import ProgramPanel
-from tests.planning.scenes import BOX_NAME, LEFT_DEG, box_in_the_way, swing_program
 from tests.support.doubles import FakeBrowser, fire
 from tests.support.launchers import running_pendant
 from tests.support.ports import free_port
+from tests.support.preflight_scene import BOX_NAME, LEFT_DEG, box_in_the_way, swing_program
 from tests.support.waiting import wait_until
 
 WAIT_S = 30.0
@@ -71,7 +71,7 @@ def test_run_waits_for_a_passing_check_and_check_marks_the_failing_step(panel) -
     assert f"✘ the gripper would hit '{BOX_NAME}'" in rows[2]
     assert "✔" in rows[0] and "✘ not checked" in rows[3]
     assert section.summary.content.startswith("**✘ Step 3 (Move J to right")
-    assert {node.name for node in section._nodes} == {"/program_check/swept", "/program_check/failure"}
+    assert {node.name for node in section.nodes} == {"/program_check/swept", "/program_check/failure"}
     assert not section.playback.disabled and section.playback.max == pytest.approx(
         report.cycle_time_s, abs=0.01
     )

@@ -20,7 +20,7 @@ from pendant.program.models import (
     WaitInputStep,
 )
 from pendant.sim import HOME_POSE_DEG, FakeClock, SimController
-from tests.planning.scenes import LEFT_DEG, RIGHT_DEG, box_in_the_way, waypoint
+from tests.support.preflight_scene import LEFT_DEG, RIGHT_DEG, box_in_the_way, waypoint
 
 HIGH, LOW = SignalLevel.HIGH, SignalLevel.LOW
 

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from pendant.controller import MotionType, Pose
+from pendant.controller import Pose
 from pendant.controller.types import MAX_RUN_WAYPOINTS
 from pendant.program import (
     EditError,
@@ -30,10 +30,10 @@ from pendant.program import (
     program_operations,
 )
 from pendant.program.files import MAX_FILE_BYTES, dump_program
-from pendant.program.limits import MAX_STEPS, PROGRAM_NAME_MAX, WAYPOINT_NAME_MAX
+from pendant.program.limits import MAX_STEPS, PROGRAM_NAME_MAX
 from pendant.program.plan import MoveGroup
-from tests.program.conftest import Taught, move, program_of
 from tests.support.launchers import running_pendant
+from tests.support.programs import Taught, many_moves, move, program_of
 
 LONG_RUN = 2 * MAX_RUN_WAYPOINTS + 50
 ANGLE_TOL_DEG = 1e-6
@@ -113,20 +113,6 @@ def test_names_with_quotes_or_control_characters_export_a_script_that_runs(
     assert done.returncode == 0, done.stderr
     angles = httpx.get(f"{api_url}/pose").json()["angles"]
     np.testing.assert_allclose(angles, moves[-1].waypoint.pose.angles, atol=ANGLE_TOL_DEG)
-
-
-def many_moves(template: Waypoint, count: int, name: str = "untitled") -> Program:
-    """`count` moves with the longest names, each to its own waypoint, alternating JOINT and LINEAR: the
-    biggest program to save."""
-    moves = [
-        move(
-            template.model_copy(update={"name": f"{i:0{WAYPOINT_NAME_MAX}d}"}),
-            MotionType.LINEAR if i % 2 else MotionType.JOINT,
-            speed=33.3333333333,
-        )
-        for i in range(count)
-    ]
-    return program_of(*moves, name=name)
 
 
 def test_the_largest_program_saves_and_loads_back(

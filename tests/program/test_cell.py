@@ -32,8 +32,8 @@ from pendant.program import (
     Waypoint,
     export_script,
 )
-from tests.program.conftest import move, program_of
 from tests.support.launchers import REPO_ROOT, running_pendant
+from tests.support.programs import move, program_of
 
 pytestmark = pytest.mark.slow
 

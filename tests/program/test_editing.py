@@ -24,7 +24,7 @@ from pendant.program import (
     compile_program,
 )
 from pendant.program.plan import MoveGroup
-from tests.program.conftest import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, teach
+from tests.support.programs import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, teach
 
 
 def test_many_moves_to_one_waypoint_follow_its_reteach_and_its_rename(sim, clock, make_workspace) -> None:

@@ -38,8 +38,8 @@ from pendant.program import (
 )
 from pendant.program.export import TOKEN_ENV
 from pendant.sim import MonotonicClock, SimController
-from tests.program.conftest import move, program_of
 from tests.support.launchers import running_pendant
+from tests.support.programs import move, program_of
 from tests.support.threads import serve_in_thread
 
 ANGLE_TOL_DEG = 1e-6

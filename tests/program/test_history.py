@@ -10,8 +10,7 @@ from dulwich.repo import Repo
 from pendant.program import MoveStep, ProgramRunner, ProgramWorkspace, WaitStep
 from pendant.program.history import COMMITTER, OUTSIDE
 from pendant.program.versions import VersionedStore
-
-from .history_support import git, pick_program, waypoint
+from tests.support.program_history import git, pick_program, waypoint
 
 OPERATOR = "browser #2 (10.0.0.7)"
 

@@ -15,8 +15,7 @@ from pendant.program import MoveStep
 from pendant.program.files import dump_program
 from pendant.program.history import HistoryError
 from pendant.program.versions import VersionedStore
-
-from .history_support import git, pick_program
+from tests.support.program_history import git, pick_program
 
 # A real process without CAP_DAC_OVERRIDE: even as root, a folder's write bits then hold (the suite runs as
 # root in CI, where chmod alone would not make a folder read-only).

@@ -10,8 +10,7 @@ from pathlib import Path
 from pendant.program import LoopStep, MoveStep, WaitStep
 from pendant.program.files import ProgramStore
 from pendant.program.versions import VersionedStore
-
-from .history_support import pick_program, waypoint
+from tests.support.program_history import pick_program, waypoint
 
 EXIT_REFUSED = 2
 

@@ -19,15 +19,15 @@ from pendant.teach.path_step import path_step
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.program.panel import ProgramPanel
 from pendant.ui.program.scene import ROOT
-from tests.program.test_path_step import WithoutRunOperations, hand_drawn_s
-from tests.program.test_program_panel import FakeClient, fire, server, setup  # noqa: F401  (fixtures)
+from tests.support.doubles import OPERATOR, FakeBrowser, fire
+from tests.support.path_playback import WithoutRunOperations, hand_drawn_s
 
 WAIT_S = 10.0
 
 
-def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]  # noqa: F811
+def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]
     panel, workspace = setup
-    browser = FakeClient()
+    browser = FakeBrowser(OPERATOR)
     step = path_step(hand_drawn_s(sim, clock), name="s1")
     workspace.insert_step(OutputStep(port=1, level=SignalLevel.HIGH))
     workspace.insert_step(step)
@@ -35,14 +35,14 @@ def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup
     line = f"2. Path s1: {count} waypoints, 1 mm / 1° @ 100 mm/s"
     assert list(panel.select.options)[2] == line  # after "(no step selected)" and line 1
 
-    drawn = {node.name: node for node in panel.scene._nodes}
+    drawn = {node.name: node for node in panel.scene.nodes}
     polyline = drawn[f"{ROOT}/recorded_paths"]
     dots = drawn[f"{ROOT}/recorded_waypoints"]
     assert polyline.points.shape[1:] == (2, 3) and len(polyline.points) == count - 1
     end = step.points[-1].position.point
     assert np.allclose(dots.points[-1], [end.x, end.y, end.z], atol=1e-6)
     # A marker at its start (where the arm goes first) and one at its end: not one per waypoint.
-    assert [step_line for _, step_line in panel.scene._markers] == [1, 1]
+    assert [step_line for _, step_line in panel.scene.markers] == [1, 1]
 
     fire(panel.select, browser, line)
     assert panel.form.path_speed.visible and panel.form.speed.visible and not panel.form.goes_to.visible
@@ -50,11 +50,13 @@ def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup
     edited = workspace.program.steps[1]
     assert isinstance(edited, PathStep) and edited.velocity_mm_s == 40.0 and edited.points == step.points
     fire(panel.form.path_speed, browser, 1e9)  # beyond 2 m/s: refused, nothing changed
-    assert workspace.program.steps[1] == edited and browser.notifications[-1]["title"] == "Edit step refused"
+    assert workspace.program.steps[1] == edited and browser.notifications[-1].startswith(
+        "Edit step refused: "
+    )
 
     # Another tolerance simplifies the path again from its kept recording (here: none kept, refused).
     fire(panel.form.path_tol, browser, (2.0, 2.0))
-    assert workspace.program.steps[1] == edited and "no kept recording" in browser.notifications[-1]["body"]
+    assert workspace.program.steps[1] == edited and "no kept recording" in browser.notifications[-1]
 
     fire(panel.order, browser, "Up")
     assert isinstance(workspace.program.steps[0], PathStep)
@@ -63,9 +65,9 @@ def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup
     assert [type(s) for s in workspace.program.steps] == [OutputStep]
 
 
-def test_another_tolerance_simplifies_the_kept_recording_again(setup, sim, clock, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]  # noqa: F811
+def test_another_tolerance_simplifies_the_kept_recording_again(setup, sim, clock, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
     panel, workspace = setup
-    browser = FakeClient()
+    browser = FakeBrowser(OPERATOR)
     workspace.path_recordings = tmp_path / "recordings"
     recording = hand_drawn_s(sim, clock, folder=workspace.path_recordings)
     step = path_step(recording, name="s1").model_copy(update={"velocity_mm_s": 40.0})
@@ -83,7 +85,7 @@ def test_another_tolerance_simplifies_the_kept_recording_again(setup, sim, clock
 
 
 def test_on_a_controller_without_run_operations_the_tab_says_the_path_played_stop_and_go(
-    server,  # noqa: F811
+    server,
     sim: SimController,
     clock: FakeClock,
     tmp_path: Path,
@@ -98,10 +100,12 @@ def test_on_a_controller_without_run_operations_the_tab_says_the_path_played_sto
         panel = ProgramPanel(server, workspace, commands, arm=sim.arm)
         try:
             workspace.insert_step(step)
-            fire(panel.check_section.check, FakeClient())  # a real arm: Run waits for a passing check
+            fire(
+                panel.check_section.check, FakeBrowser(OPERATOR)
+            )  # a real arm: Run waits for a passing check
             assert panel.pending is not None and panel.pending.result(timeout=WAIT_S).ok
-            fire(panel.run, FakeClient())
-            workspace.runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]  # the run started it
+            fire(panel.run, FakeBrowser(OPERATOR))
+            assert workspace.runner.join(timeout=WAIT_S)
             assert workspace.progress.state is RunState.FINISHED
             assert panel.run_status.content == f"Finished\n\n{FALLBACK_NOTE}"
         finally:

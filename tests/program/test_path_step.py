@@ -41,11 +41,10 @@ from pendant.remote import RemoteController
 from pendant.sim import FakeClock, SimController
 from pendant.teach.path_step import path_step
 from pendant.teach.recording import Recording
-from tests.program.conftest import move, program_of
-from tests.program.test_bounds import many_moves
-from tests.program.test_runner import Recording as CallLog
 from tests.support.deviation import from_rest_at, max_deviation_mm, max_turn_deg, start_index
 from tests.support.path_playback import Sampler, WithoutRunOperations, hand_drawn_s, recorded_points
+from tests.support.programs import Recording as CallLog
+from tests.support.programs import many_moves, move, program_of
 
 TOL_MM = 1.0
 TOL_DEG = 1.0

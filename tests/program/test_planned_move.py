@@ -19,7 +19,7 @@ from pendant.program import MoveStep, ProgramRunner, RunState, Waypoint
 from pendant.program.files import dump_program, parse_program
 from pendant.program.motion import MSG_NO_PLANNER
 from pendant.sim import FakeClock, SimController
-from tests.program.conftest import POLL_S, move, program_of, settle, teach
+from tests.support.programs import POLL_S, move, program_of, settle, teach
 
 ANGLE_TOL_DEG = 0.5  # the runner's own arrival tolerance
 SEARCH_POLLS_BEFORE_STOP = 1  # the search has begun: its first look at the run's stop

@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import Any
-
 import numpy as np
 import pytest
 
@@ -21,50 +18,7 @@ from pendant.program import (
     compile_program,
 )
 from pendant.program.plan import MoveGroup
-from pendant.sim import FakeClock, SimController
-from tests.program.conftest import move, program_of
-
-ANGLE_TOL_DEG = 1e-6
-
-
-class Recording:
-    """The simulator, with every command the runner sends written down in order."""
-
-    def __init__(self, sim: SimController) -> None:
-        self._sim = sim
-        self.calls: list[tuple[str, tuple[Any, ...]]] = []
-
-    def __getattr__(self, name: str) -> Any:  # the simulator's: a Controller to the type checker
-        attribute = getattr(self._sim, name)
-        if name.startswith("get_") or not callable(attribute):
-            return attribute
-
-        def record(*args: object) -> object:
-            self.calls.append((name, args))
-            return attribute(*args)
-
-        return record
-
-    def names(self) -> list[str]:
-        return [name for name, _ in self.calls]
-
-
-def sleeping(clock: FakeClock, at: float, action: Callable[[], None]) -> Callable[[float], None]:
-    """A sleep that advances the fake clock and does `action` once, when the clock passes `at` seconds."""
-    done = False
-
-    def sleep(dt: float) -> None:
-        nonlocal done
-        clock.advance(dt)
-        if not done and clock.now() >= at:
-            done = True
-            action()
-
-    return sleep
-
-
-def angles(sim: SimController) -> np.ndarray:
-    return np.array(sim.get_pose().angles)
+from tests.support.programs import ANGLE_TOL_DEG, Recording, angles, move, program_of, sleeping
 
 
 def test_consecutive_moves_of_one_type_and_speed_run_as_one_blended_call(sim, clock, waypoints) -> None:

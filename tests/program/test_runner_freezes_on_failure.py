@@ -10,7 +10,7 @@ import numpy as np
 from pendant.controller import MotionStatus, MotionType, NotResponding
 from pendant.program import ProgramRunner, RunState, Waypoint
 from pendant.sim import FakeClock, SimController
-from tests.program.conftest import move, program_of
+from tests.support.programs import move, program_of
 
 FAIL_AT_S = 0.5
 SLOW_PERCENT = 10.0

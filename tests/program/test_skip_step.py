@@ -9,7 +9,7 @@ from pendant.controller.cell_types import BoxObstacle
 from pendant.controller.types import Point, Position, Rotation
 from pendant.program import ProgramRunner, RunState, Waypoint
 from pendant.sim import SimController
-from tests.program.conftest import move, program_of
+from tests.support.programs import move, program_of
 
 ANGLE_TOL_DEG = 1e-6
 BOX_SIDE_M = 0.08

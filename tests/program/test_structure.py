@@ -35,8 +35,7 @@ from pendant.program import (
 )
 from pendant.program.geometry import pallet_cells
 from pendant.sim import SimController
-from tests.program.conftest import move, program_of
-from tests.program.test_runner import ANGLE_TOL_DEG, Recording, angles, sleeping
+from tests.support.programs import ANGLE_TOL_DEG, Recording, angles, move, program_of, sleeping
 
 POSITION_TOL_M = 0.002  # the runner's arrival tolerance for TCP targets
 
@@ -257,14 +256,14 @@ class FailingInput:
     """The simulator, whose input reads fail (a controller that stopped answering) after `after` reads."""
 
     def __init__(self, sim: SimController, after: int) -> None:
-        self._sim, self._left = sim, after
+        self._sim, self.reads_left = sim, after
 
     def __getattr__(self, name: str) -> Any:  # the simulator's: a Controller to the type checker
         return getattr(self._sim, name)
 
     def get_input(self, port: int) -> SignalLevel:
-        self._left -= 1
-        if self._left < 0:
+        self.reads_left -= 1
+        if self.reads_left < 0:
             raise NotResponding()
         return self._sim.get_input(port)
 
@@ -279,6 +278,6 @@ def test_a_failed_input_read_at_the_end_of_a_pass_fails_the_loop_and_a_retry_rea
     failed = runner.run(program_of(CommentStep(text="cell"), loop, extra=(a,)))
     assert failed.state is RunState.FAILED and failed.failed_step == 1
     assert failed.message.startswith("Step 2 (Loop until DI1 HIGH) failed: ")
-    flaky._left = 10
+    flaky.reads_left = 10
     sim.set_input(1, SignalLevel.HIGH)
     assert runner.resume().state is RunState.FINISHED

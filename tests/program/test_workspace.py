@@ -20,8 +20,7 @@ from pendant.program import (
     WaitStep,
 )
 from pendant.program.limits import WAYPOINT_NAME_MAX
-
-from .conftest import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, settle, teach
+from tests.support.programs import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, settle, teach
 
 ANGLE_TOL_DEG = 1e-6
 
@@ -192,7 +191,7 @@ def test_runs_in_the_background_and_reports_progress(sim, clock, make_workspace)
     seen: list[Change] = []
     workspace.on_change(seen.append)
     workspace.start_run(loops=1)
-    workspace.runner._worker.join(timeout=10)
+    assert workspace.runner.join(timeout=10)
     settle(sim, clock)
     assert workspace.progress.state is RunState.FINISHED
     assert Change.RUN in seen

@@ -19,8 +19,7 @@ from pendant.controller.errors import (
 )
 from pendant.controller.types import MotionParams, MotionType, Pose, SignalLevel
 from pendant.sim import FakeClock, SimController
-
-from .helpers import finish, position, shifted
+from tests.support.sim_sampling import finish, position, shifted
 
 JOINT_50 = MotionParams(speed=50)
 LINEAR_50 = MotionParams(speed=50, motion_type=MotionType.LINEAR)
@@ -31,7 +30,7 @@ LOW_REACH_WRIST_TURNED = Pose(angles=[0.0, -10.0, -20.0, 90.0, -90.0, 0.0])
 
 
 def _snapshot(sim: SimController) -> tuple[object, ...]:
-    return sim.get_pose(), sim.get_motion_status(), len(sim._motions.queue), sim.gripper_opening()
+    return sim.get_pose(), sim.get_motion_status(), len(sim.motions.queue), sim.gripper_opening()
 
 
 def _assert_refused(

@@ -19,8 +19,7 @@ from pendant.jog.targets import JogFrame, JogRequest, joint_jog_target
 from pendant.kinematics.contact import CONTACT_DEEPER_TOLERANCE_M, worse_contact
 from pendant.sim import FakeClock, SimController
 from pendant.ui.target.check import check_joint_target
-
-from .helpers import finish
+from tests.support.sim_sampling import finish
 
 README_WALL = PlaneObstacle(
     obstacleType="PLANE",
@@ -46,7 +45,7 @@ def sim(clock: FakeClock) -> SimController:
 
 def wall_contacts(sim: SimController) -> dict[str | None, float]:
     q = np.radians(sim.get_pose().angles)
-    return {name: c.depth_m for name, c in sim._environment.geometry.contacts(q).items()}
+    return {name: c.depth_m for name, c in sim.environment.geometry.contacts(q).items()}
 
 
 def test_the_rule_refuses_a_new_contact_and_a_deeper_one_within_a_named_tolerance() -> None:

@@ -27,8 +27,7 @@ from pendant.controller.types import (
     SignalLevel,
 )
 from pendant.sim import FakeClock, Fault, SimController
-
-from .helpers import finish, position, record, shifted
+from tests.support.sim_sampling import finish, position, record, shifted
 
 LINEAR = LinearMotionParameters(velocity=0.2, acceleration=1.0)
 DEFAULT_BLEND_TOL_M = 1e-3

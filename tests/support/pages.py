@@ -7,6 +7,8 @@ import contextlib
 from collections.abc import Iterator
 from typing import Any
 
+import viser
+
 from pendant.controller import Controller
 from pendant.kinematics import ArmModel
 from pendant.ui.app import PendantUI
@@ -50,6 +52,12 @@ def pendant_page(controller: Controller, arm: ArmModel, **options: Any) -> Itera
 def headless_session(page: PendantUI) -> ClientSession:
     """The panels one browser would get, built on the server's GUI and counted as the page's browser."""
     session = page.open_session(page.server)
-    with page._sessions_lock:
+    with page.browsers.lock:
         page.sessions[-1] = session
     return session
+
+
+def button(ui: ClientSession, label: str) -> viser.GuiButtonHandle:
+    """The Jog tab's button of that label (J1+, X-, ...)."""
+    (found,) = (b for b in ui.jog.buttons.values() if b.label == label)
+    return found

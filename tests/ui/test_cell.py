@@ -5,12 +5,11 @@ from __future__ import annotations
 import json
 import time
 from collections.abc import Callable
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from pendant.controller import MotionParams, MotionType, Point, Pose, Position, Rotation
+from pendant.controller import MotionParams, MotionType, Point, Pose, Position
 from pendant.controller.cell_types import (
     BoxObstacle,
     CapsuleObstacle,
@@ -24,6 +23,8 @@ from pendant.ui.app import PendantUI
 from pendant.ui.cell.panel import NEW
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.obstacles import box
+from tests.support.sim_sampling import home_q
 
 WAIT_S = 10.0
 
@@ -35,23 +36,8 @@ def wait_for(condition: Callable[[], bool], what: str) -> None:
         time.sleep(0.02)
 
 
-def box(name: str, xyz: tuple[float, float, float], side: float = 0.1) -> BoxObstacle:
-    return BoxObstacle(
-        obstacleType="BOX",
-        name=name,
-        sides=Point(x=side, y=side, z=side),
-        centerPosition=Position(
-            point=Point(x=xyz[0], y=xyz[1], z=xyz[2]), rotation=Rotation(roll=0, pitch=0, yaw=0)
-        ),
-    )
-
-
 def names(sim: SimController) -> list[str]:
     return [o.name for o in sim.get_obstacles()]
-
-
-def home_q(sim: SimController) -> np.ndarray:
-    return np.radians(sim.get_pose().angles)
 
 
 def test_an_obstacle_added_through_the_controller_is_drawn_and_listed(
@@ -265,19 +251,19 @@ def test_the_tool_shape_is_drawn_on_the_flange_and_the_ghost_checks_it(
     pendant_ui.refresh_cell()
     pendant_ui.refresh()
     assert pendant_ui.tool_shape.capsules_shown == 1
-    np.testing.assert_allclose(pendant_ui.tool_shape._frame.position, flange[:3, 3], atol=1e-6)
+    np.testing.assert_allclose(pendant_ui.tool_shape.frame.position, flange[:3, 3], atol=1e-6)
     assert panel.check.reason == "Collision detected: the arm would touch 'below the tool'"
 
 
 def test_a_cell_file_is_saved_loaded_and_applied(
-    pendant_ui: PendantUI, ui: ClientSession, sim: SimController, tmp_path: Path
+    pendant_ui: PendantUI, ui: ClientSession, sim: SimController
 ) -> None:
-    ui.cell.files_section._folder = tmp_path
+    folder = ui.cell.files_section.folder  # a fresh one per test (tests/conftest.py)
     browser = FakeBrowser(OPERATOR)
     sim.add_obstacle(box("fixture", (0.4, 0.3, 0.2)))
     fire(ui.cell.file_name, browser, "line 3")
     ui.cell.save_file(browser).result(timeout=WAIT_S)
-    saved = json.loads((tmp_path / "line 3.cell.json").read_text())
+    saved = json.loads((folder / "line 3.cell.json").read_text())
     assert saved["schema_version"] == 1
     assert [o["name"] for o in saved["obstacles"]] == ["fixture"]
     assert ui.cell.files.value == "line 3"
@@ -289,9 +275,9 @@ def test_a_cell_file_is_saved_loaded_and_applied(
 
 
 def test_a_cell_file_the_controller_refuses_leaves_the_cell_as_it_was(
-    ui: ClientSession, sim: SimController, tmp_path: Path
+    ui: ClientSession, sim: SimController
 ) -> None:
-    ui.cell.files_section._folder = tmp_path
+    folder = ui.cell.files_section.folder  # a fresh one per test (tests/conftest.py)
     browser = FakeBrowser(OPERATOR)
     on_a_line = PlaneObstacle(
         obstacleType="PLANE",
@@ -299,14 +285,14 @@ def test_a_cell_file_the_controller_refuses_leaves_the_cell_as_it_was(
         points=[Point(x=0.0, y=0.0, z=0.0), Point(x=0.1, y=0.0, z=0.0), Point(x=0.2, y=0.0, z=0.0)],
     )
     bad = {"schema_version": 1, "obstacles": [json.loads(on_a_line.model_dump_json())]}
-    (tmp_path / "bad.cell.json").write_text(json.dumps(bad))
+    (folder / "bad.cell.json").write_text(json.dumps(bad))
     sim.add_obstacle(box("kept", (0.4, 0.3, 0.2)))
     future = ui.cell.load_file("bad", browser)
     assert future is not None and future.exception(timeout=WAIT_S) is not None
     assert names(sim) == ["kept"]
     assert any("plane points must not lie on one line" in n for n in browser.notifications)
 
-    (tmp_path / "garbage.cell.json").write_text('{"schema_version": 7}')
+    (folder / "garbage.cell.json").write_text('{"schema_version": 7}')
     assert ui.cell.load_file("garbage", browser) is None
     assert "not a cell file" in browser.notifications[-1]
     assert names(sim) == ["kept"]

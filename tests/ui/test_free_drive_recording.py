@@ -15,8 +15,7 @@ from pendant.sim import SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser
-
-from .test_cell import box
+from tests.support.obstacles import box
 
 WAIT_S = 10.0
 STEPS = 45

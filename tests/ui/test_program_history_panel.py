@@ -10,8 +10,8 @@ from pendant.program import MoveStep
 from pendant.ui.app import PendantUI
 from pendant.ui.page.session import ClientSession
 from pendant.ui.program.history_section import AFTER_RGB, BEFORE_RGB, UNSAVED
-from tests.program.history_support import git, pick_program, waypoint
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.program_history import git, pick_program, waypoint
 
 POSITION_TOL_M = 1e-9
 
@@ -52,7 +52,7 @@ def test_history_lists_who_saved_and_the_diff_of_the_last_save(pendant_ui, ui, t
         "- step 1 (Move J to P1 @ 40%): speed 20 -> 40 %",
     ]
     [moved] = history.shown.moved
-    spheres = {node.name: node for node in history._nodes if node.name.endswith(("_before", "_after"))}
+    spheres = {node.name: node for node in history.nodes if node.name.endswith(("_before", "_after"))}
     before, after = spheres["/program_history/0_before"], spheres["/program_history/0_after"]
     np.testing.assert_allclose(before.position, (0.5, 0.0, 0.3), atol=POSITION_TOL_M)
     np.testing.assert_allclose(after.position, (0.512, 0.0, 0.3), atol=POSITION_TOL_M)
@@ -65,7 +65,7 @@ def test_picking_two_versions_and_the_unsaved_program(pendant_ui, ui, two_saves)
     history = ui.program.history_section
     newest, oldest = history.older.options
     fire(history.older, operator, newest)
-    assert history.diff_view.content == "_No changes._" and not history._nodes
+    assert history.diff_view.content == "_No changes._" and not history.nodes
     pendant_ui.programs.delete_step(1)  # an unsaved change shows at once against the picked version
     assert history.diff_view.content == "- step 2 (Move J to P2 @ 20%) removed"
     fire(history.newer, operator, newest)

@@ -110,7 +110,7 @@ def test_a_viewers_page_has_its_controls_disabled_except_freeze(local_ui: Pendan
     assert viewer.control.take_button.visible and not viewer.control.release_button.visible
 
     assert local_ui.desk.release(1)
-    with local_ui._sessions_lock:
+    with local_ui.browsers.lock:
         local_ui.sessions[2] = viewer
     assert viewer.control.take() is None  # no token on loopback
     assert not viewer.locked
@@ -169,7 +169,7 @@ def test_operator_leaving_hands_control_on_and_stops_the_jog(
     clock.advance(0.5)
     assert sim.get_motion_status() is MotionStatus.RUNNING
 
-    local_ui._disconnect(FakeBrowser(1))  # the operator's browser closes
+    local_ui.disconnect(FakeBrowser(1))  # the operator's browser closes
     assert local_ui.desk.operator == 2, "the browser left waiting must get control, not nobody"
     assert local_ui.jogger.active is None
     stopped = angles(sim)
@@ -179,7 +179,7 @@ def test_operator_leaving_hands_control_on_and_stops_the_jog(
     messages = [e.message for e in local_ui.events.recent()]
     assert any("left: browser #2 has control" in m for m in messages)
 
-    local_ui._disconnect(FakeBrowser(2))  # the last one leaves: nobody is left to hand it to
+    local_ui.disconnect(FakeBrowser(2))  # the last one leaves: nobody is left to hand it to
     assert local_ui.desk.operator is None
     assert "left: control released" in local_ui.events.recent()[-1].message
     assert any(m == "Jog J1+" for m in messages) and any(

@@ -14,8 +14,8 @@ from pendant.controller.cell_types import ToolShape
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.target.panel import TargetPanel
-
-from .test_cell import box, home_q
+from tests.support.obstacles import box
+from tests.support.sim_sampling import home_q
 
 SCRIPT_WAIT_S = 0.5  # how long the script's refresh gets to run while the operator's check is under way
 
