@@ -80,7 +80,7 @@ class ProgramRunner:
         self,
         controller: Controller,
         *,
-        sleep: Callable[[float], None] = time.sleep,
+        sleep: Callable[[float], object] = time.sleep,  # its result is ignored (FakeClock.advance)
         now: Callable[[], float] = time.monotonic,
         poll_s: float = POLL_S,
         load: Loader | None = None,

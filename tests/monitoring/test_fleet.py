@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from functools import partial
 from typing import TypeVar
 
 import httpx
@@ -66,7 +67,7 @@ def test_three_pendants_scraped_alerted_and_charted_by_the_real_tools() -> None:
             assert httpx.put(f"{api}/pose?speed=20", json=REACHABLE_POSE, timeout=10).status_code == 200
             assert httpx.put(f"{api}/pose?speed=20", json={"angles": [1, 2]}, timeout=10).status_code == 400
         for expr in dashboard_queries():
-            eventually(lambda expr=expr: query(site.prometheus, expr), bool, f"dashboard query {expr}")
+            eventually(partial(query, site.prometheus, expr), bool, f"dashboard query {expr}")
         assert firing_at_webhook(site) == set(), "a healthy site pages nobody"
 
         # One fault per arm: each alert must come from its own arm and no other.

@@ -75,7 +75,9 @@ def test_viewers_and_page_commands_are_counted(sim: SimController) -> None:
         page.desk.join(OPERATOR)
         page.desk.join(VIEWER)
         page.runner.submit("Home", lambda controller: controller.freeze(), None).result(timeout=WAIT_S)
-        refused = page.runner.submit("Relax", lambda controller: controller.relax(), FakeBrowser(VIEWER))  # type: ignore[arg-type]
+        refused = page.runner.submit(
+            "Relax", lambda controller: controller.relax(), FakeBrowser(VIEWER).handle
+        )
         assert refused.exception() is not None
     finally:
         page.stop()

@@ -32,6 +32,7 @@ from pendant.program import (
 from pendant.program.files import MAX_FILE_BYTES, dump_program
 from pendant.program.limits import MAX_STEPS, PROGRAM_NAME_MAX
 from pendant.program.plan import MoveGroup
+from pendant.sim import FakeClock, SimController
 from tests.support.launchers import running_pendant
 from tests.support.programs import Taught, many_moves, move, program_of
 
@@ -63,7 +64,9 @@ def sweep(
     ]
 
 
-def test_a_long_stretch_of_moves_becomes_runs_the_controller_accepts(sim, clock, waypoints) -> None:
+def test_a_long_stretch_of_moves_becomes_runs_the_controller_accepts(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     moves = sweep(waypoints["A"], LONG_RUN, 0.1)
     program = program_of(*moves)
     groups = [node for node in compile_program(program) if isinstance(node, MoveGroup)]
@@ -94,7 +97,7 @@ def run_exported(program: Program, tmp_path: Path, api_url: str) -> subprocess.C
 
 
 def test_the_exported_script_runs_more_than_100_moves_in_runs(
-    waypoints, tmp_path: Path, api_url: str
+    waypoints: dict[str, Waypoint], tmp_path: Path, api_url: str
 ) -> None:
     moves = sweep(waypoints["A"], MAX_RUN_WAYPOINTS + 5, 0.02)
     done = run_exported(program_of(*moves), tmp_path, api_url)
@@ -104,7 +107,7 @@ def test_the_exported_script_runs_more_than_100_moves_in_runs(
 
 
 def test_names_with_quotes_or_control_characters_export_a_script_that_runs(
-    waypoints, tmp_path: Path, api_url: str
+    waypoints: dict[str, Waypoint], tmp_path: Path, api_url: str
 ) -> None:
     moves = sweep(waypoints["B"], len(HOSTILE_NAMES), 1.0, name=lambda i: HOSTILE_NAMES[i])
     for name in HOSTILE_NAMES:
@@ -116,7 +119,7 @@ def test_names_with_quotes_or_control_characters_export_a_script_that_runs(
 
 
 def test_the_largest_program_saves_and_loads_back(
-    waypoints, make_workspace: Callable[[], ProgramWorkspace]
+    waypoints: dict[str, Waypoint], make_workspace: Callable[[], ProgramWorkspace]
 ) -> None:
     workspace = make_workspace()
     largest = many_moves(waypoints["C"], MAX_STEPS, name="n" * PROGRAM_NAME_MAX)
@@ -133,7 +136,7 @@ def test_the_largest_program_saves_and_loads_back(
     assert reloaded.program.steps == as_written.steps
 
 
-def test_a_program_beyond_the_step_limit_cannot_be_made(waypoints) -> None:
+def test_a_program_beyond_the_step_limit_cannot_be_made(waypoints: dict[str, Waypoint]) -> None:
     with pytest.raises(ValidationError, match=f"at most {MAX_STEPS}"):
         many_moves(waypoints["C"], 8000)
     with pytest.raises(ValidationError):

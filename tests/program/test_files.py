@@ -18,6 +18,7 @@ from pendant.program import (
     MoveStep,
     Program,
     ProgramFileError,
+    ProgramRunner,
     ProgramStore,
     Waypoint,
     atomic_write,
@@ -54,7 +55,9 @@ def test_save_and_load_round_trip_the_program(tmp_path: Path) -> None:
     assert [s["waypoint"] for s in document["steps"]] == ["P1", "P2"]
 
 
-def test_a_write_that_fails_midway_leaves_the_old_file_and_no_litter(tmp_path: Path, monkeypatch) -> None:
+def test_a_write_that_fails_midway_leaves_the_old_file_and_no_litter(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     store = ProgramStore(tmp_path)
     store.save(program_of("P1"), "job")
     before = (tmp_path / "job.json").read_bytes()
@@ -145,7 +148,7 @@ def refused_autosaves(folder: Path) -> list[Path]:
 
 
 def test_a_corrupt_autosave_starts_an_empty_program_and_every_refused_one_is_kept_and_explained(
-    tmp_path: Path, runner
+    tmp_path: Path, runner: ProgramRunner
 ) -> None:
     from pendant.program import ProgramWorkspace
 
@@ -197,7 +200,7 @@ def test_an_autosave_that_is_not_one_is_refused_with_the_reason(
 
 
 def test_an_autosave_that_cannot_be_moved_aside_is_left_and_the_message_says_to_copy_it(
-    tmp_path: Path, monkeypatch
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     (tmp_path / ".autosave.json").write_text("{garbage")
 

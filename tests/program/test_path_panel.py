@@ -7,10 +7,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import viser
 from fastapi.testclient import TestClient
 
 from pendant.api import create_app
 from pendant.controller import SignalLevel
+from pendant.planning.report import PreflightReport
 from pendant.program import OutputStep, PathStep, ProgramRunner, ProgramStore, ProgramWorkspace, RunState
 from pendant.program.blended import FALLBACK_NOTE
 from pendant.remote import RemoteController
@@ -25,7 +27,9 @@ from tests.support.path_playback import WithoutRunOperations, hand_drawn_s
 WAIT_S = 10.0
 
 
-def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]
+def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, clock: FakeClock
+) -> None:
     panel, workspace = setup
     browser = FakeBrowser(OPERATOR)
     step = path_step(hand_drawn_s(sim, clock), name="s1")
@@ -38,6 +42,7 @@ def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup
     drawn = {node.name: node for node in panel.scene.nodes}
     polyline = drawn[f"{ROOT}/recorded_paths"]
     dots = drawn[f"{ROOT}/recorded_waypoints"]
+    assert isinstance(polyline, viser.LineSegmentsHandle) and isinstance(dots, viser.PointCloudHandle)
     assert polyline.points.shape[1:] == (2, 3) and len(polyline.points) == count - 1
     end = step.points[-1].position.point
     assert np.allclose(dots.points[-1], [end.x, end.y, end.z], atol=1e-6)
@@ -65,7 +70,9 @@ def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup
     assert [type(s) for s in workspace.program.steps] == [OutputStep]
 
 
-def test_another_tolerance_simplifies_the_kept_recording_again(setup, sim, clock, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+def test_another_tolerance_simplifies_the_kept_recording_again(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, clock: FakeClock, tmp_path: Path
+) -> None:
     panel, workspace = setup
     browser = FakeBrowser(OPERATOR)
     workspace.path_recordings = tmp_path / "recordings"
@@ -85,7 +92,7 @@ def test_another_tolerance_simplifies_the_kept_recording_again(setup, sim, clock
 
 
 def test_on_a_controller_without_run_operations_the_tab_says_the_path_played_stop_and_go(
-    server,
+    server: viser.ViserServer,
     sim: SimController,
     clock: FakeClock,
     tmp_path: Path,
@@ -100,10 +107,11 @@ def test_on_a_controller_without_run_operations_the_tab_says_the_path_played_sto
         panel = ProgramPanel(server, workspace, commands, arm=sim.arm)
         try:
             workspace.insert_step(step)
-            fire(
-                panel.check_section.check, FakeBrowser(OPERATOR)
-            )  # a real arm: Run waits for a passing check
-            assert panel.pending is not None and panel.pending.result(timeout=WAIT_S).ok
+            # A real arm: Run waits for a passing check.
+            fire(panel.check_section.check, FakeBrowser(OPERATOR))
+            assert panel.pending is not None
+            report = panel.pending.result(timeout=WAIT_S)
+            assert isinstance(report, PreflightReport) and report.ok
             fire(panel.run, FakeBrowser(OPERATOR))
             assert workspace.runner.join(timeout=WAIT_S)
             assert workspace.progress.state is RunState.FINISHED

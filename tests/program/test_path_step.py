@@ -237,7 +237,7 @@ def test_as_the_runners_blended_path_it_runs_taught_moves_with_their_actions_in_
     sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
 ) -> None:
     log = CallLog(sim)
-    runner = ProgramRunner(log, sleep=clock.advance, now=clock.now, blended=BlendedRun(log))  # type: ignore[arg-type]
+    runner = ProgramRunner(log, sleep=clock.advance, now=clock.now, blended=BlendedRun(log))
     set_do1 = (OutputAction(port=1, value=SignalLevel.HIGH),)
     program = program_of(move(waypoints["A"], actions=set_do1), move(waypoints["B"]), move(waypoints["C"]))
     result = runner.run(program)

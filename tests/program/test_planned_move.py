@@ -91,7 +91,7 @@ def test_stop_while_the_path_is_searched_ends_the_search_and_nothing_moves(
     # The operator presses Stop while the planned step is still searching its path round the box: the
     # search ends there (it polls the run's stop), the run says stopped, and no path is sent afterwards.
     plans = ControllerPlanner(ArmModel.load("pulse75"), budget_s=10.0)  # long enough to be under way
-    polls_after_stop = []
+    polls_after_stop: list[int] = []
     ended_by: list[str] = []
 
     def planner(controller: Controller, goal: Pose | Position, cancelled: Callable[[], bool]) -> list[Pose]:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,6 +22,7 @@ from pendant.program import (
     ProgramWorkspace,
     RunState,
 )
+from pendant.sim import FakeClock, SimController
 from pendant.ui.kit.cell_state import CellState
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.kit.snapshot import Snapshot
@@ -41,7 +43,9 @@ def record(panel: ProgramPanel, client: FakeBrowser) -> None:
     panel.pending.result(timeout=WAIT_S)
 
 
-def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_record_edit_save_run_download_from_the_tab(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, clock: FakeClock, tmp_path: Path
+) -> None:
     panel, workspace = setup
     browser = FakeBrowser(OPERATOR)
     for pose in (POSE_A_DEG, POSE_B_DEG):
@@ -85,7 +89,9 @@ def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path)
     assert browser.downloads[-1][0] == "cell_4.py"
 
 
-def test_a_refused_upload_is_explained_and_changes_nothing(setup, sim) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_a_refused_upload_is_explained_and_changes_nothing(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController
+) -> None:
     panel, workspace = setup
     browser = FakeBrowser(OPERATOR)
     record(panel, browser)
@@ -97,7 +103,9 @@ def test_a_refused_upload_is_explained_and_changes_nothing(setup, sim) -> None: 
     assert "newer pendant" in browser.notifications[-1]
 
 
-def test_two_browsers_see_the_same_program(setup, sim) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_two_browsers_see_the_same_program(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController
+) -> None:
     panel, workspace = setup
     elsewhere = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)  # its own scene
     other = ProgramPanel(elsewhere, workspace, CommandRunner(sim))
@@ -109,7 +117,9 @@ def test_two_browsers_see_the_same_program(setup, sim) -> None:  # type: ignore[
         elsewhere.stop()
 
 
-def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_a_reloaded_page_selects_nothing_and_record_appends(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, clock: FakeClock
+) -> None:
     panel, workspace = setup
     browser = FakeBrowser(OPERATOR)
     for pose in (POSE_A_DEG, POSE_B_DEG):
@@ -125,7 +135,8 @@ def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -
         assert ghost is not None and not ghost.show_visual  # nothing selected, nothing previewed
         teach(sim, clock, POSE_C_DEG, "ignored")
         record(reloaded, browser)
-        assert [s.waypoint for s in workspace.program.steps] == ["P1", "P2", "P3"]
+        assert [s.waypoint for s in workspace.program.steps if isinstance(s, MoveStep)] == ["P1", "P2", "P3"]
+        assert len(workspace.program.steps) == 3
         fire(reloaded.select, browser, "1. Move J to P1 @ 20%")
         assert ghost.show_visual  # a move selected: its waypoint previewed
         record(reloaded, browser)  # a selection alone still appends
@@ -140,7 +151,9 @@ def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -
         elsewhere.stop()
 
 
-def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(
+    server: viser.ViserServer, sim: SimController, clock: FakeClock, tmp_path: Path
+) -> None:
     folder = tmp_path / "programs"
     folder.mkdir()
     (folder / ".autosave.json").write_text("{ half a program")  # the pendant was killed mid-write by hand
@@ -157,7 +170,9 @@ def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, 
         runner.shutdown()
 
 
-def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(setup, sim, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, tmp_path: Path
+) -> None:
     panel, workspace = setup
     browser = FakeBrowser(OPERATOR)
     files = panel.file_section
@@ -199,7 +214,12 @@ def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(setup, si
     assert workspace.program.uses_of("P2") == 0
 
 
-def test_run_from_the_selected_step_and_retry_a_failed_one_from_the_banner(setup, server, sim, clock) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_run_from_the_selected_step_and_retry_a_failed_one_from_the_banner(
+    setup: tuple[ProgramPanel, ProgramWorkspace],
+    server: viser.ViserServer,
+    sim: SimController,
+    clock: FakeClock,
+) -> None:
     panel, workspace = setup
     recovery = Recovery(EventLog(), sim.arm, simulator=True)
     banner = Banner(server, recovery, panel.commands, workspace, sim=sim)
@@ -240,7 +260,9 @@ def test_run_from_the_selected_step_and_retry_a_failed_one_from_the_banner(setup
     assert read() == [] and panel.run_status.content == "Finished"
 
 
-def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, clock: FakeClock
+) -> None:
     panel, workspace = setup
     for pose in (POSE_A_DEG, POSE_B_DEG, POSE_C_DEG):
         teach(sim, clock, pose, "ignored")
@@ -248,7 +270,8 @@ def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, cloc
     workspace.insert_step(MoveStep(waypoint="P1", motion=MotionType.LINEAR, offset=Offset(z=50.0)))
     workspace.insert_step(PalletStep(corners=("P1", "P2", "P3"), rows=3, columns=4, approach_mm=30.0))
     cells = [node for node in panel.scene.nodes if node.name == "/program/pallet_cells"]
-    assert len(cells) == 1 and cells[0].points.shape == (12, 3)
+    assert len(cells) == 1 and isinstance(cells[0], viser.PointCloudHandle)
+    assert cells[0].points.shape == (12, 3)
     p1 = workspace.program.waypoint("P1").position.point
     marker_points = [np.asarray(marker.position) for marker, _ in panel.scene.markers]
     above_p1 = np.array([p1.x, p1.y, p1.z + 0.05])
@@ -256,7 +279,9 @@ def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, cloc
     assert any(abs(float(p[2]) - (p1.z + 0.03)) < 1e-4 for p in marker_points)  # above the first cell
 
 
-def test_save_of_an_unnamed_program_asks_for_its_name_then_saves(setup, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_save_of_an_unnamed_program_asks_for_its_name_then_saves(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, clock: FakeClock, tmp_path: Path
+) -> None:
     panel, workspace = setup
     files, browser, folder = panel.file_section, FakeBrowser(OPERATOR), tmp_path / "programs"
     teach(sim, clock, POSE_A_DEG, "ignored")

@@ -41,7 +41,7 @@ def test_a_controller_error_mid_group_freezes_the_arm_where_it_is(
     a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
     program = program_of(*(move(w, MotionType.JOINT, SLOW_PERCENT) for w in (a, b, c)))
     flaky = FlakyStatus(sim, clock, clock.now() + FAIL_AT_S)
-    runner = ProgramRunner(flaky, sleep=clock.advance, now=clock.now, poll_s=0.05)  # type: ignore[arg-type]
+    runner = ProgramRunner(flaky, sleep=clock.advance, now=clock.now, poll_s=0.05)
 
     result = runner.run(program)
 

@@ -7,6 +7,7 @@ import time
 
 import httpx
 import pytest
+from fastapi import FastAPI
 
 from pendant.cli import make_api_app, make_controller, parse_settings
 from pendant.controller.errors import ControllerOffline
@@ -32,6 +33,7 @@ def test_the_configured_read_timeout_bounds_the_client_and_the_proxy() -> None:
         controller = make_controller(settings)
         assert isinstance(controller, RemoteController)
         app = make_api_app(settings, controller, started_at=time.monotonic())
+        assert isinstance(app, FastAPI)  # the proxy
         with (
             controller,
             serve_in_thread(app) as proxy_url,

@@ -4,6 +4,7 @@ A refused command changes nothing."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import partial
 
 import numpy as np
 import pytest
@@ -14,6 +15,7 @@ from pendant.controller.errors import (
     MSG_UNREACHABLE_POSITION,
     BadRequest,
     Collision,
+    ControllerError,
     PreconditionFailed,
     Unreachable,
 )
@@ -34,7 +36,10 @@ def _snapshot(sim: SimController) -> tuple[object, ...]:
 
 
 def _assert_refused(
-    sim: SimController, command: Callable[[], object], error: type[Exception], message: str | None = None
+    sim: SimController,
+    command: Callable[[], object],
+    error: type[ControllerError],
+    message: str | None = None,
 ) -> None:
     before = _snapshot(sim)
     with pytest.raises(error) as info:
@@ -126,9 +131,9 @@ def test_empty_waypoint_lists_are_bad_requests(sim: SimController) -> None:
 
 def test_ports_and_gripper_timeouts_out_of_range_are_refused(sim: SimController) -> None:
     for port in (0, 3):
-        _assert_refused(sim, lambda port=port: sim.set_output(port, SignalLevel.HIGH), PreconditionFailed)
-        _assert_refused(sim, lambda port=port: sim.get_output(port), PreconditionFailed)
+        _assert_refused(sim, partial(sim.set_output, port, SignalLevel.HIGH), PreconditionFailed)
+        _assert_refused(sim, partial(sim.get_output, port), PreconditionFailed)
     for port in (0, 5):
-        _assert_refused(sim, lambda port=port: sim.get_input(port), PreconditionFailed)
-        _assert_refused(sim, lambda port=port: sim.set_input(port, SignalLevel.HIGH), PreconditionFailed)
+        _assert_refused(sim, partial(sim.get_input, port), PreconditionFailed)
+        _assert_refused(sim, partial(sim.set_input, port, SignalLevel.HIGH), PreconditionFailed)
     _assert_refused(sim, lambda: sim.open_gripper(-1), PreconditionFailed)

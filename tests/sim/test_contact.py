@@ -49,7 +49,7 @@ def wall_contacts(sim: SimController) -> dict[str | None, float]:
 
 
 def test_the_rule_refuses_a_new_contact_and_a_deeper_one_within_a_named_tolerance() -> None:
-    allowed = {"wall": 0.013}
+    allowed: dict[str | None, float] = {"wall": 0.013}
     assert worse_contact(allowed, {"wall": 0.013 + 0.5 * CONTACT_DEEPER_TOLERANCE_M}) is None
     assert worse_contact(allowed, {"wall": 0.005}) is None  # shallower: backing out
     deeper = worse_contact(allowed, {"wall": 0.013 + 2 * CONTACT_DEEPER_TOLERANCE_M})

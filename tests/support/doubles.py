@@ -5,7 +5,7 @@ from __future__ import annotations
 import asyncio
 import inspect
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import viser
@@ -30,13 +30,18 @@ class FakeBrowser:
     def send_file_download(self, filename: str, content: bytes, **_: object) -> None:
         self.downloads.append((filename, content))
 
+    @property
+    def handle(self) -> viser.ClientHandle:
+        """This stand-in where the pendant takes a viser ClientHandle: it has what the pendant uses of one."""
+        return cast(viser.ClientHandle, self)
+
 
 def event(handle: Any, browser: FakeBrowser | None) -> viser.GuiEvent:
     """viser's event for `handle` from `browser` (None: from the server's Python, as on_click's callers see
     it when no browser is involved)."""
     if browser is None:
         return viser.GuiEvent(client=None, client_id=0, target=handle)
-    return viser.GuiEvent(client=browser, client_id=browser.client_id, target=handle)  # type: ignore[arg-type]  # a fake client for viser's
+    return viser.GuiEvent(client=browser.handle, client_id=browser.client_id, target=handle)
 
 
 def fire(handle: Any, browser: FakeBrowser | None, value: Any = None) -> None:
@@ -50,7 +55,7 @@ def fire(handle: Any, browser: FakeBrowser | None, value: Any = None) -> None:
 def confirm_hold(button: viser.GuiButtonHandle, browser: FakeBrowser) -> None:
     """One of the calls viser makes, HOLD_CONFIRM_HZ times a second, while a browser holds `button` (viser
     awaits an async callback on its event loop; the controller work it hands to a thread is waited for)."""
-    for callback in list(button._impl.hold_cbs_from_freq[HOLD_CONFIRM_HZ]):
+    for callback in list(button._button_impl.hold_cbs_from_freq[HOLD_CONFIRM_HZ]):
         result = callback(event(button, browser))
         if inspect.iscoroutine(result):
             asyncio.run(result)
@@ -62,7 +67,7 @@ def drag(handle: viser.TransformControlsHandle, browser: FakeBrowser, path: list
 
     def send(phase: str) -> None:
         event = viser.TransformControlsEvent(
-            client=browser,  # type: ignore[arg-type]  # a fake client for viser's
+            client=browser.handle,
             client_id=browser.client_id,
             target=handle,
             phase=phase,  # type: ignore[arg-type]  # one of viser's Literal phases

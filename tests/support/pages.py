@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import contextlib
 from collections.abc import Iterator
+from concurrent.futures import Future
 from typing import Any
 
 import viser
@@ -61,3 +62,9 @@ def button(ui: ClientSession, label: str) -> viser.GuiButtonHandle:
     """The Jog tab's button of that label (J1+, X-, ...)."""
     (found,) = (b for b in ui.jog.buttons.values() if b.label == label)
     return found
+
+
+def sent(future: Future[object] | None) -> Future[object]:
+    """The command a panel handed to the runner; None means the panel refused it (a failed test here)."""
+    assert future is not None, "the panel refused the command"
+    return future

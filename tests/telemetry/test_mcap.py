@@ -64,6 +64,7 @@ def test_a_recording_opens_in_an_mcap_reader(
         )
     ):
         assert time_ns == pytest.approx((WALL_START + (i + 1) * SAMPLE_PERIOD_S) * 1e9, abs=1e3)
+        assert motors is not None
         assert joints["position_deg"] == [m.angle for m in motors]
         assert motor_msg["motors"] == [m.model_dump() for m in motors]
         assert tcp["x"] == position.point.x and tcp["yaw"] == position.rotation.yaw

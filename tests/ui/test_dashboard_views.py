@@ -66,6 +66,7 @@ def test_plots_show_units_and_current_values(
     assert motors is not None
     for key, plot in ui.dashboard.plots.items():
         unit, _ = UNITS[key]
+        assert plot.height is not None and plot.axes is not None and plot.legend is not None
         assert plot.height >= READABLE_HEIGHT_PX and PLOT_HEIGHT_PX >= READABLE_HEIGHT_PX
         assert plot.axes[1]["label"] == unit and plot.axes[0]["label"] == "s ago"
         assert plot.legend["live"] is False, "uPlot's live legend shows '--' until hovered"
@@ -97,6 +98,7 @@ def test_longer_windows_reach_back_an_hour_and_pause_holds_the_picture(
 
     fire(ui.dashboard.plot_view.window, viewer, "Last 5 minutes")
     t = angle.data[0]
+    assert angle.axes is not None and angle.scales is not None
     assert angle.axes[0]["label"] == "min ago" and angle.scales["x"]["range"] == (-5.0, 0.0)
     assert t[0] <= -3.9 and t[-1] == 0.0, "four minutes of history, in minutes"
     assert len(t) <= MAX_POINTS

@@ -316,7 +316,8 @@ def test_gripper_buttons_close_and_open_the_gripper_over_time(
         fire(gripper_button, operator)
         commands.wait()
         clock.advance(duration_s / 2)
-        assert 0.0 < pendant_ui.refresh().gripper_opening < 1.0  # on its way, over the timeout
+        halfway = pendant_ui.refresh().gripper_opening
+        assert halfway is not None and 0.0 < halfway < 1.0  # on its way, over the timeout
         clock.advance(duration_s)
         assert pendant_ui.refresh().gripper_opening == pytest.approx(opening, abs=OPENING_TOL)
 
