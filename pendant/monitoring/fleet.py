@@ -53,7 +53,7 @@ class Site:
     prometheus: str
     alertmanager: str
     webhook: str
-    alerts: list[dict[str, object]] = field(default_factory=list)  # what reached the webhook, in order
+    alerts: list[dict[str, Any]] = field(default_factory=list)  # the webhook's JSON, in the order it came
 
 
 def free_port() -> int:

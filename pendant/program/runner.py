@@ -165,6 +165,13 @@ class ProgramRunner:
     def can_resume(self) -> bool:
         return self._run is not None and self._progress.state in (RunState.PAUSED, RunState.FAILED)
 
+    @property
+    def resume_target(self) -> int | None:
+        """Where a paused or failed run goes on: the waypoint, within the innermost step's moves (a Path
+        step's recorded points), it heads for next; None with no run to resume."""
+        run = self._run
+        return run.interpreter.stack[-1].target if run is not None and run.interpreter.stack else None
+
     def pause(self) -> None:
         """Hold the arm where it is; `resume` continues from the waypoint it was heading for."""
         with self._lock:

@@ -278,7 +278,7 @@ def test_a_jog_into_an_obstacle_stops_and_the_event_log_names_it(
     events = EventLog()
     jogger = LoggedJogger(
         sim,
-        CellAwareArm(sim.arm, lambda: cell),  # type: ignore[arg-type]
+        CellAwareArm(sim.arm, lambda: cell),
         events=events,
         desk=ControlDesk(events),
         touching=cell.touching,

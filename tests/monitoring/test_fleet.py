@@ -40,7 +40,7 @@ def instance(site: Site, index: int) -> str:
 
 def firing_at_webhook(site: Site) -> set[tuple[str, str]]:
     return {
-        (str(alert["labels"]["alertname"]), str(alert["labels"]["instance"]))  # type: ignore[index]
+        (str(alert["labels"]["alertname"]), str(alert["labels"]["instance"]))
         for alert in list(site.alerts)
         if alert.get("status") == "firing"
     }

@@ -207,7 +207,8 @@ def test_every_step_type_exports_and_runs_like_the_runner(
     operations = program_operations(program, store.load)
     # The relative and the absolute LINEAR move blend into one call; the gripper closes once at the second.
     assert [o["op"] for o in operations] == ["loop", "if", "run_positions", "run_poses", "output"]
-    assert len(operations[2]["targets"]) == 2  # type: ignore[arg-type]
+    targets = operations[2]["targets"]
+    assert isinstance(targets, list) and len(targets) == 2
     assert operations[2]["actions"] == [{"target": "gripper", "value": "close"}]
     assert (
         operations[3]["steps"] == operations[4]["steps"] == [10]

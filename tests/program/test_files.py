@@ -24,6 +24,7 @@ from pendant.program import (
     atomic_write,
     sanitize_name,
 )
+from pendant.sim import SimController
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 
@@ -138,7 +139,9 @@ def test_the_autosave_is_not_listed_and_restores_the_program(tmp_path: Path) -> 
     store = ProgramStore(tmp_path)
     store.autosave(program_of("P1"), None, True)
     assert store.names() == []
-    program, file_name, dirty = store.restore()  # type: ignore[misc]
+    restored = store.restore()
+    assert restored is not None
+    program, file_name, dirty = restored
     assert program.waypoint_names() == ["P1"] and file_name is None and dirty
     assert store.restore_problem is None
 
@@ -237,7 +240,7 @@ def test_a_recorded_waypoint_survives_the_process_being_killed(tmp_path: Path) -
 
     from pendant.program import ProgramRunner, ProgramWorkspace
 
-    restarted = ProgramWorkspace(ProgramStore(tmp_path), ProgramRunner(controller=None))  # type: ignore[arg-type]
+    restarted = ProgramWorkspace(ProgramStore(tmp_path), ProgramRunner(SimController()))
     assert restarted.program.waypoint_names() == ["P1"]
     assert restarted.program.waypoint("P1").pose.angles[0] == 10.0
     assert restarted.dirty

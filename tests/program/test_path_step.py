@@ -166,8 +166,8 @@ def test_a_paused_path_resumes_at_the_waypoint_it_was_heading_for(
     a_second_into_the_path(sampler, log, clock, runner.pause)
     paused = runner.run(program)
     assert paused.state is RunState.PAUSED
-    heading = runner._run.interpreter.stack[-1].target  # type: ignore[union-attr]
-    assert 1 <= heading < len(step.points) - 1
+    heading = runner.resume_target
+    assert heading is not None and 1 <= heading < len(step.points) - 1
     stopped_at = sim.get_position()
 
     resumed = runner.resume()
@@ -190,7 +190,8 @@ def test_a_path_step_is_saved_and_read_back_and_programs_hold_a_bounded_number_o
     program = Program(name="drawn", steps=(step,))
     saved = dump_program(program)
     read = parse_program(saved, "drawn.json")
-    assert dump_program(read) == saved and read.steps[0].points[0].pose == step.points[0].pose  # type: ignore[union-attr]
+    assert dump_program(read) == saved and isinstance(read.steps[0], PathStep)
+    assert read.steps[0].points[0].pose == step.points[0].pose
 
     # The largest program: full paths (every number at full precision) up to the limit, long moves after.
     rng = np.random.default_rng(7)

@@ -17,7 +17,7 @@ from pendant.program import (
     Waypoint,
     compile_program,
 )
-from pendant.program.plan import MoveGroup
+from pendant.program.plan import MoveGroup, Node
 from pendant.sim import FakeClock, SimController
 from tests.support.programs import ANGLE_TOL_DEG, Recording, angles, move, program_of, sleeping
 
@@ -59,8 +59,8 @@ def test_plan_groups_only_neighbouring_moves_and_step_mode_splits_them(
     assert [_lines(n) for n in compile_program(program, blend=False)] == [[0], [1], [2], [3], [4]]
 
 
-def _lines(node: object) -> list[int]:
-    return [t.line for t in node.targets] if isinstance(node, MoveGroup) else [node.line]  # type: ignore[attr-defined]
+def _lines(node: Node) -> list[int]:
+    return [t.line for t in node.targets] if isinstance(node, MoveGroup) else [node.line]
 
 
 def test_outputs_are_set_only_once_the_arm_has_arrived(

@@ -34,6 +34,7 @@ from pendant.program import (
     compile_program,
 )
 from pendant.program.geometry import pallet_cells
+from pendant.program.plan import MoveGroup
 from pendant.sim import FakeClock, SimController
 from tests.support.programs import ANGLE_TOL_DEG, Recording, angles, move, program_of, sleeping
 
@@ -253,7 +254,9 @@ def test_run_from_a_line_skips_what_is_before_it(
 def test_blended_moves_split_at_a_hundred_targets(waypoints: dict[str, Waypoint]) -> None:
     a, b = waypoints["A"], waypoints["B"]
     program = program_of(*[move(a if k % 2 else b) for k in range(250)])
-    sizes = [len(node.targets) for node in compile_program(program)]  # type: ignore[union-attr]
+    groups = compile_program(program)
+    assert all(isinstance(node, MoveGroup) for node in groups)
+    sizes = [len(node.targets) for node in groups if isinstance(node, MoveGroup)]
     assert sizes == [100, 100, 50]
 
 

@@ -105,7 +105,7 @@ def test_the_pendants_jog_and_target_check_apply_the_same_rule(sim: SimControlle
 
     def jog(axis: int, direction: int) -> np.ndarray:
         request = JogRequest(JogFrame.JOINT, axis, direction, 50.0, step=np.radians(5.0))
-        return joint_jog_target(arm, q, request, joint_speed=1.0)  # type: ignore[arg-type]
+        return joint_jog_target(arm, q, request, joint_speed=1.0)
 
     assert np.degrees(jog(0, +1)[0]) == pytest.approx(5.0)  # the base turns the wrist out: the full step
     np.testing.assert_allclose(jog(2, +1), q)  # the forearm pushes the gripper in: no progress at all

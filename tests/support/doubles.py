@@ -5,7 +5,7 @@ from __future__ import annotations
 import asyncio
 import inspect
 from dataclasses import dataclass, field
-from typing import Any, cast
+from typing import Any, Literal, cast
 
 import numpy as np
 import viser
@@ -65,12 +65,12 @@ def drag(handle: viser.TransformControlsHandle, browser: FakeBrowser, path: list
     """What viser does for a browser's drag of a gizmo: the pose of every move (4x4 each), phases start,
     update…, end."""
 
-    def send(phase: str) -> None:
+    def send(phase: Literal["start", "update", "end"]) -> None:
         event = viser.TransformControlsEvent(
             client=browser.handle,
             client_id=browser.client_id,
             target=handle,
-            phase=phase,  # type: ignore[arg-type]  # one of viser's Literal phases
+            phase=phase,
         )
         for callback in list(handle._impl_aux.update_cb):
             result = callback(event)

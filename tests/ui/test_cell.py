@@ -24,6 +24,7 @@ from pendant.ui.cell.panel import NEW
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 from tests.support.obstacles import box
+from tests.support.pages import sent
 from tests.support.sim_sampling import home_q
 
 WAIT_S = 10.0
@@ -34,6 +35,12 @@ def wait_for(condition: Callable[[], bool], what: str) -> None:
     while not condition():
         assert time.monotonic() < deadline, f"timed out waiting for {what}"
         time.sleep(0.02)
+
+
+def box_x(sim: SimController, name: str) -> float:
+    obstacle = sim.get_obstacle(name)
+    assert isinstance(obstacle, BoxObstacle)
+    return obstacle.centerPosition.point.x
 
 
 def names(sim: SimController) -> list[str]:
@@ -76,7 +83,7 @@ def test_the_cell_tab_adds_renames_and_deletes_on_the_controller(
     assert ui.cell.selected.value == "table"  # the one just added is the one being edited
 
     fire(ui.cell.name, browser, "bench")  # rename: same obstacle, new name
-    ui.cell.submit(browser.handle).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
+    sent(ui.cell.submit(browser.handle)).result(timeout=WAIT_S)
     assert names(sim) == ["bench"]
     pendant_ui.refresh_cell()
     assert ui.cell.selected.value == "bench"
@@ -96,12 +103,12 @@ def test_update_edits_the_selected_obstacle_and_add_never_replaces_one(
         fire(ui.cell.selected, browser, NEW)
         fire(ui.cell.name, browser, name)
         fire(ui.cell.at, browser, (x, 300.0, 100.0))
-        ui.cell.submit(browser.handle, add=True).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
+        sent(ui.cell.submit(browser.handle, add=True)).result(timeout=WAIT_S)
         pendant_ui.refresh_cell()
     fire(ui.cell.selected, browser, "left")
     fire(ui.cell.at, browser, (450.0, 350.0, 100.0))  # moved, then Update: the same obstacle, moved
     fire(ui.cell.apply, browser)
-    wait_for(lambda: sim.get_obstacle("left").centerPosition.point.x == pytest.approx(0.45), "left moved")  # type: ignore[union-attr]
+    wait_for(lambda: box_x(sim, "left") == pytest.approx(0.45), "left moved")
     assert names(sim) == ["left", "right"]
 
     fire(ui.cell.add, browser)  # the selected one's name: Add would replace it, so it is refused
@@ -126,7 +133,7 @@ def test_a_capsule_from_the_form_keeps_its_ends_and_radius(ui: ClientSession, si
     fire(ui.cell.at, browser, (400.0, 300.0, 0.0))
     fire(ui.cell.end, browser, (400.0, 300.0, 600.0))
     fire(ui.cell.radius, browser, 40.0)
-    ui.cell.submit(browser.handle, add=True).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
+    sent(ui.cell.submit(browser.handle, add=True)).result(timeout=WAIT_S)
     post = sim.get_obstacle("post")
     assert isinstance(post, CapsuleObstacle)
     assert post.radius == pytest.approx(0.04)
@@ -270,7 +277,7 @@ def test_a_cell_file_is_saved_loaded_and_applied(
 
     sim.remove_obstacles()
     sim.add_obstacle(box("other", (-0.4, 0.3, 0.2)))
-    ui.cell.load_file("line 3", browser.handle).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
+    sent(ui.cell.load_file("line 3", browser.handle)).result(timeout=WAIT_S)
     assert names(sim) == ["fixture"]  # exactly the saved cell
 
 
@@ -303,7 +310,7 @@ def test_the_robot_tab_sets_the_tool_shape_and_shows_the_controllers(
 ) -> None:
     browser = FakeBrowser(OPERATOR)
     fire(ui.tool_shape.capsules, browser, "30: 0 0 0 -> 0 0 150; 20: 0 0 150 -> 0 60 200")
-    ui.tool_shape.submit(browser.handle).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
+    sent(ui.tool_shape.submit(browser.handle)).result(timeout=WAIT_S)
     shape = sim.get_tool_shape().shape
     assert [c.radius for c in shape] == pytest.approx([0.03, 0.02])
     assert (shape[1].finish.y, shape[1].finish.z) == pytest.approx((0.06, 0.2))

@@ -42,6 +42,12 @@ def stored(sim: SimController, name: str) -> Obstacle:
     return sim.get_obstacle(name)
 
 
+def capsule_begin_y(sim: SimController, name: str) -> float:
+    capsule = stored(sim, name)
+    assert isinstance(capsule, CapsuleObstacle)
+    return capsule.begin.y
+
+
 def centre(obstacle: Obstacle) -> np.ndarray:
     assert isinstance(obstacle, BoxObstacle)
     p = obstacle.centerPosition.point
@@ -132,7 +138,7 @@ def test_a_dragged_capsule_moves_both_ends(
     fire(ui.cell.selected, operator, "post")
     np.testing.assert_allclose(gizmo.handle.position, (0.4, 0.4, 0.3), atol=MM_TOL)  # its middle
     drag(gizmo.handle, operator, [pose((0.4, 0.6, 0.3))])
-    wait_for(lambda: abs(stored(sim, "post").begin.y - 0.6) < MM_TOL, "the post moved")  # type: ignore[union-attr]
+    wait_for(lambda: abs(capsule_begin_y(sim, "post") - 0.6) < MM_TOL, "the post moved")
     moved = stored(sim, "post")
     assert isinstance(moved, CapsuleObstacle)
     assert (moved.begin.x, moved.begin.y, moved.begin.z) == pytest.approx((0.4, 0.6, 0.0))
