@@ -17,7 +17,7 @@ from pendant.planning.preflight import PreflightOverBudget, preflight
 from pendant.planning.twin import TwinSeed, read_seed
 from pendant.program.models import IfStep, LoopStep, MoveStep, OutputStep, Program
 from pendant.sim import SimController
-from tests.planning.scenes import LEFT_DEG, RIGHT_DEG, waypoint
+from tests.support.preflight_scene import LEFT_DEG, RIGHT_DEG, waypoint
 
 DO1 = OutputStep(port=1, level="HIGH")  # type: ignore[arg-type]
 

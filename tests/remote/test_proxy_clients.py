@@ -35,6 +35,7 @@ def test_64_clients_through_the_proxy_get_every_answer_and_no_502() -> None:
         def client(number: int) -> None:
             with httpx.Client(base_url=proxy, timeout=30) as http:
                 while time.monotonic() < stop_at:
+                    status: int | str
                     try:
                         if number % 4 == 0:
                             status = http.put("/signal/output/1/high").status_code  # a command
