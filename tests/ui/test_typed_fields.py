@@ -131,8 +131,8 @@ def test_a_target_reached_by_a_planned_move_is_not_cannot_execute(
     planned = panel.plan.plan(operator)  # type: ignore[arg-type]  # a fake browser
     assert planned is not None
     planned.result(timeout=30.0)
-    wait_until(lambda: panel.plan.path is not None, 10.0, f"a plan ({panel.plan.status.content})")
-    assert panel.plan.course_shown
+    # The plan's done-callback keeps the path, then draws its course: wait for both.
+    wait_until(lambda: panel.plan.path is not None and panel.plan.course_shown, 10.0, "a plan drawn")
     moved = panel.plan.run(operator)  # type: ignore[arg-type]
     assert moved is not None
     moved.result(timeout=10.0)

@@ -88,10 +88,13 @@ class CommandRunner:
         *,
         urgent: bool = False,
         motion: bool = False,
+        announce: bool = True,
     ) -> Future[object]:
+        """`urgent`: a stop (never gated, never behind another command), told to `on_stop` first unless
+        `announce` is False (Pause holds a run without ending it)."""
         if urgent:
             self.stops_sent += 1
-        if urgent and self.on_stop is not None:
+        if urgent and announce and self.on_stop is not None:
             self.on_stop(label, client)  # before the stop goes out: a jog confirmation then cannot undo it
         reason = None if urgent else self.refusal(client, label, motion=motion)
         if reason is not None:  # refusal() has told the page and the event log
@@ -116,6 +119,11 @@ class CommandRunner:
     def shutdown(self) -> None:
         self._pool.shutdown(wait=False, cancel_futures=True)
         self._urgent.shutdown(wait=False, cancel_futures=True)
+
+
+def client_id(client: viser.ClientHandle | None) -> int | None:
+    """The browser's id, None for an internal caller (a test, the server's own panel)."""
+    return client.client_id if client is not None else None
 
 
 def add_freeze_button(target: GuiTarget, runner: CommandRunner) -> viser.GuiButtonHandle:

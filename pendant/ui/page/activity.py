@@ -15,8 +15,8 @@ from pendant.controller import Controller, ControllerError, MotionStatus, Precon
 from pendant.controller.stops import StopBus
 from pendant.eventlog import EventKind, EventLog
 from pendant.jog import Jogger, JogRequest
+from pendant.jog.arm import JogArm
 from pendant.jog.blocked import Touching
-from pendant.kinematics import ArmModel
 from pendant.monitoring import PendantMetrics
 from pendant.program import Change, ProgramWorkspace, RunState
 from pendant.ui.kit.commands import CommandRefused
@@ -36,7 +36,7 @@ class LoggedJogger(Jogger):
     def __init__(
         self,
         controller: Controller,
-        arm: ArmModel,
+        arm: JogArm,
         *,
         events: EventLog,
         desk: ControlDesk,
@@ -165,7 +165,7 @@ class ActivityLog:
                 self._metrics.program_failures.inc()
                 self._metrics.motion_failures.labels("program").inc()
         self._run_state = progress.state
-        if progress.state is not RunState.FAILED:
+        if progress.state is not RunState.FAILED and progress.failed_step is None:
             self._failure_logged = None
             return
         if progress.message != self._failure_logged:
