@@ -104,7 +104,7 @@ class PendantUI:
         self.runner.on_submit = self.activity.command
         # Stops heard anywhere in this process (the page's, the API's): shared with the API app by the CLI.
         self.stops = stops if stops is not None else StopBus()
-        self.loop = RefreshLoop(self._tick)  # woken when a jog starts: its first motion shows at once
+        self.loop = RefreshLoop(self.tick)  # woken when a jog starts: its first motion shows at once
         # The controller's cell: its state, and its geometry for the page's checks.
         self.obstacles = ObstacleDrawing(self.server.scene, "/cell")
         self.live_cell = LiveCell(arm, self.obstacles, ContactLog(self.events))
@@ -148,13 +148,13 @@ class PendantUI:
         self.programs.path_recordings = recordings  # a Path step simplified again reads its recording there
         self.browsers = Browsers(hold_back=lambda: self.jogger.pressed)  # the operator's jog first
         self.sessions = self.browsers.sessions  # by client id (tests add theirs under the lock)
-        self._sessions_lock = self.browsers.lock
         self.dashboard_feed = DashboardFeed(self.telemetry, self.events)
         self.reader = ControllerReader(controller)
         self.desk.on_change(self._control_changed)
         self.remote.on_change(self.browsers.show_remote)
+        self.desk.on_ask(lambda asker, operator: self.browsers.tell_asked(operator, self.desk.name(asker)))
         self.server.on_client_connect(self._connect)
-        self.server.on_client_disconnect(self._disconnect)
+        self.server.on_client_disconnect(self.disconnect)
         if metrics is not None:
             metrics.viewers.set_function(lambda: len(self.browsers.all()))
 
@@ -289,7 +289,8 @@ class PendantUI:
         session.apply_role(self.desk.operator)  # control may have changed while it was being built
         self.dashboard_feed.show_log_again()  # show the new browser the log at once
 
-    def _disconnect(self, client: viser.ClientHandle) -> None:
+    def disconnect(self, client: viser.ClientHandle) -> None:
+        """A browser left (viser calls this when its websocket closes)."""
         who = self.desk.name(client.client_id)
         if self.programs.supervisor == client.client_id and self.programs.progress.active:
             # Off viser's thread, on the stop path: the run pauses (the arm held) before anything else.
@@ -309,7 +310,8 @@ class PendantUI:
         self.browsers.apply_role(operator)
 
     # --- the loop -----------------------------------------------------------------------------------
-    def _tick(self, work: TickWork, woken: bool) -> None:
+    def tick(self, work: TickWork, woken: bool) -> None:
+        """One step of the refresh loop: the live view, and the cell and the dashboard when `work` says."""
         try:
             self.refresh(with_io=work.io, flush=woken)
             if work.cell:

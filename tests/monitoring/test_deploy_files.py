@@ -10,7 +10,7 @@ from pathlib import Path
 
 from pendant.monitoring.fleet import Timings, alert_rules, alertmanager_config, prometheus_config
 from pendant.paths import deploy_dir
-from tests.support.prometheus import dashboard_panels
+from tests.support.metrics import dashboard_queries
 
 PROMETHEUS = deploy_dir() / "prometheus"
 
@@ -71,7 +71,7 @@ def test_the_fleets_adapted_copies_still_pass_the_tools(tmp_path: Path) -> None:
 
 
 def test_each_dashboard_query_is_valid_promql(tmp_path: Path) -> None:
-    queries = list(dashboard_panels().values())
+    queries = dashboard_queries()
     assert len(queries) >= 15
     records = [{"record": f"dashboard:query_{i}", "expr": expr} for i, expr in enumerate(queries)]
     (tmp_path / "queries.yml").write_text(json.dumps({"groups": [{"name": "dashboard", "rules": records}]}))

@@ -12,7 +12,7 @@ import httpx
 import pytest
 
 from pendant.monitoring.fleet import Site, Timings, query, running_fleet
-from tests.support.prometheus import alert_expressions, dashboard_panels, watched
+from tests.support.metrics import alert_expressions, dashboard_panels, watched
 
 FAST = Timings(scrape_interval="1s", alert_for="2s", group_wait="1s")
 SETTLE_S = 60.0  # a generous bound for a loaded 2-core machine; typically a few seconds
@@ -74,6 +74,11 @@ ALERTS: dict[str, Callable[[Result], bool]] = {
 }
 
 
+def present(expected: Callable[[Result], bool]) -> Callable[[Result], bool]:
+    """Some result, and the expected one."""
+    return lambda result: bool(result) and expected(result)
+
+
 def settle(site: Site, expr: str, expected: Callable[[Result], bool], what: str) -> None:
     deadline = time.monotonic() + SETTLE_S
     while not expected(result := query(site.prometheus, expr)):
@@ -97,9 +102,9 @@ def test_the_first_command_and_refusal_show_on_every_panel_and_alert() -> None:
         refused = httpx.put(f"{api}/pose?speed=50", json={"angles": UNREACHABLE_POSE}, timeout=30)
         assert refused.status_code == 412, refused.text
         for title, expected in PANELS.items():
-            settle(site, panels[title], lambda r, expected=expected: bool(r) and expected(r), title)
+            settle(site, panels[title], present(expected), title)
         for name, expected in ALERTS.items():
-            settle(site, watched(alerts[name]), lambda r, expected=expected: bool(r) and expected(r), name)
+            settle(site, watched(alerts[name]), present(expected), name)
             assert query(site.prometheus, alerts[name]) == [], f"{name} fires on a healthy arm"
 
         # An alarm: the panel that counts arms in one reads 1.

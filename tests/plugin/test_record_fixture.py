@@ -8,7 +8,7 @@ from pathlib import Path
 
 from mcap.reader import make_reader
 
-from .project import run_project
+from tests.support.user_project import run_project
 
 TESTS = """
 import time

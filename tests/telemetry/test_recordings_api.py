@@ -34,9 +34,9 @@ def test_a_script_records_a_move_and_gets_each_refusal_with_its_reason(tmp_path:
 
         again = api.post("/pendant/recordings", json={"name": "other"})
         assert again.status_code == 409 and "'pick-test' is running" in again.json(), again.text
-        for bad in ("../escape", ".hidden", "a/b", "x" * 65, "clip.mcap", ""):
-            refused = api.post("/pendant/recordings", json={"name": bad})
-            assert refused.status_code in (400, 409), (bad, refused.text)
+        for name in ("../escape", ".hidden", "a/b", "x" * 65, "clip.mcap", ""):
+            refused = api.post("/pendant/recordings", json={"name": name})
+            assert refused.status_code in (400, 409), (name, refused.text)
         assert api.post("/pendant/recordings", json={"name": "../escape"}).status_code == 409, (
             "one recording at a time comes first"
         )

@@ -18,13 +18,12 @@ from pendant.telemetry.repair import finished
 from pendant.ui.app import PendantUI
 from pendant.ui.dashboard.replay import JUMP_PROMPT
 from pendant.ui.page.session import ClientSession
+from tests.support.dashboard import MOVE, SAMPLE_PERIOD_S, sample
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.mcap_reading import read_mcap
 from tests.support.pages import new_page
 from tests.support.recordings import damaged_inside, make_recording
 from tests.support.waiting import wait_until
-from tests.telemetry.test_mcap import read_mcap
-
-from .test_dashboard import MOVE, SAMPLE_PERIOD_S, sample
 
 N_SAMPLES = 20
 FAULT_AT = 8  # the sample after which an error is logged

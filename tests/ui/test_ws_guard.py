@@ -4,6 +4,9 @@ gets no page, and clients without an Origin (scripts, tests) connect as before. 
 
 from __future__ import annotations
 
+import os
+import socket
+import time
 from collections.abc import Iterator
 
 import httpx
@@ -11,13 +14,15 @@ import pytest
 import viser
 from websockets.exceptions import InvalidStatus
 from websockets.sync.client import connect
+from websockets.typing import Origin, Subprotocol
 
 from pendant.access.origin import OriginPolicy
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
+from tests.support.headless_viewer import CAMERA_HELLO
 from tests.support.pages import new_page
 
-SUBPROTOCOL = f"viser-v{viser.__version__}"
+SUBPROTOCOL = Subprotocol(f"viser-v{viser.__version__}")
 
 
 @pytest.fixture
@@ -33,7 +38,9 @@ def ws_url(page: PendantUI) -> str:
 
 def test_a_websocket_from_another_origin_is_refused_and_nobody_gets_control(page: PendantUI) -> None:
     with pytest.raises(InvalidStatus) as refused:
-        connect(ws_url(page), origin="http://evil.example", subprotocols=[SUBPROTOCOL], open_timeout=5)
+        connect(
+            ws_url(page), origin=Origin("http://evil.example"), subprotocols=[SUBPROTOCOL], open_timeout=5
+        )
     assert refused.value.response.status_code == 403
     assert b"Cross-origin request refused" in refused.value.response.body
     assert page.desk.operator is None  # on main it became the operator and could jog
@@ -64,8 +71,8 @@ def test_the_pendants_own_page_and_clients_without_an_origin_connect(page: Penda
     served = httpx.get(f"http://localhost:{port}/")
     assert served.status_code == 200 and "text/html" in served.headers["content-type"]
     assert served.headers["content-security-policy"] == "frame-ancestors 'self'"
-    for origin in (f"http://127.0.0.1:{port}", f"http://localhost:{port}", None):
-        with connect(ws_url(page), origin=origin, subprotocols=[SUBPROTOCOL], open_timeout=5) as socket:  # type: ignore[arg-type]
+    for origin in (Origin(f"http://127.0.0.1:{port}"), Origin(f"http://localhost:{port}"), None):
+        with connect(ws_url(page), origin=origin, subprotocols=[SUBPROTOCOL], open_timeout=5) as socket:
             assert socket.recv(timeout=5)  # viser's first messages: it is a connected browser
 
 
@@ -85,3 +92,42 @@ def test_a_closing_page_stops_a_held_jog_by_a_plain_get_and_a_foreign_host_canno
     assert page.jogger.active is None and sim.get_motion_status() is not MotionStatus.RUNNING
     # Nothing held: nothing to stop, and the answer is the same.
     assert httpx.get(f"http://127.0.0.1:{port}/pendant-stop-jog").status_code == 204
+
+
+def masked_binary_frame(payload: bytes) -> bytes:
+    """One websocket frame as a browser sends it (client frames are masked; RFC 6455 section 5.2)."""
+    mask = os.urandom(4)
+    length = len(payload)
+    header = bytes([0x82]) + (
+        bytes([0x80 | length]) if length < 126 else bytes([0x80 | 126]) + length.to_bytes(2, "big")
+    )
+    return header + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(payload))
+
+
+LOST_WITHIN_S = 10.0  # ping interval + ping timeout + close timeout (5 s), and margin; the default was 50 s
+
+
+def test_a_browser_whose_connection_goes_silent_is_let_go_and_its_control_released(page: PendantUI) -> None:
+    """A cable pulled: no close frame, no answer to pings. The operator's control (and a run it supervises)
+    must not wait 20-40 s for the default keepalive."""
+    port = page.server.get_port()
+    silent = socket.create_connection(("127.0.0.1", port), timeout=5)
+    try:
+        silent.sendall(
+            (
+                "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: Upgrade\r\nUpgrade: websocket\r\n"
+                "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n"
+                f"Sec-WebSocket-Protocol: {SUBPROTOCOL}\r\n\r\n"
+            ).encode()
+        )
+        assert silent.recv(4096).startswith(b"HTTP/1.1 101")
+        silent.sendall(masked_binary_frame(CAMERA_HELLO))  # a viewer's first message, as viser's page sends
+        connected = time.monotonic()
+        while page.desk.operator is None:  # the first browser on this machine gets control
+            assert time.monotonic() - connected < LOST_WITHIN_S, "the silent browser never joined"
+            time.sleep(0.05)
+        while page.desk.operator is not None:  # it reads nothing more and answers no ping
+            assert time.monotonic() - connected < LOST_WITHIN_S, "a silent connection kept control"
+            time.sleep(0.05)
+    finally:
+        silent.close()
