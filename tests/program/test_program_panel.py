@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import asyncio
+import inspect
 import json
 import re
 from collections.abc import Iterator
@@ -60,7 +62,9 @@ def fire(handle: Any, client: FakeClient, value: Any = None) -> None:
     if value is not None:
         handle._impl.value = value  # not `handle.value = ...`: that would also call back, as from Python
     for callback in list(handle._impl.update_cb):
-        callback(viser.GuiEvent(client=client, client_id=client.client_id, target=handle))  # type: ignore[arg-type]  # a fake client for viser's
+        called = callback(viser.GuiEvent(client=client, client_id=client.client_id, target=handle))  # type: ignore[arg-type]  # a fake client for viser's
+        if inspect.iscoroutine(called):  # viser awaits it on its event loop (the banner's buttons)
+            asyncio.run(called)
 
 
 @pytest.fixture
