@@ -32,7 +32,7 @@ FREEZE_WITHIN_S = 0.1  # the issue's behaviour
 # that handler): a stop is seen only at the next answer of GET /pose, polled on a machine shared with the
 # loads: that is the margin. The time Chromium takes to hand the press to the page (software WebGL on a busy
 # machine: some 300 ms here) is the browser's, not the pendant's, and is left out. Measured: docs/lan.md.
-MARGIN_S = 0.15
+MARGIN_S = 0.3
 NEW_BROWSER_FREEZE_S = 1.0  # the behaviour: from the websocket's opening to its Freeze button
 PAGE_TIMEOUT_S = 60.0
 MOVE_SPEED_PERCENT = 5.0
