@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterator
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -39,6 +40,7 @@ MOVE_SPEED_PERCENT = 5.0
 MOVE_J1_DEG = 140.0  # some 20 s at this speed: still moving when Freeze is clicked
 STILL_TOL_DEG = 1e-6
 STOP_WAIT_S = 10.0
+RECORDING = "pendant-20260101-000000.mcap"
 LOADING_S = 1.0  # the viewer's replay is loading (it takes some 6 s here) when the operator clicks
 
 
@@ -46,8 +48,9 @@ LOADING_S = 1.0  # the viewer's replay is loading (it takes some 6 s here) when 
 def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
     data = tmp_path_factory.mktemp("data")
     (data / "recordings").mkdir()
-    write_long_recording(data / "recordings" / "pendant-20260101-000000.mcap")  # two hours at 10 Hz
+    write_long_recording(data / "recordings" / RECORDING)  # two hours at 10 Hz
     with running_pendant(env={"PENDANT_DATA_DIR": str(data)}) as served:
+        served.data = data
         yield served
 
 
@@ -151,3 +154,20 @@ def test_a_viewers_40_replays_leave_the_operators_freeze_working(browser: Browse
     assert len(refused) == CLICKS - 1, told
     assert "Replay is still running in this browser" in refused[0]
     operator.close()
+
+
+def test_a_recording_sent_in_parts_downloads_whole_in_chromium(
+    browser: Browser, pendant: Pendant, tmp_path: Path
+) -> None:
+    """The parts are read from disk as the browser takes them (kit/download.py): Chromium saves the file."""
+    page = browser.new_page(viewport={"width": 1400, "height": 900}, accept_downloads=True)
+    page.goto(pendant.ui_url)
+    page.get_by_role("button", name="Freeze").wait_for(timeout=PAGE_TIMEOUT_S * 1000)
+    page.get_by_role("tab", name="Dashboard").click(no_wait_after=True)
+    with page.expect_download(timeout=PAGE_TIMEOUT_S * 1000) as download:
+        page.get_by_role("button", name="Download MCAP").click()
+    saved = tmp_path / download.value.suggested_filename
+    download.value.save_as(saved)
+    page.close()
+    assert saved.name == RECORDING
+    assert saved.read_bytes() == (pendant.data / "recordings" / RECORDING).read_bytes()
