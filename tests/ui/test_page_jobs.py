@@ -60,9 +60,7 @@ def test_viewers_share_two_jobs_and_the_operator_still_gets_one(jobs: PageJobs) 
     operator = FakeBrowser(OPERATOR)
     mine = jobs.start("Download MCAP", operator, lambda: held(started, release, "operator"))  # type: ignore[arg-type]
     assert mine is not None
-    wait_until(
-        lambda: "operator" in started, JOB_TIMEOUT_S, "the operator's job beside the viewers'"
-    )
+    wait_until(lambda: "operator" in started, JOB_TIMEOUT_S, "the operator's job beside the viewers'")
     assert operator.notifications == []
     release.set()
     for job in [*running, mine]:
