@@ -23,7 +23,7 @@ from playwright.sync_api import Browser, Page
 from websockets.sync.client import ClientConnection, connect
 
 from tests.support.headless_viewer import CAMERA_HELLO, click_message, decode_window, notification
-from tests.support.recordings import write_long_recording
+from tests.support.big_recordings import write_long_recording
 
 from .conftest import Pendant, running_pendant
 
