@@ -189,23 +189,28 @@ def start_ui(
     ).start()
 
 
-def clean_up_after_a_crash(settings: Settings) -> list[str]:
-    """Orphaned temporary files of the programs and recordings folders go (said on stderr); an unfinished
-    recording (the pendant was killed) is finished where its last flush left it (one line each, returned for
-    the event log)."""
+def clean_up_after_a_crash(settings: Settings) -> list[Path]:
+    """Orphaned temporary files of the programs and recordings folders go (said on stderr); returns the
+    unfinished recordings (the pendant was killed), for repair_in_background once the event log is open."""
     from pendant.program import programs_dir
     from pendant.stale_files import remove_stale_temporaries
     from pendant.telemetry.recordings import recordings_dir
-    from pendant.telemetry.repair import repair_all
+    from pendant.telemetry.repair import unfinished
 
     programs = Path(settings.programs_dir) if settings.programs_dir else programs_dir()
     recordings = recordings_dir(resolve_data_dir(settings))
     for path in remove_stale_temporaries([programs, recordings]):
         print(f"Removed a temporary file left by an earlier run: {path}", file=sys.stderr)
-    notes = repair_all(recordings) if recordings.is_dir() else []
-    for note in notes:
-        print(note, file=sys.stderr)
-    return notes
+    return unfinished(recordings) if recordings.is_dir() else []
+
+
+def repair_recordings(paths: list[Path], events: EventLog) -> None:
+    """Finish (or move to recordings/damaged/) each unfinished recording in a thread of its own: the pendant
+    serves meanwhile, whatever the files hold. Each one's line goes to the event log (which logs it too)."""
+    from pendant.telemetry.repair import repair_in_background
+
+    if paths:
+        repair_in_background(paths, lambda note: events.record(EventKind.ERROR, "pendant", note))
 
 
 def resolve_data_dir(settings: Settings) -> Path:
@@ -255,13 +260,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     started_at = time.monotonic()
     controller = make_controller(settings)
     # One log for the page and the API (who sent what), kept on disk; one set of metrics for both.
-    repaired = clean_up_after_a_crash(settings)
+    unfinished = clean_up_after_a_crash(settings)
     store, storage_problem = open_event_store(resolve_data_dir(settings))
     if storage_problem is not None:
         print(storage_problem, file=sys.stderr, flush=True)
     events = EventLog(store=store, storage_problem=storage_problem)
-    for note in repaired:
-        events.record(EventKind.ERROR, "pendant", note)
+    repair_recordings(unfinished, events)
     metrics = PendantMetrics(
         controller,
         mode="robot" if settings.robot_url else "sim",

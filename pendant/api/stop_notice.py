@@ -7,9 +7,10 @@ the page that slips in between is refused rather than restarting the arm.
 
 from __future__ import annotations
 
+from starlette.responses import JSONResponse
 from starlette.types import ASGIApp, Receive, Scope, Send
 
-from pendant.controller.stops import StopBus
+from pendant.controller.stops import STOPS_PATH, StopBus
 
 # (method, path) of the requests that stop the arm, and how the page names them.
 STOP_REQUESTS = {
@@ -31,6 +32,10 @@ class StopNotice:
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] == "http":
+            if scope["method"] == "GET" and scope["path"] == STOPS_PATH:  # `pendant run` polls it
+                heard = {"count": self.stops.count, "last": self.stops.last_cause}
+                await JSONResponse(heard)(scope, receive, send)
+                return
             name = stop_name(scope["method"], scope["path"])
             if name is not None:
                 client = scope.get("client")

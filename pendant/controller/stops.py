@@ -16,6 +16,10 @@ log = logging.getLogger(__name__)
 
 StopListener = Callable[[str], None]
 
+# Where a pendant's API says how many stops it has heard and the last one's cause (pendant.api.stop_notice
+# answers it; `pendant run` polls it).
+STOPS_PATH = "/pendant/stops"
+
 
 class StopBus:
     """Stops heard of, passed on with their cause in the page's words ("Freeze from the API (10.0.0.9)")."""
@@ -23,6 +27,8 @@ class StopBus:
     def __init__(self) -> None:
         self._listeners: list[StopListener] = []
         self._lock = threading.Lock()
+        self.count = 0  # stops heard since start: a client (`pendant run`) that polls it sees every one
+        self.last_cause = ""
 
     def subscribe(self, listener: StopListener) -> None:
         with self._lock:
@@ -32,6 +38,8 @@ class StopBus:
         """Tell every listener; one that fails is logged and never keeps the stop from the others."""
         with self._lock:
             listeners = list(self._listeners)
+            self.count += 1
+            self.last_cause = cause
         for listener in listeners:
             try:
                 listener(cause)

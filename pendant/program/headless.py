@@ -17,6 +17,8 @@ import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
+import httpx
+
 from pendant.access import TOKEN_HEADER
 from pendant.controller import Controller
 from pendant.paths import MODEL_NAMES
@@ -27,6 +29,7 @@ from pendant.program.models import Program
 from pendant.program.motion import PathPlanner
 from pendant.program.plan import PlanError
 from pendant.program.runner import ProgramRunner, RunProgress, RunState
+from pendant.program.stop_watch import StopWatch
 from pendant.program.tree import lines
 
 EXIT_FAILED = 1
@@ -55,17 +58,19 @@ def make_controller(args: argparse.Namespace) -> Controller:
         from pendant.sim import MonotonicClock, SimController
 
         return SimController(model=args.model, clock=MonotonicClock())
-    import httpx
-
     from pendant.remote import RemoteController
+
+    return RemoteController(args.robot, client=http_client(args))
+
+
+def http_client(args: argparse.Namespace) -> httpx.Client:
     from pendant.remote.client import DEFAULT_CONNECT_TIMEOUT_S, DEFAULT_READ_TIMEOUT_S
 
     token = (args.token or "").strip()
-    client = httpx.Client(
+    return httpx.Client(
         timeout=httpx.Timeout(DEFAULT_READ_TIMEOUT_S, connect=DEFAULT_CONNECT_TIMEOUT_S),
         headers={"Accept-Encoding": "identity", **({TOKEN_HEADER: token} if token else {})},
     )
-    return RemoteController(args.robot, client=client)
 
 
 class ProgressPrinter:
@@ -111,6 +116,13 @@ def main(argv: Sequence[str] | None = None, planner_for: Callable[[str], PathPla
     runner.add_listener(ProgressPrinter(program))
     where = args.robot or f"simulated {args.model}"
     print(f"Running {program.name!r} ({path}) on {where}", flush=True)
+    # Against a pendant: a stop it hears from anywhere ends this run too (a bare controller cannot say).
+    watch = StopWatch(http_client(args), args.robot, runner.stop_heard) if args.robot else None
+    if watch is not None:
+        if watch.start():
+            runner.hear_stops_now = watch.poll_now
+        else:
+            print("The controller does not report stops: only this run's own stops end it", file=sys.stderr)
     try:
         result = runner.run(program, args.loops)
     except PlanError as error:
@@ -120,7 +132,10 @@ def main(argv: Sequence[str] | None = None, planner_for: Callable[[str], PathPla
         runner.stop()
         print("Interrupted: the arm is frozen", file=sys.stderr)
         return EXIT_FAILED
-    if result.state is RunState.FAILED:
+    finally:
+        if watch is not None:
+            watch.stop()
+    if result.state in (RunState.FAILED, RunState.STOPPED):
         print(result.message, file=sys.stderr)
         return EXIT_FAILED
     print(f"{result.message}: {result.loop} loop(s)", flush=True)

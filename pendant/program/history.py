@@ -8,7 +8,9 @@ and nothing is ever rewritten: a restore is a new commit, so every version stays
 
 from __future__ import annotations
 
+import contextlib
 import socket
+from collections.abc import Iterator
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
@@ -102,23 +104,36 @@ class ProgramHistory:
         assert isinstance(commit, Commit)
         return commit
 
+    @contextlib.contextmanager
+    def _reading(self) -> Iterator[Repo]:
+        """The repository, open for the block; whatever a damaged one raises (a commit cut short, an object
+        that does not parse) comes out as a HistoryError that says so."""
+        repo = self._open()
+        try:
+            yield repo
+        except HistoryError:
+            raise
+        except Exception as error:
+            raise HistoryError(
+                f"The history in {self.folder}/.git is damaged ({type(error).__name__}: {_one_line(error)}; "
+                "try `git fsck`)"
+            ) from error
+        finally:
+            repo.close()
+
     def committed_bytes(self, file_name: str) -> bytes | None:
         """The file as the newest commit holds it; None when it is not in the history (or there is none)."""
         if not self.exists:
             return None
-        repo = self._open()
-        try:
+        with self._reading() as repo:
             head = self._head(repo)
             return None if head is None else _blob_in(repo, head, file_name)
-        finally:
-            repo.close()
 
     def versions(self, file_name: str, limit: int = MAX_VERSIONS) -> list[Version]:
         """The commits that changed `file_name`, newest first, at most `limit` of them."""
         if not self.exists:
             return []
-        repo = self._open()
-        try:
+        with self._reading() as repo:
             if self._head(repo) is None:
                 return []
             found: list[Version] = []
@@ -132,22 +147,17 @@ class ProgramHistory:
                     "try `git fsck`): it lists the versions it can read"
                 ) from error
             return found
-        finally:
-            repo.close()
 
     def read(self, file_name: str, revision: str) -> tuple[Version, bytes]:
         """The version `revision` (a commit id or its first 4+ hex digits) of `file_name` and its bytes."""
         if not self.exists:
             raise HistoryError(f"{self.folder} has no history yet")
-        repo = self._open()
-        try:
+        with self._reading() as repo:
             commit = _resolve(repo, revision)
             data = _blob_in(repo, commit, file_name)
             if data is None:
                 raise HistoryError(f"{file_name} is not in version {revision}")
             return _version(commit, False), data
-        finally:
-            repo.close()
 
     # --- writing --------------------------------------------------------------------------------------
     def record(self, file_name: str, message: str, who: str) -> str | None:
@@ -159,7 +169,10 @@ class ProgramHistory:
         except HistoryError:
             raise
         except Exception as error:  # whatever dulwich meets (locks, damaged objects): the save stands, said
-            raise HistoryError(f"The history in {self.folder}/.git could not be written: {error}") from error
+            raise HistoryError(
+                f"The history in {self.folder}/.git could not be written ({type(error).__name__}: "
+                f"{_one_line(error)}; try `git fsck`)"
+            ) from error
         finally:
             repo.close()
 
@@ -241,6 +254,12 @@ class ProgramHistory:
             no_verify=True,  # a user's hooks are theirs to run, not the pendant's at every save
         )
         return commit_id.decode()
+
+
+def _one_line(error: BaseException, limit: int = 200) -> str:
+    """An error's text on one line, cut to `limit` characters (dulwich may quote whole objects)."""
+    text = " ".join(str(error).split()) or type(error).__name__
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def _blob_in(repo: Repo, commit: Commit, file_name: str) -> bytes | None:

@@ -66,6 +66,18 @@ class Interpreter:
         return node.targets[frame.target].line if isinstance(node, MoveGroup) else node.line
 
     @property
+    def place(self) -> int:
+        """The line a run that ended here goes on at: the next step, or the loop whose pass just ended
+        (its check comes next), or the first line when another whole-program loop follows."""
+        for frame in reversed(self.stack):
+            if frame.index < len(frame.nodes):
+                node = frame.nodes[frame.index]
+                return node.targets[frame.target].line if isinstance(node, MoveGroup) else node.line
+            if frame.loop is not None:
+                return frame.loop.line
+        return 0
+
+    @property
     def fraction(self) -> float:
         """0..1 through the run, from the top-level position and the whole-program loop."""
         top = self.stack[0] if self.stack else None

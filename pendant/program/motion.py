@@ -133,6 +133,11 @@ class NodeExecutor:
             self._freeze()
             raise Interrupted(target)
 
+    def controller_still_well(self) -> None:
+        """A step that does not move the arm still ends when the controller reports a stop of its own (a
+        protective stop, an emergency, the arm relaxed) rather than going on to the next motion."""
+        _raise_if_failed(self._controller.get_motion_status(), 0)
+
     # --- conditions ----------------------------------------------------------------------------------
     def input_is(self, port: int, level: SignalLevel) -> bool:
         try:
@@ -153,11 +158,13 @@ class NodeExecutor:
             case GripperStep():
                 self._gripper(step.action, step.timeout_ms)
             case OutputStep():
+                self.controller_still_well()
                 self.command(0, lambda: controller.set_output(step.port, step.level))
             case WaitInputStep():
                 started = self._t.now()
                 while True:
                     self.check()
+                    self.controller_still_well()
                     if controller.get_input(step.port) is step.level:
                         return
                     if self._t.now() - started >= step.timeout_ms / 1000.0:
@@ -169,6 +176,7 @@ class NodeExecutor:
                 ends_at = self._t.now() + step.ms / 1000.0
                 while (left := ends_at - self._t.now()) > 0:
                     self.check()  # a paused wait starts over on resume
+                    self.controller_still_well()
                     self._t.sleep(min(self._t.poll_s, left))
 
     def _gripper(self, action: GripperAction, timeout_ms: int, target: int = 0) -> None:

@@ -18,6 +18,7 @@ from enum import StrEnum
 
 from pendant.controller import Controller, ControllerError
 from pendant.program.describe import describe_step
+from pendant.program.heard_stops import HeardStops
 from pendant.program.interpreter import Interpreter, NodeFailed, Outcome
 from pendant.program.models import Program
 from pendant.program.motion import POLL_S, BlendedPath, Interrupted, NodeExecutor, PathPlanner, Timing
@@ -48,11 +49,16 @@ class RunProgress:
     message: str = "Ready"
     failed_step: int | None = None  # 0-based line of the step that failed
     notice: str = ""  # how the controller plays what it cannot do as asked (e.g. paths stop-and-go)
+    paused_because: str = ""  # a pause the operator did not ask for ("Tab 1's page closed")
 
     @property
     def active(self) -> bool:
         """A run that can be resumed or stepped (running or paused)."""
         return self.state in (RunState.RUNNING, RunState.PAUSED)
+
+
+# A run in these states keeps its place: Resume (paused), Retry or Skip (a failed step, a stop heard).
+RESUMABLE = (RunState.PAUSED, RunState.FAILED, RunState.STOPPED)
 
 
 class RunnerBusy(Exception):
@@ -95,11 +101,16 @@ class ProgramRunner:
         self._progress = RunProgress()
         self._pause_requested = False
         self._stop_requested = False
+        self._paused_because = ""
+        self._heard = HeardStops()  # stops from elsewhere (Freeze, the API): Retry stays possible
         self._listeners: list[Listener] = []
         self._worker: threading.Thread | None = None
         # A failed step's reason in the page's words (a bare "Collision detected" gets the obstacle named):
         # given the program, the failed lines (first, last: a blended group refused whole) and the reason.
         self.explain_failure: Callable[[Program, int, int, str], str] = lambda program, first, last, why: why
+        # Collects a stop still on its way before a failed step is judged (`pendant run` polls a pendant's
+        # stops: its protective stop may show as the step failing before the poll hears it).
+        self.hear_stops_now: Callable[[], None] = lambda: None
         self._executor = NodeExecutor(
             controller,
             Timing(sleep, now, poll_s),
@@ -134,7 +145,7 @@ class ProgramRunner:
     def run(self, program: Program, loops: int = 1, *, start_line: int = 0) -> RunProgress:
         """Run `program` `loops` times (0: until stopped), from line `start_line` (0: the first step)."""
         self._begin(program, loops, start_line)
-        return self._execute(single_step=False)
+        return self._execute(single_step=False, fresh=True)
 
     def step(self, program: Program | None = None) -> RunProgress:
         """Execute one step, then pause. Continues a paused run; else starts `program` at its first step."""
@@ -144,47 +155,64 @@ class ProgramRunner:
             if program is None:
                 raise ValueError("nothing to step: no paused run and no program given")
             self._begin(program, 1, 0)
-        return self._execute(single_step=True)
+        return self._execute(single_step=True, fresh=not paused)
 
     def resume(self) -> RunProgress:
-        """Continue a paused run, or a failed one at the step that failed (tried again)."""
+        """Continue a paused run, or a failed or stopped one at the step it ended on (tried again)."""
         with self._lock:
-            if self._run is None or self._progress.state not in (RunState.PAUSED, RunState.FAILED):
+            if self._run is None or self._progress.state not in RESUMABLE:
                 return self._progress
         return self._execute(single_step=False)
 
     def skip(self) -> RunProgress:
-        """Continue a failed run at the step after the one that failed (that step is not done)."""
+        """Continue a failed or stopped run at the step after that one (that step is not done)."""
         with self._lock:
-            if self._run is None or self._progress.state is not RunState.FAILED:
+            if self._run is None or self._progress.state not in (RunState.FAILED, RunState.STOPPED):
                 return self._progress
             self._run.interpreter.skip()
         return self._execute(single_step=False)
 
     @property
     def can_resume(self) -> bool:
-        return self._run is not None and self._progress.state in (RunState.PAUSED, RunState.FAILED)
+        return self._run is not None and self._progress.state in RESUMABLE
 
-    def pause(self) -> None:
-        """Hold the arm where it is; `resume` continues from the waypoint it was heading for."""
+    def pause(self, because: str = "") -> None:
+        """Hold the arm where it is; `resume` continues from the waypoint it was heading for. `because`: a
+        pause the operator did not ask for, said with the run's state until it runs again."""
         with self._lock:
             if self._progress.state is not RunState.RUNNING:
                 return
             self._pause_requested = True
+            self._paused_because = because
         self._freeze_quietly()
 
     def stop(self) -> None:
-        """Freeze the arm now and end the run (a paused or failed one too: it can no longer be resumed)."""
+        """Freeze the arm now and end the run for good (a paused, failed or stopped one too: it can no
+        longer be resumed): the program's own Stop, the banner's Stop program."""
         with self._lock:
             running = self._progress.state is RunState.RUNNING
             self._stop_requested = running
         self._freeze_quietly()
         if not running:
             with self._lock:
-                was_paused = self._progress.state is RunState.PAUSED
+                ended = self._run is not None and self._progress.state in RESUMABLE
                 self._run = None
-            if was_paused:
-                self._publish(state=RunState.STOPPED, message="Stopped")
+            if ended:
+                message = self._progress.message
+                message = message if message.startswith("Stopped") else "Stopped"
+                self._publish(state=RunState.STOPPED, failed_step=None, message=message)
+
+    def stop_heard(self, cause: str) -> None:
+        """A stop from anywhere else (Freeze, Esc, another browser, `PUT /freeze`, a protective stop): the
+        run ends at its next look, moving or not, as "Stopped at step N by <cause>", nothing after it is
+        sent, and Retry or Skip stay possible as after a failure; a paused run becomes such a stopped run.
+        Safe on any thread (a StopBus listener): it never talks to the controller, which the stop's own
+        sender is freezing."""
+        self._heard.hear(cause)
+        with self._lock:
+            run = self._run if self._progress.state is RunState.PAUSED else None
+        if run is not None:
+            self._stopped_by(run)
 
     # --- worker thread -----------------------------------------------------------------------------
     @property
@@ -209,6 +237,7 @@ class ProgramRunner:
         with self._lock:
             if self._progress.state is RunState.RUNNING:
                 raise RunnerBusy("A program is already running")
+            self._clear_requests()  # before the run shows as running: a stop from then on is heard
         plan = compile_program(program, self.load, actions_in_path=self._blended is not None)
         interpreter = Interpreter(plan, loops=loops)
         if start_line:
@@ -229,20 +258,24 @@ class ProgramRunner:
             failed_step=None,
         )
 
-    def _execute(self, *, single_step: bool) -> RunProgress:
+    def _execute(self, *, single_step: bool, fresh: bool = False) -> RunProgress:
+        """Go on with the run; `fresh`: `_begin` has just cleared the requests (a stop since then counts)."""
         with self._lock:
             run = self._run
             if run is None:
                 return self._progress
-            self._pause_requested = False
-            self._stop_requested = False
+            if not fresh:
+                self._clear_requests()
         interpreter = run.interpreter
-        self._publish(state=RunState.RUNNING, failed_step=None, message=self._where(run))
+        self._publish(state=RunState.RUNNING, failed_step=None, paused_because="", message=self._where(run))
         try:
             outcome = interpreter.run(self._executor, single_step=single_step)
         except Interrupted:
             return self._interrupted(run)
         except NodeFailed as failure:
+            self.hear_stops_now()
+            if self._heard.since_start:  # the stop landed between two looks: the arm stopped short for it
+                return self._interrupted(run)
             return self._failed(run, failure)
         except ControllerError as error:  # not expected (every read is a node's), but never left uncaught
             line = interpreter.line or 0
@@ -287,12 +320,34 @@ class ProgramRunner:
             return failure.reason
 
     def _interrupted(self, run: _Run) -> RunProgress:
-        line = run.interpreter.line or 0
+        line = run.interpreter.place
         if self._stop_requested:
             with self._lock:
                 self._run = None
-            return self._finish(state=RunState.STOPPED, message=f"Stopped at step {line + 1}")
-        return self._finish(state=RunState.PAUSED, step_index=line, message=f"Paused before step {line + 1}")
+            cause = f" by {self._heard.cause}" if self._heard.since_start else ""
+            return self._finish(state=RunState.STOPPED, message=f"Stopped at step {line + 1}{cause}")
+        if self._heard.since_start:
+            return self._stopped_by(run)
+        because = self._paused_because
+        message = f"Paused before step {line + 1}" + (f": {because}" if because else "")
+        return self._finish(state=RunState.PAUSED, step_index=line, message=message, paused_because=because)
+
+    def _stopped_by(self, run: _Run) -> RunProgress:
+        """A stop heard elsewhere ended the run: its place is kept for Retry or Skip, as a failed step's."""
+        line = run.interpreter.place
+        return self._finish(
+            state=RunState.STOPPED,
+            step_index=line,
+            failed_step=line,
+            loop=run.interpreter.loop,
+            message=f"Stopped at step {line + 1} by {self._heard.cause}",
+        )
+
+    def _clear_requests(self) -> None:
+        self._paused_because = ""
+        self._pause_requested = False
+        self._stop_requested = False
+        self._heard.start()
 
     def _finish(self, **changes: object) -> RunProgress:
         with self._lock:
@@ -308,7 +363,7 @@ class ProgramRunner:
         return f"Running step {min((line or 0) + 1, run.lines)}/{run.lines}, loop {interpreter.loop}/{loops}"
 
     def _interrupt_requested(self) -> bool:
-        return self._stop_requested or self._pause_requested
+        return self._stop_requested or self._pause_requested or self._heard.since_start
 
     def _freeze_quietly(self) -> None:
         try:

@@ -7,10 +7,11 @@ as it was found before the pendant replaces or deletes it, so that version is ne
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import getpass
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from pendant.program.diff import ProgramDiff, diff_programs
@@ -22,6 +23,7 @@ from pendant.program.files import (
     parse_program,
     sanitize_name,
 )
+from pendant.program.folder_lock import saving
 from pendant.program.history import MAX_VERSIONS, OUTSIDE, HistoryError, ProgramHistory, Version
 from pendant.program.models import Program
 
@@ -56,7 +58,29 @@ class VersionedStore(ProgramStore):
 
     # --- writing: file first, then the commit ------------------------------------------------------------
     def save(self, program: Program, name: str) -> Program:
-        clean = sanitize_name(name)
+        with self._saving("saved", sanitize_name(name)):
+            return self._save(program, sanitize_name(name))
+
+    def delete(self, name: str) -> None:
+        with self._saving("deleted", sanitize_name(name)):
+            self._delete(sanitize_name(name))
+
+    def restore_version(self, name: str, revision: str) -> Program:
+        """Write back version `revision` of program `name` byte for byte, as a new version."""
+        with self._saving("restored", sanitize_name(name)):
+            return self._restore_version(sanitize_name(name), revision)
+
+    @contextlib.contextmanager
+    def _saving(self, what: str, clean: str) -> Iterator[None]:
+        """One save of this folder at a time, across processes: the file and its commit go together."""
+        with contextlib.ExitStack() as stack:
+            try:
+                stack.enter_context(saving(self.folder))
+            except OSError as error:
+                raise ProgramFileError(_not_written(what, clean + SUFFIX, self.folder, error)) from error
+            yield
+
+    def _save(self, program: Program, clean: str) -> Program:
         file_name = clean + SUFFIX
         self.history_note = None
         previous = self._committed_program(file_name)
@@ -73,8 +97,7 @@ class VersionedStore(ProgramStore):
         self._record(file_name, f"Save {clean}: {summary}", body)
         return saved
 
-    def delete(self, name: str) -> None:
-        clean = sanitize_name(name)
+    def _delete(self, clean: str) -> None:
         self.history_note = None
         if self.exists(clean):
             self._committed_program(clean + SUFFIX)  # a hand-edited file is kept before it goes
@@ -84,9 +107,7 @@ class VersionedStore(ProgramStore):
             raise ProgramFileError(_not_written("deleted", clean + SUFFIX, self.folder, error)) from error
         self._record(clean + SUFFIX, f"Delete {clean}", ())
 
-    def restore_version(self, name: str, revision: str) -> Program:
-        """Write back version `revision` of program `name` byte for byte, as a new version."""
-        clean = sanitize_name(name)
+    def _restore_version(self, clean: str, revision: str) -> Program:
         file_name = clean + SUFFIX
         self.history_note = None
         version, data = self._read(file_name, revision)

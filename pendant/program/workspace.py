@@ -20,7 +20,7 @@ from pendant.program.export import export_script
 from pendant.program.files import ProgramFileError, ProgramStore, dump_program, parse_program, sanitize_name
 from pendant.program.models import Program
 from pendant.program.motion import PathPlanner
-from pendant.program.runner import ProgramRunner, RunProgress
+from pendant.program.runner import ProgramRunner, RunProgress, RunState
 from pendant.program.versions import VersionedStore
 
 log = logging.getLogger(__name__)
@@ -57,6 +57,7 @@ class ProgramWorkspace(ProgramEditing):
         self._listeners: list[ChangeListener] = []
         self._undo: list[_Snapshot] = []
         self._redo: list[_Snapshot] = []
+        self.supervisor: int | None = None  # the browser that started the run (see start_run)
         self.path_recordings: Path | None = None  # where path recordings are kept (Path steps name theirs)
         if runner.load is None:  # Call steps open the programs of this folder
             runner.load = store.load
@@ -263,22 +264,35 @@ class ProgramWorkspace(ProgramEditing):
         return f"{stem}.py", export_script(program, self.store.load).encode()
 
     # --- running -----------------------------------------------------------------------------------
-    def start_run(self, loops: int = 1, *, start_line: int = 0) -> None:
+    # `supervisor`: the browser (viser client id) that started or continued the run; the page pauses the
+    # run when that browser goes away (None: a headless start, tied to no page).
+    def start_run(self, loops: int = 1, *, start_line: int = 0, supervisor: int | None = None) -> None:
         """Run the program on the worker thread (from line `start_line`: Run from the selected step)."""
         program = self._program
-        self.runner.start(lambda: self.runner.run(program, loops, start_line=start_line))
+        self._start(lambda: self.runner.run(program, loops, start_line=start_line), supervisor)
 
-    def start_step(self) -> None:
+    def start_step(self, supervisor: int | None = None) -> None:
         program = self._program
-        self.runner.start(lambda: self.runner.step(program))
+        self._start(lambda: self.runner.step(program), supervisor)
 
-    def start_resume(self) -> None:
-        """Continue a paused run, or a failed one at the step that failed."""
-        self.runner.start(self.runner.resume)
+    def start_resume(self, supervisor: int | None = None) -> None:
+        """Continue a paused run, or a failed or stopped one at the step it ended on."""
+        self._start(self.runner.resume, supervisor)
 
-    def start_skip(self) -> None:
-        """Continue a failed run at the step after the one that failed."""
-        self.runner.start(self.runner.skip)
+    def start_skip(self, supervisor: int | None = None) -> None:
+        """Continue a failed or stopped run at the step after that one."""
+        self._start(self.runner.skip, supervisor)
+
+    def _start(self, command: Callable[[], RunProgress], supervisor: int | None) -> None:
+        self.runner.start(command)
+        self.supervisor = supervisor
+
+    def supervisor_left(self, client_id: int, who: str) -> bool:
+        """The browser supervising a run went away: pause the run (the arm held, the place kept)."""
+        if self.supervisor != client_id or self.runner.progress.state is not RunState.RUNNING:
+            return False
+        self.runner.pause(because=f"{who}'s page closed while the program ran")
+        return True
 
     def pause(self) -> None:
         self.runner.pause()

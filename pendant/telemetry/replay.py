@@ -1,31 +1,33 @@
 """A finished recording read back for replay: the joint angles (/joints), the event log (/events) and the
 program step (/program) as arrays on one time axis, seconds since the first sample.
 
-Read with the official `mcap` reader (the protobuf decoder for Foxglove's foxglove.Log, built from the file's
-own schema, as Foxglove does). Bounded: a file over MAX_REPLAY_BYTES is refused before it is opened, and no
-more than MAX_SAMPLES samples, MAX_EVENTS events and MAX_PROGRAM_STEPS step changes are kept."""
+Read through mcap_scan (every declared length checked against the file, decompression capped, at most
+REPLAY_TIME_LIMIT_S), the official `mcap` records and the protobuf decoder for Foxglove's foxglove.Log built
+from the file's own schema, as Foxglove does. Bounded: a file over MAX_REPLAY_BYTES is refused before it is
+opened, and no more than MAX_SAMPLES samples, MAX_EVENTS events and MAX_PROGRAM_STEPS step changes are kept.
+Whatever the bytes, the answer is a Replay or a ReplayError that says why."""
 
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from mcap.decoder import DecoderFactory as McapDecoderFactory
-from mcap.exceptions import McapError
-from mcap.reader import make_reader
-from mcap.records import Schema
+from mcap.records import Channel, Message, Schema
 from mcap_protobuf.decoder import DecoderFactory as ProtobufDecoderFactory
 
+from pendant.telemetry.mcap_scan import Damaged, Truncated, records
 from pendant.telemetry.recorder import MAX_ROWS
 
 MAX_REPLAY_BYTES = 512 * 1024 * 1024  # a two-hour recording (the longest one made) is about 60 MB
 MAX_SAMPLES = MAX_ROWS  # two hours at 10 Hz
 MAX_EVENTS = 10_000
 MAX_PROGRAM_STEPS = 50_000
+REPLAY_TIME_LIMIT_S = 30.0  # a two-hour recording reads in a few seconds
 N_JOINTS = 6
 TOPICS = ("/joints", "/events", "/program")
 STOP_WORDS = ("stop", "freeze", "emergency", "error", "fail", "refused", "collision")  # events worth a jump
@@ -100,17 +102,15 @@ class Replay:
         return list(reversed(self.events[max(0, end - count) : end]))
 
 
-class _JsonDecoder(McapDecoderFactory):
-    def decoder_for(self, message_encoding: str, schema: Schema | None) -> Any:
-        return json.loads if message_encoding == "json" else None
-
-
 _LEVELS = {1: "DEBUG", 2: "INFO", 3: "WARNING", 4: "ERROR", 5: "FATAL"}
+_Decode = Callable[[bytes], Any]
 
 
-def load_replay(path: Path, max_bytes: int = MAX_REPLAY_BYTES) -> Replay:
-    """Read `path` (a finished recording) into a Replay; ReplayError when it is too big, unreadable or holds
-    no joint samples."""
+def load_replay(
+    path: Path, max_bytes: int = MAX_REPLAY_BYTES, time_limit_s: float = REPLAY_TIME_LIMIT_S
+) -> Replay:
+    """Read `path` (a finished recording) into a Replay; ReplayError when it is too big, unreadable, damaged,
+    slower than `time_limit_s` to read, or holds no joint samples."""
     try:
         size = path.stat().st_size
     except OSError as error:
@@ -124,25 +124,43 @@ def load_replay(path: Path, max_bytes: int = MAX_REPLAY_BYTES) -> Replay:
     angles: list[list[float]] = []
     events: list[tuple[int, ReplayEvent]] = []
     steps: list[tuple[int, ProgramStep]] = []
+    schemas: dict[int, Schema] = {}
+    channels: dict[int, tuple[str, _Decode]] = {}
     try:
         with path.open("rb") as stream:
-            reader = make_reader(stream, decoder_factories=[ProtobufDecoderFactory(), _JsonDecoder()])
-            for _, channel, message, decoded in reader.iter_decoded_messages(topics=list(TOPICS)):
-                if channel.topic == "/joints" and len(times) < MAX_SAMPLES:
-                    q = [float(v) for v in decoded["position_deg"][:N_JOINTS]]
-                    if len(q) == N_JOINTS:
-                        times.append(message.log_time)
-                        angles.append(q)
-                elif channel.topic == "/events" and len(events) < MAX_EVENTS:
-                    event = ReplayEvent(
-                        0.0, _LEVELS.get(decoded.level, "INFO"), decoded.name, decoded.message
-                    )
-                    events.append((message.log_time, event))
-                elif channel.topic == "/program" and len(steps) < MAX_PROGRAM_STEPS:
-                    step = ProgramStep(0.0, int(decoded["line"]), str(decoded["step"]), str(decoded["state"]))
-                    steps.append((message.log_time, step))
-    except (McapError, EOFError, ValueError, KeyError, TypeError) as error:
-        raise ReplayError(f"{path.name} cannot be read as a recording ({error})") from error
+            for record in records(stream, size, time_limit_s):
+                if isinstance(record, Schema):
+                    schemas[record.id] = record
+                elif isinstance(record, Channel) and record.topic in TOPICS:
+                    channels[record.id] = (record.topic, _decoder(record, schemas.get(record.schema_id)))
+                elif isinstance(record, Message) and record.channel_id in channels:
+                    topic, decode = channels[record.channel_id]
+                    decoded = decode(record.data)
+                    if topic == "/joints" and len(times) < MAX_SAMPLES:
+                        q = [float(v) for v in decoded["position_deg"][:N_JOINTS]]
+                        if len(q) == N_JOINTS:
+                            times.append(record.log_time)
+                            angles.append(q)
+                    elif topic == "/events" and len(events) < MAX_EVENTS:
+                        level = _LEVELS.get(decoded.level, "INFO")
+                        events.append(
+                            (record.log_time, ReplayEvent(0.0, level, decoded.name, decoded.message))
+                        )
+                    elif topic == "/program" and len(steps) < MAX_PROGRAM_STEPS:
+                        step = ProgramStep(
+                            0.0, int(decoded["line"]), str(decoded["step"]), str(decoded["state"])
+                        )
+                        steps.append((record.log_time, step))
+    except Truncated as error:
+        raise ReplayError(
+            f"{path.name} is not finished ({error}): the pendant finishes such a file when it starts"
+        ) from error
+    except Damaged as error:
+        raise ReplayError(f"{path.name} cannot be read as a recording: {error}") from error
+    except Exception as error:  # a message that is not what its topic says: bytes from anywhere
+        raise ReplayError(
+            f"{path.name} cannot be read as a recording (a {type(error).__name__} in its messages)"
+        ) from error
     if not times:
         raise ReplayError(f"{path.name} holds no joint samples")
     order = np.argsort(times, kind="stable")
@@ -160,6 +178,18 @@ def load_replay(path: Path, max_bytes: int = MAX_REPLAY_BYTES) -> Replay:
             ProgramStep((t - start_ns) / 1e9, s.line, s.step, s.state) for t, s in sorted(steps, key=_first)
         ),
     )
+
+
+def _decoder(channel: Channel, schema: Schema | None) -> _Decode:
+    """JSON for the pendant's series, the file's own protobuf schema for foxglove.Log."""
+    if channel.message_encoding == "json":
+        return json.loads
+    decode = ProtobufDecoderFactory().decoder_for(channel.message_encoding, schema)
+    if decode is None:
+        raise Damaged(
+            f"its topic {channel.topic} is in {channel.message_encoding[:20]!r}, which replay cannot read"
+        )
+    return decode
 
 
 def _first(pair: tuple[int, object]) -> int:

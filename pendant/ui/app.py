@@ -140,6 +140,8 @@ class PendantUI:
             latest=lambda: self.latest,
             cell=lambda: self.cell_model,
         )
+        # Every stop heard in this process also ends a running program, whatever its step, moving or not.
+        self.stops.subscribe(self.programs.runner.stop_heard)
         self.scene = ArmScene(self.server, arm.urdf_path)
         self.latest = Snapshot(taken_at=0.0)
         self.cells_dir = Path(cells_folder) if cells_folder is not None else cells_dir()
@@ -309,6 +311,16 @@ class PendantUI:
         self.dashboard_feed.show_log_again()  # show the new browser the log at once
 
     def _disconnect(self, client: viser.ClientHandle) -> None:
+        who = self.desk.name(client.client_id)
+        if self.programs.supervisor == client.client_id and self.programs.progress.active:
+            # Off viser's thread, on the stop path: the run pauses (the arm held) before anything else.
+            self.runner.submit(
+                "Pause (the page running the program closed)",
+                lambda _: self.programs.supervisor_left(client.client_id, who),
+                None,
+                urgent=True,
+                announce=False,
+            )
         self.browsers.remove(client.client_id)
         self.desk.leave(client.client_id)  # the operator leaving releases control (and stops a jog)
 

@@ -14,6 +14,7 @@ from playwright.sync_api import Browser
 
 from pendant.telemetry.repair import finished
 from tests.support.launchers import STOP_TIMEOUT_S
+from tests.support.waiting import wait_until
 from tests.telemetry.test_mcap import read_mcap
 
 from .conftest import ARTIFACTS, Pendant, running_pendant
@@ -23,6 +24,7 @@ pytestmark = pytest.mark.slow
 RECORD_S = 10.0
 SIGTERM_EXIT = 128 + signal.SIGTERM  # the shell's convention for "ended by SIGTERM"
 SURVIVING_S = 8.0  # what must read back: the 10 s less the last flush (1 s) and a loaded machine's start
+REPAIR_TIMEOUT_S = 60.0
 UI_TIMEOUT_MS = 60_000  # a loaded machine draws the first page slowly
 MOVE_SPEED_PERCENT = 20
 FAR_DEG = [60.0, -60.0, 60.0, -90.0, -90.0, 30.0]
@@ -89,11 +91,14 @@ def test_after_kill_9_the_next_start_repairs_the_recording(browser: Browser, tmp
     [left] = sorted((tmp_path / "recordings").glob("pendant-*.mcap"))
     assert not finished(left), "kill -9 leaves the file unfinished"
     with running_pendant(env=data) as again:
-        errors = again.api.get("/pendant/events", params={"kind": "error", "text": "repaired"}).json()[
-            "events"
-        ]
-        said = [event["message"] for event in errors]
-        assert any(left.stem in message and "repaired" in message for message in said), said
+        # The repair runs beside the start-up: the pendant serves first, and says so once it is done.
+        def said() -> list[str]:
+            errors = again.api.get("/pendant/events", params={"kind": "error", "text": "repaired"}).json()
+            return [event["message"] for event in errors["events"]]
+
+        wait_until(
+            lambda: any(left.stem in m and "repaired" in m for m in said()), REPAIR_TIMEOUT_S, "repair"
+        )
     path, times = joint_samples(tmp_path)
     span_s = (times[-1] - times[0]) / 1e9
     print(rate_line("kill -9, repaired", times))

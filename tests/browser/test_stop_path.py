@@ -22,8 +22,8 @@ import zstandard
 from playwright.sync_api import Browser, Page
 from websockets.sync.client import ClientConnection, connect
 
-from tests.support.headless_viewer import CAMERA_HELLO, click_message, decode_window, notification
 from tests.support.big_recordings import write_long_recording
+from tests.support.headless_viewer import CAMERA_HELLO, click_message, decode_window, notification
 
 from .conftest import Pendant, running_pendant
 

@@ -46,3 +46,12 @@ def git(folder: Path, *args: str) -> str:
         ["git", "-C", str(folder), *args], capture_output=True, text=True, timeout=30, check=True
     )
     return done.stdout
+
+
+def cut_head_commit(folder: Path) -> None:
+    """Cut the HEAD commit's object file in half, as a disk or a copy interrupted mid-way leaves it."""
+    head = git(folder, "rev-parse", "HEAD").strip()
+    path = folder / ".git" / "objects" / head[:2] / head[2:]
+    data = path.read_bytes()
+    path.chmod(0o644)
+    path.write_bytes(data[: len(data) // 2])

@@ -120,3 +120,54 @@ def test_stop_while_the_path_is_searched_ends_the_search_and_nothing_moves(
     assert np.allclose(sim.get_pose().angles, BOX.start_deg, atol=1e-6)  # nothing moved
     clock.advance(2.0)
     assert np.allclose(sim.get_pose().angles, BOX.start_deg, atol=1e-6)  # and nothing was sent later
+
+
+def test_a_freeze_heard_while_a_planned_move_searches_ends_the_run_with_its_cause(
+    sim: SimController, clock: FakeClock, beyond: Waypoint
+) -> None:
+    """Not the program's Stop: a Freeze from elsewhere, heard while the path is being searched."""
+    plans = ControllerPlanner(ArmModel.load("pulse75"))
+    holder: list[ProgramRunner] = []
+
+    def planner(controller: Controller, goal: Pose | Position, cancelled: Callable[[], bool]) -> list[Pose]:
+        holder[0].stop_heard("Freeze from the API (127.0.0.1)")
+        sim.freeze()
+        return plans(controller, goal, cancelled)
+
+    runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now, poll_s=POLL_S, planner=planner)
+    holder.append(runner)
+    result = runner.run(program_of(move(beyond, speed=100.0, planned=True)))
+
+    assert result.state is RunState.STOPPED, result.message
+    assert result.message == "Stopped at step 1 by Freeze from the API (127.0.0.1)"
+    clock.advance(2.0)
+    assert np.allclose(sim.get_pose().angles, BOX.start_deg, atol=1e-6)  # the path was never sent
+    assert runner.can_resume
+
+
+def test_a_freeze_heard_during_a_planned_moves_motion_ends_the_run_there(
+    sim: SimController, clock: FakeClock, beyond: Waypoint
+) -> None:
+    """Seen in the page before: the arm stopped for a moment, then the run carried on to "Finished"."""
+    holder: list[ProgramRunner] = []
+    started: list[float] = []
+
+    def sleep(dt: float) -> None:
+        clock.advance(dt)
+        if sim.get_motion_status().value == "RUNNING" and not started:
+            started.append(clock.now())
+        if started and clock.now() - started[0] >= 0.5 and holder[0].progress.state is RunState.RUNNING:
+            holder[0].stop_heard("Freeze by Tab 2")
+            sim.freeze()
+
+    plans = ControllerPlanner(ArmModel.load("pulse75"))
+    runner = ProgramRunner(sim, sleep=sleep, now=clock.now, poll_s=POLL_S, planner=plans)
+    holder.append(runner)
+    result = runner.run(program_of(move(beyond, speed=100.0, planned=True)))
+
+    assert result.state is RunState.STOPPED, result.message
+    assert result.message == "Stopped at step 1 by Freeze by Tab 2"
+    held = np.array(sim.get_pose().angles)
+    clock.advance(3.0)
+    np.testing.assert_allclose(sim.get_pose().angles, held, atol=1e-6)
+    assert not np.allclose(held, BOX.target_deg, atol=ANGLE_TOL_DEG)

@@ -192,7 +192,9 @@ def test_a_fault_during_a_motion_names_the_step_it_interrupted(sim, clock, waypo
 
     program = program_of(WaitStep(ms=100), move(waypoints["A"]))
     runner = ProgramRunner(
-        sim, now=clock.now, sleep=sleeping(clock, 0.5, lambda: sim.inject_fault(Fault.EMERGENCY))
+        sim,
+        now=clock.now,
+        sleep=sleeping(clock, clock.now() + 0.5, lambda: sim.inject_fault(Fault.EMERGENCY)),
     )
 
     result = runner.run(program)

@@ -82,12 +82,12 @@ def _limit_open_files(count: int) -> None:
     resource.setrlimit(resource.RLIMIT_NOFILE, (count, count))
 
 
-ANNOUNCE_MAX_LINES = 20
+ANNOUNCE_MAX_LINES = 200  # the lines of a repair running beside the start-up may come before the URL
 
 
 def _wait_until_serving(process: subprocess.Popen[str], base_url: str) -> None:
     deadline = time.monotonic() + START_TIMEOUT_S
-    said = []  # start-up notes (a repaired recording, a stale file removed) may come before the URL
+    said = []  # start-up notes (a stale file removed, a recording repaired) may come before the URL
     for _ in range(ANNOUNCE_MAX_LINES):
         said.append(process.stdout.readline() if process.stdout else "")
         if base_url in said[-1] or not said[-1]:

@@ -14,9 +14,9 @@ from pathlib import Path
 import pytest
 import zstandard
 
+from tests.support.big_recordings import write_sparse_file
 from tests.support.headless_viewer import click_message, find_button, next_messages, open_viewer
 from tests.support.launchers import running_pendant_ui
-from tests.support.big_recordings import write_sparse_file
 
 pytestmark = pytest.mark.slow
 

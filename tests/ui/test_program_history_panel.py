@@ -10,7 +10,7 @@ from pendant.program import MoveStep
 from pendant.ui.app import PendantUI
 from pendant.ui.page.session import ClientSession
 from pendant.ui.program.history_section import AFTER_RGB, BEFORE_RGB, UNSAVED
-from tests.program.history_support import git, pick_program, waypoint
+from tests.program.history_support import cut_head_commit, git, pick_program, waypoint
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 
 POSITION_TOL_M = 1e-9
@@ -109,8 +109,26 @@ def test_a_save_the_history_cannot_record_is_kept_and_said_in_the_page(pendant_u
 
     workspace.replace_step(0, MoveStep(waypoint="P1", speed=80.0))
     save(ui, operator, "Save")
-    assert operator.notifications[-1] == "Saved: pick.json"  # the save itself went through
+    said = operator.notifications[-1]  # the save itself went through, and its notification says the rest
+    assert (
+        said.startswith("Saved: pick.json was saved, but not recorded in the history: ") and "merge" in said
+    )
     assert b'"speed": 80.0' in (folder / "pick.json").read_bytes()
     status = ui.program.history_section.status.content
     assert "pick.json was saved, but not recorded in the history" in status and "middle of a merge" in status
     assert git(folder, "rev-parse", "HEAD").strip() == head
+
+
+def test_save_as_a_new_name_into_a_damaged_history_writes_the_file_and_says_so(
+    pendant_ui, ui, two_saves
+) -> None:
+    operator = FakeBrowser(OPERATOR)
+    folder = pendant_ui.programs.store.folder
+    cut_head_commit(folder)
+    save(ui, operator, "Save as", "pick copy")
+    assert pendant_ui.programs.store.load("pick copy").steps == pendant_ui.programs.program.steps
+    said = operator.notifications[-1]
+    assert (
+        said.startswith("Saved: pick copy.json was saved, but not recorded in the history: ")
+        and "fsck" in said
+    )

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterator
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,6 +20,7 @@ from pendant.ui.dashboard.replay import JUMP_PROMPT
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 from tests.support.pages import new_page
+from tests.support.recordings import damaged_inside, make_recording
 from tests.support.waiting import wait_until
 from tests.telemetry.test_mcap import read_mcap
 
@@ -126,3 +128,19 @@ def test_the_page_records_the_arm_and_finishes_the_file_when_it_stops(
     schemas, messages = read_mcap(path)
     assert {"/tf", "/arm", "/cell"} <= set(schemas), "the page's recordings draw the arm and the cell"
     assert sum(1 for topic, _, _ in messages if topic == "/tf") == 5
+
+
+@pytest.mark.parametrize("how", ["chunk-length-2^62", "chunk-declares-2^62", "chunk-garbage"])
+def test_a_damaged_recording_chosen_for_replay_is_refused_with_its_name_and_why(
+    ui: ClientSession, pendant_ui: PendantUI, how: str, tmp_path: Path
+) -> None:
+    folder = pendant_ui.telemetry.recordings_folder
+    folder.mkdir(parents=True, exist_ok=True)
+    real = make_recording(tmp_path, 3.0).read_bytes()
+    (folder / "pendant-20270101-000000.mcap").write_bytes(damaged_inside(real, how))
+    viewer = FakeBrowser(VIEWER)
+    fire(ui.dashboard.replay.start, viewer)
+    assert ui.dashboard.replay.replay is None
+    assert any(
+        "pendant-20270101-000000.mcap cannot be read as a recording" in n for n in viewer.notifications
+    ), viewer.notifications

@@ -4,6 +4,9 @@ gets no page, and clients without an Origin (scripts, tests) connect as before. 
 
 from __future__ import annotations
 
+import os
+import socket
+import time
 from collections.abc import Iterator
 
 import httpx
@@ -15,6 +18,7 @@ from websockets.sync.client import connect
 from pendant.access.origin import OriginPolicy
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
+from tests.support.headless_viewer import CAMERA_HELLO
 from tests.support.pages import new_page
 
 SUBPROTOCOL = f"viser-v{viser.__version__}"
@@ -85,3 +89,42 @@ def test_a_closing_page_stops_a_held_jog_by_a_plain_get_and_a_foreign_host_canno
     assert page.jogger.active is None and sim.get_motion_status() is not MotionStatus.RUNNING
     # Nothing held: nothing to stop, and the answer is the same.
     assert httpx.get(f"http://127.0.0.1:{port}/pendant-stop-jog").status_code == 204
+
+
+def masked_binary_frame(payload: bytes) -> bytes:
+    """One websocket frame as a browser sends it (client frames are masked; RFC 6455 section 5.2)."""
+    mask = os.urandom(4)
+    length = len(payload)
+    header = bytes([0x82]) + (
+        bytes([0x80 | length]) if length < 126 else bytes([0x80 | 126]) + length.to_bytes(2, "big")
+    )
+    return header + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(payload))
+
+
+LOST_WITHIN_S = 10.0  # ping interval + ping timeout + close timeout (5 s), and margin; the default was 50 s
+
+
+def test_a_browser_whose_connection_goes_silent_is_let_go_and_its_control_released(page: PendantUI) -> None:
+    """A cable pulled: no close frame, no answer to pings. The operator's control (and a run it supervises)
+    must not wait 20-40 s for the default keepalive."""
+    port = page.server.get_port()
+    silent = socket.create_connection(("127.0.0.1", port), timeout=5)
+    try:
+        silent.sendall(
+            (
+                "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: Upgrade\r\nUpgrade: websocket\r\n"
+                "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n"
+                f"Sec-WebSocket-Protocol: {SUBPROTOCOL}\r\n\r\n"
+            ).encode()
+        )
+        assert silent.recv(4096).startswith(b"HTTP/1.1 101")
+        silent.sendall(masked_binary_frame(CAMERA_HELLO))  # a viewer's first message, as viser's page sends
+        connected = time.monotonic()
+        while page.desk.operator is None:  # the first browser on this machine gets control
+            assert time.monotonic() - connected < LOST_WITHIN_S, "the silent browser never joined"
+            time.sleep(0.05)
+        while page.desk.operator is not None:  # it reads nothing more and answers no ping
+            assert time.monotonic() - connected < LOST_WITHIN_S, "a silent connection kept control"
+            time.sleep(0.05)
+    finally:
+        silent.close()

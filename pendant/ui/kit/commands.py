@@ -92,10 +92,13 @@ class CommandRunner:
         *,
         urgent: bool = False,
         motion: bool = False,
+        announce: bool = True,
     ) -> Future[object]:
+        """`urgent`: a stop (never gated, never behind another command), told to `on_stop` first unless
+        `announce` is False (Pause holds a run without ending it)."""
         if urgent:
             self.stops_sent += 1
-        if urgent and self.on_stop is not None:
+        if urgent and announce and self.on_stop is not None:
             self.on_stop(label, client)  # before the stop goes out: a jog confirmation then cannot undo it
         reason = None if urgent else self.refusal(client, label, motion=motion)
         if reason is not None:  # refusal() has told the page and the event log
@@ -137,6 +140,11 @@ def _log_press_failure(done: Future[object]) -> None:
     error = None if done.cancelled() else done.exception()
     if error is not None:
         log.error("a stop button's press failed", exc_info=error)
+
+
+def client_id(client: viser.ClientHandle | None) -> int | None:
+    """The browser's id, None for an internal caller (a test, the server's own panel)."""
+    return client.client_id if client is not None else None
 
 
 def add_freeze_button(target: GuiTarget, runner: CommandRunner) -> viser.GuiButtonHandle:

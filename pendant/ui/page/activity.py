@@ -165,7 +165,7 @@ class ActivityLog:
                 self._metrics.program_failures.inc()
                 self._metrics.motion_failures.labels("program").inc()
         self._run_state = progress.state
-        if progress.state is not RunState.FAILED:
+        if progress.state is not RunState.FAILED and progress.failed_step is None:
             self._failure_logged = None
             return
         if progress.message != self._failure_logged:

@@ -21,7 +21,7 @@ import viser
 from pendant.program import ProgramWorkspace
 from pendant.sim import SimController
 from pendant.ui.kit.cell_state import CellState
-from pendant.ui.kit.commands import CommandRunner, notify_refusal
+from pendant.ui.kit.commands import CommandRunner, client_id, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.page.recovery import Action, BannerView, Recovery
 from pendant.ui.program.refusals import USER_ERRORS
@@ -141,11 +141,14 @@ class Banner:
                     runner.submit(said, lambda _: sim.reset(keep_cell=True), client)
             case Action.STOP_PROGRAM:  # stopping is never refused, and never waits behind a command
                 runner.submit(said, lambda _: programs.stop(), client, urgent=True)
-            case Action.RETRY | Action.SKIP:
+            case Action.RETRY | Action.SKIP | Action.RESUME:
                 if runner.refusal(client, said) is not None:
                     return
                 try:
-                    programs.start_resume() if action is Action.RETRY else programs.start_skip()
+                    if action is Action.SKIP:
+                        programs.start_skip(supervisor=client_id(client))
+                    else:
+                        programs.start_resume(supervisor=client_id(client))
                 except USER_ERRORS as error:
                     notify_refusal(client, f"{label} refused", str(error))
                 else:

@@ -37,6 +37,7 @@ class Action(StrEnum):
 
     RECOVER = "recover"
     RETRY = "retry"
+    RESUME = "resume"
     SKIP = "skip"
     STOP_PROGRAM = "stop program"
     SIM_RESET = "sim reset"
@@ -114,7 +115,8 @@ def banner_view(
     """The banner for one reading (None: all is well). A fault of the controller comes first; a failed
     program step's Retry and Skip follow once the controller is back (Stop program is always offered)."""
     controller = _controller_view(snapshot, state, simulator)
-    failed = progress.state is RunState.FAILED and progress.failed_step is not None
+    # A failed step, or a run ended by a stop heard elsewhere: both keep their place for Retry or Skip.
+    failed = progress.state in (RunState.FAILED, RunState.STOPPED) and progress.failed_step is not None
     step = (progress.failed_step or 0) + 1
     if controller is not None:
         if not failed or controller.key == "offline":
@@ -127,9 +129,14 @@ def banner_view(
             failed_step=progress.failed_step,
         )
     if not failed:
-        return None
+        return _paused_view(progress, can_resume)
     actions = (Action.RETRY, Action.SKIP, Action.STOP_PROGRAM) if can_resume else (Action.STOP_PROGRAM,)
-    words = "Fix the cause, then Retry the step, or Skip it" if can_resume else "Stop the program"
+    if not can_resume:
+        words = "Stop the program"
+    elif progress.state is RunState.STOPPED:
+        words = "When it is safe, Retry the step, or Skip it"
+    else:
+        words = "Fix the cause, then Retry the step, or Skip it"
     return BannerView(
         "program",
         f"Program stopped at step {step}",
@@ -140,12 +147,28 @@ def banner_view(
     )
 
 
+def _paused_view(progress: RunProgress, can_resume: bool) -> BannerView | None:
+    """A run paused for a reason the operator did not give (their page closed): every browser is told."""
+    if progress.state is not RunState.PAUSED or not progress.paused_because:
+        return None
+    actions = (Action.RESUME, Action.STOP_PROGRAM) if can_resume else (Action.STOP_PROGRAM,)
+    return BannerView(
+        "paused",
+        f"Program paused at step {(progress.step_index or 0) + 1}",
+        progress.paused_because,
+        "The arm is held. An operator with control can Resume or Stop the program",
+        actions,
+        colour="#e8590c",
+    )
+
+
 def labelled(view: BannerView) -> BannerView:
     """The buttons' words: the step they act on is named ("Retry step 7")."""
     step = (view.failed_step or 0) + 1
     words = {
         Action.RECOVER: "Recover",
         Action.RETRY: f"Retry step {step}",
+        Action.RESUME: "Resume program",
         Action.SKIP: f"Skip step {step}",
         Action.STOP_PROGRAM: "Stop program",
         Action.SIM_RESET: "Reset simulator (keeps the cell)",

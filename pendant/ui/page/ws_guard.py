@@ -32,6 +32,15 @@ NO_FOREIGN_FRAMES = (("Content-Security-Policy", "frame-ancestors 'self'"), ("X-
 
 _patching = threading.Lock()  # one ViserServer built under the wrapper at a time
 
+# A browser whose connection is lost without a close (a cable pulled, a laptop asleep) is let go after at most
+# PING_INTERVAL_S + PING_TIMEOUT_S + CLOSE_TIMEOUT_S (about 5 s), not websockets' default 20 + 20 + 10 s: the
+# run it supervises pauses, its control passes on. The browser's network stack answers pings, not its
+# (possibly stalled) main thread, so a slow page is not taken for a lost one; the margin is for a busy
+# pendant's event loop.
+PING_INTERVAL_S = 1.0
+PING_TIMEOUT_S = 3.0
+CLOSE_TIMEOUT_S = 1.0
+
 
 def _one(request: Request, name: str) -> str | None:
     """The header's value; several values are joined, which no rule accepts (no browser sends two)."""
@@ -79,7 +88,8 @@ Wrap = Callable[[ProcessRequest | None], ProcessRequest]
 @contextlib.contextmanager
 def guarded_viser_server(policy: OriginPolicy | None, wrap: Wrap | None = None) -> Iterator[None]:
     """While open, a websockets server started (by viser) gets `wrap` around its process_request (the
-    pendant's page, say) and `policy` in front of everything, so no request skips the guard."""
+    pendant's page, say) and `policy` in front of everything, so no request skips the guard; and it lets go
+    of a silent connection within about 5 s (PING_INTERVAL_S + PING_TIMEOUT_S + CLOSE_TIMEOUT_S)."""
     if policy is None and wrap is None:
         yield
         return
@@ -98,6 +108,9 @@ def guarded_viser_server(policy: OriginPolicy | None, wrap: Wrap | None = None) 
             if policy is not None:
                 process_request = guard_process_request(policy, process_request)
                 process_response = guard_process_response(process_response)
+            kwargs.setdefault("ping_interval", PING_INTERVAL_S)
+            kwargs.setdefault("ping_timeout", PING_TIMEOUT_S)
+            kwargs.setdefault("close_timeout", CLOSE_TIMEOUT_S)
             return original(
                 handler, *args, process_request=process_request, process_response=process_response, **kwargs
             )

@@ -108,7 +108,13 @@ class FileSection:
         def save() -> None:
             action()
             self.name_prompt.visible = False
-            if client is not None:
+            if client is None:
+                return
+            # The save stands; what the history says about it (not recorded, and why) is shown with it.
+            note = getattr(shared.store, "history_note", None)
+            if note:
+                client.add_notification(title="Saved", body=note, color="yellow")
+            else:
                 body = f"{shared.file_name}.json"
                 client.add_notification(title="Saved", body=body, color="green", auto_close_seconds=3.0)
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import viser
 
 from pendant.program import RunState
-from pendant.ui.kit.commands import notify_refusal
+from pendant.ui.kit.commands import client_id, notify_refusal
 from pendant.ui.kit.stop_path import on_stop_press
 from pendant.ui.program.host import ProgramHost
 from pendant.ui.program.refusals import USER_ERRORS
@@ -38,7 +38,9 @@ class RunSection:
         self.run_from.on_click(lambda e: self._start("Run from", e.client))
         self.step.on_click(lambda e: self._start("Step", e.client))
         self.pause.on_click(
-            lambda e: commands.submit("Pause", lambda _: host.shared.pause(), e.client, urgent=True)
+            lambda e: commands.submit(
+                "Pause", lambda _: host.shared.pause(), e.client, urgent=True, announce=False
+            )
         )
 
         # Stopping is always allowed (no gate) and goes the way Freeze goes: read on viser's event loop, sent
@@ -57,15 +59,18 @@ class RunSection:
             return
         shared = host.shared
         state = shared.progress.state
+        supervisor = client_id(client)  # this browser watches the run: it pauses if the page goes away
         try:
             if label == "Step":
-                shared.start_step()
+                shared.start_step(supervisor)
             elif label == "Run" and state is RunState.PAUSED:
-                shared.start_resume()
+                shared.start_resume(supervisor)
             elif label == "Run from":
-                shared.start_run(loops=int(self.loops.value), start_line=host.need_selection())
+                shared.start_run(
+                    loops=int(self.loops.value), start_line=host.need_selection(), supervisor=supervisor
+                )
             else:
-                shared.start_run(loops=int(self.loops.value))
+                shared.start_run(loops=int(self.loops.value), supervisor=supervisor)
         except USER_ERRORS as error:
             notify_refusal(client, f"{label} refused", str(error))
         else:
@@ -78,7 +83,7 @@ class RunSection:
             progress.state.value
         )
         text = progress.message
-        if progress.state is RunState.FAILED and progress.failed_step is not None:
+        if progress.state in (RunState.FAILED, RunState.STOPPED) and progress.failed_step is not None:
             text = f"**Stopped at step {progress.failed_step + 1}**: the banner above says why and what next"
         self.status.content = f"{text}\n\n{progress.notice}" if progress.notice else text
         self.run.label = "Resume" if progress.state is RunState.PAUSED else "Run"

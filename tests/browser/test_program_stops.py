@@ -1,0 +1,171 @@
+"""Issue 31 in a real Chromium: a stop from any source ends a running program while the arm stands still
+(a gripper step, a wait), the arm stays where it stopped for 3 s instead of going on to the next waypoint,
+and the banner says "Program stopped at step N" with the cause and offers Retry / Skip / Stop program.
+Then the operator's tab is closed mid-run: the run pauses (the arm held) and the other tab is told why."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import time
+import urllib.request
+from collections.abc import Callable, Iterator
+
+import numpy as np
+import pytest
+from playwright.sync_api import Browser, Page
+
+from tests.support.jog_measure import open_as_operator
+from tests.support.launchers import Pendant
+
+HOME_DEG = [0.0, -90.0, 90.0, -90.0, -90.0, 0.0]
+A_DEG = [30.0, -90.0, 90.0, -90.0, -90.0, 0.0]
+B_DEG = [-30.0, -90.0, 90.0, -90.0, -90.0, 0.0]
+STILL_TOL_DEG = 0.01
+HELD_S = 3.0
+UI_TIMEOUT_MS = 60_000
+POLL_S = 0.05
+STEP_LINES = {"gripper": 2, "wait": 3}  # 1-based, as the page counts them
+
+
+def program() -> dict[str, object]:
+    """Move J to A, close the gripper (20 s), wait 20 s, Move J to B."""
+    zero = {"point": {"x": 0, "y": 0, "z": 0}, "rotation": {"roll": 0, "pitch": 0, "yaw": 0}}
+    return {
+        "schema_version": 2,
+        "name": "still_steps",
+        "waypoints": [
+            {"name": "A", "pose": {"angles": A_DEG}, "position": zero},
+            {"name": "B", "pose": {"angles": B_DEG}, "position": zero},
+        ],
+        "steps": [
+            {"kind": "move", "waypoint": "A", "motion": "JOINT", "speed": 100.0},
+            {"kind": "gripper", "action": "close", "timeout_ms": 20_000},
+            {"kind": "wait", "ms": 20_000},
+            {"kind": "move", "waypoint": "B", "motion": "JOINT", "speed": 100.0},
+        ],
+    }
+
+
+@pytest.fixture(scope="module")
+def operator(browser: Browser, pendant: Pendant, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Page]:
+    context = browser.new_context(viewport={"width": 1400, "height": 900})
+    page = context.new_page()
+    open_as_operator(page, pendant.ui_url)
+    saved = tmp_path_factory.mktemp("programs") / "still_steps.json"
+    saved.write_text(json.dumps(program()))
+    page.get_by_role("tab", name="Program").click()
+    page.locator("input[type=file]").first.set_input_files(str(saved))
+    page.get_by_text("still_steps").first.wait_for(timeout=UI_TIMEOUT_MS)
+    yield page
+    context.close()
+
+
+@pytest.fixture(scope="module")
+def bystander(browser: Browser, pendant: Pendant, operator: Page) -> Iterator[Page]:
+    """Another browser, without control (any browser may press Freeze)."""
+    context = browser.new_context(viewport={"width": 1024, "height": 768})
+    page = context.new_page()
+    page.goto(pendant.ui_url)
+    page.get_by_role("button", name="Freeze").wait_for(timeout=UI_TIMEOUT_MS)
+    yield page
+    context.close()
+
+
+def curl_freeze(pendant: Pendant) -> None:
+    curl = shutil.which("curl")
+    assert curl is not None, "the curl binary is part of the test set-up"
+    subprocess.run([curl, "-s", "-X", "PUT", f"{pendant.api.base_url}/freeze"], check=True, timeout=10)
+
+
+def urllib_protective_stop(pendant: Pendant) -> None:
+    request = urllib.request.Request(f"{pendant.api.base_url}/stop", method="POST")
+    with urllib.request.urlopen(request, timeout=10) as answer:
+        assert answer.status == 200
+
+
+def wait_until(condition: Callable[[], bool], what: str, timeout_s: float = 60.0) -> None:
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(POLL_S)
+
+
+def start_at_home(pendant: Pendant, page: Page) -> None:
+    pendant.api.put("/recover")  # a protective stop of the case before
+    pendant.api.put("/pose", params={"speed": 100}, json={"angles": HOME_DEG}).raise_for_status()
+    wait_until(
+        lambda: np.allclose(pendant.pose(), HOME_DEG, atol=0.05) and pendant.status() == "IDLE", "home"
+    )
+    page.locator("#recovery-banner").wait_for(state="detached", timeout=UI_TIMEOUT_MS)
+
+
+def run_until_step(page: Page, line: int) -> None:
+    page.get_by_role("tab", name="Program").click()
+    page.get_by_role("button", name="Run", exact=True).click(timeout=UI_TIMEOUT_MS)
+    page.get_by_text(f"Running step {line}/4").first.wait_for(timeout=UI_TIMEOUT_MS)
+    time.sleep(0.5)  # inside the 20 s step, the arm standing at A
+
+
+# Every source meets a gripper step and a wait (the unit tests take every kind of step, tests/program).
+SOURCES = ["Freeze button", "Esc", "another browser's Freeze", "PUT /freeze (curl)", "POST /stop (urllib)"]
+
+
+@pytest.mark.parametrize("step", list(STEP_LINES))
+@pytest.mark.parametrize("source", SOURCES)
+def test_a_stop_during_a_still_step_ends_the_run_and_the_banner_offers_retry(
+    operator: Page, bystander: Page, pendant: Pendant, source: str, step: str
+) -> None:
+    start_at_home(pendant, operator)
+    line = STEP_LINES[step]
+    run_until_step(operator, line)
+    stops: dict[str, Callable[[], None]] = {
+        "Freeze button": lambda: operator.get_by_role("button", name="Freeze").click(),
+        "Esc": lambda: operator.keyboard.press("Escape"),
+        "another browser's Freeze": lambda: bystander.get_by_role("button", name="Freeze").click(),
+        "PUT /freeze (curl)": lambda: curl_freeze(pendant),
+        "POST /stop (urllib)": lambda: urllib_protective_stop(pendant),
+    }
+    stops[source]()
+
+    banner = operator.locator("#recovery-banner")
+    # The run's own words; a protective stop's banner leads with the controller's state, the run's after it.
+    banner.get_by_text(f"Stopped at step {line} by").wait_for(timeout=UI_TIMEOUT_MS)
+    text = banner.inner_text()
+    title = "Protective stop" if source == "POST /stop (urllib)" else f"Program stopped at step {line}"
+    assert title in text, text
+    held = np.array(pendant.pose())
+    np.testing.assert_allclose(held, A_DEG, atol=0.05)
+    time.sleep(HELD_S)
+    np.testing.assert_allclose(pendant.pose(), held, atol=STILL_TOL_DEG)  # not on its way to B
+    if source == "POST /stop (urllib)":
+        operator.get_by_role("button", name="Recover").click(timeout=UI_TIMEOUT_MS)
+    operator.get_by_role("button", name=f"Retry step {line}").wait_for(timeout=UI_TIMEOUT_MS)
+    operator.get_by_role("button", name=f"Skip step {line}").wait_for(timeout=UI_TIMEOUT_MS)
+    operator.get_by_role("button", name="Stop program").click(timeout=UI_TIMEOUT_MS)
+
+
+def test_closing_the_operators_tab_mid_run_pauses_it_and_the_other_tab_is_told(
+    browser: Browser, pendant: Pendant, operator: Page, bystander: Page
+) -> None:
+    start_at_home(pendant, operator)
+    operator.get_by_role("button", name="Release control").click(timeout=UI_TIMEOUT_MS)
+    context = browser.new_context(viewport={"width": 1400, "height": 900})
+    runner_tab = context.new_page()
+    open_as_operator(runner_tab, pendant.ui_url)  # takes the control the module's operator released
+    runner_tab.get_by_role("tab", name="Program").click()
+    runner_tab.get_by_text("still_steps").first.wait_for(timeout=UI_TIMEOUT_MS)
+    run_until_step(runner_tab, STEP_LINES["wait"])
+
+    context.close()
+
+    banner = bystander.locator("#recovery-banner")
+    banner.get_by_text("Program paused at step").wait_for(timeout=UI_TIMEOUT_MS)
+    assert "page closed while the program ran" in banner.inner_text()
+    held = np.array(pendant.pose())
+    time.sleep(HELD_S)
+    np.testing.assert_allclose(pendant.pose(), held, atol=STILL_TOL_DEG)
+    np.testing.assert_allclose(held, A_DEG, atol=0.05)  # it never went on to B
+    open_as_operator(operator, pendant.ui_url)  # control back for the next module's tests
+    operator.get_by_role("button", name="Stop program").click(timeout=UI_TIMEOUT_MS)
