@@ -140,6 +140,7 @@ def test_a_damaged_recording_chosen_for_replay_is_refused_with_its_name_and_why(
     (folder / "pendant-20270101-000000.mcap").write_bytes(damaged_inside(real, how))
     viewer = FakeBrowser(VIEWER)
     fire(ui.dashboard.replay.start, viewer)
+    wait_until(lambda: bool(viewer.notifications), JOB_TIMEOUT_S, "the refusal")  # loading is a job
     assert ui.dashboard.replay.replay is None
     assert any(
         "pendant-20270101-000000.mcap cannot be read as a recording" in n for n in viewer.notifications
