@@ -1,6 +1,6 @@
 """The page's stops never wait for viser's callback pool (issue 32): with every one of its 32 threads held
 (as 40 slow clicks held them), a browser that connects still gets Freeze, and Freeze, Esc, Protective stop
-and the program's Stop still stop the arm. The page in-process on loopback, the simulator on a fake clock
+and the program's Pause and Stop still act. The page in-process on loopback, the simulator on a fake clock
 (its move stays RUNNING until something stops it), browsers as bare websockets (what a browser sends)."""
 
 from __future__ import annotations
@@ -15,7 +15,6 @@ import websockets
 import zstandard
 
 from pendant.controller import MotionParams, MotionStatus, Pose
-from pendant.program import RunState
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
 from tests.support.headless_viewer import click_message, decode_window, open_viewer
@@ -96,17 +95,20 @@ def test_a_new_browser_gets_freeze_and_the_stops_work_with_the_pool_held(
     asyncio.run(press_stops(held_pool, sim))
 
 
-def test_the_programs_stop_works_with_the_pool_held(held_pool: PendantUI, sim: SimController) -> None:
+def test_the_programs_pause_and_stop_work_with_the_pool_held(held_pool: PendantUI) -> None:
     programs = held_pool.programs
-    stopped: list[RunState] = []
-    programs.stop = lambda: stopped.append(programs.progress.state)  # type: ignore[method-assign]  # a spy
+    pressed: list[str] = []
+    programs.pause = lambda: pressed.append("pause")  # type: ignore[method-assign]  # spies: no run is needed
+    programs.stop = lambda: pressed.append("stop")  # type: ignore[method-assign]
 
     async def press() -> None:
         ws = await open_viewer(held_pool.server.get_port())
         try:
-            found = await controls(ws, {"Stop"})
+            found = await controls(ws, {"Pause", "Stop"})
+            await ws.send(click_message(found["Pause"]))
+            await asyncio.to_thread(wait_until, lambda: pressed == ["pause"], STOP_TIMEOUT_S, "Pause")
             await ws.send(click_message(found["Stop"]))
-            await asyncio.to_thread(wait_until, lambda: bool(stopped), STOP_TIMEOUT_S, "the program's Stop")
+            await asyncio.to_thread(wait_until, lambda: pressed == ["pause", "stop"], STOP_TIMEOUT_S, "Stop")
         finally:
             await ws.close()
 
