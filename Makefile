@@ -2,6 +2,8 @@
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
+# Two stamps: `make run` installs only what the pendant needs; `make test` (and the tools) add the test extras.
+RUN_STAMP := $(VENV)/.installed-run
 STAMP := $(VENV)/.installed
 # Rozum's official SDK pins urllib3==1.24.2, which clashes with the test tools; it lives in its own venv
 # and the SDK tests run scripts there, as a user's script would run.
@@ -10,17 +12,23 @@ SDK_STAMP := $(SDK_VENV)/.installed
 
 .PHONY: run test typecheck layers lint format bench models fleet clean
 
+$(RUN_STAMP): pyproject.toml
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	@$(BIN)/python -m pip install -q --disable-pip-version-check -e .
+	@touch $(RUN_STAMP)
+
+# The test extras include everything `make run` needs, so its stamp is touched too.
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	@$(BIN)/python -m pip install -q --disable-pip-version-check -e '.[test]'
-	@touch $(STAMP)
+	@touch $(STAMP) $(RUN_STAMP)
 
 $(SDK_STAMP):
 	@test -x $(SDK_VENV)/bin/python || $(PYTHON) -m venv $(SDK_VENV)
 	@$(SDK_VENV)/bin/python -m pip install -q --disable-pip-version-check "pulse-api==1.5.0" "pdhttp==1.5.0"
 	@touch $(SDK_STAMP)
 
-run: $(STAMP)
+run: $(RUN_STAMP)
 	@$(BIN)/pendant $(ARGS)
 
 # Two workers for everything but the browser tests (a 2-core machine); those measure what a user feels
@@ -31,7 +39,7 @@ test: $(STAMP) $(SDK_STAMP) layers typecheck
 
 # N simulated pendants + Prometheus + Alertmanager on loopback with deploy/'s files; Ctrl-C stops all.
 N ?= 3
-fleet: $(STAMP)
+fleet: $(RUN_STAMP)
 	@$(BIN)/python -m pendant.monitoring.fleet --pendants $(N)
 
 # The import layers and the no-circle rule (pyproject.toml's [tool.importlinter]), then the types.
@@ -50,7 +58,7 @@ format: $(STAMP)
 bench: $(STAMP)
 	@for b in benchmarks/*.py; do echo "== $$b"; $(BIN)/python $$b || exit 1; done
 
-models: $(STAMP)
+models: $(RUN_STAMP)
 	@$(BIN)/python scripts/build_models.py
 
 clean:

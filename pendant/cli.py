@@ -49,6 +49,7 @@ from pendant.monitoring import PendantMetrics, data_dir, open_event_store
 from pendant.monitoring.state_watch import StateWatch
 
 if TYPE_CHECKING:
+    from pendant.planning.worker import PreflightWorker
     from pendant.ui.app import PendantUI
 
 
@@ -104,11 +105,13 @@ def make_api_app(
     access: AccessRules | None = None,
     metrics: PendantMetrics | None = None,
     stops: StopBus | None = None,
+    preflights: PreflightWorker | None = None,
 ) -> ASGIApp:
     """The app on the API port: the simulator's PULSE API, or a transparent proxy to the real controller;
     both also answer GET /pendant/health, POST /pendant/plan, GET /metrics and (with a stored log)
     GET /pendant/events.
-    `access`: its guard (default: `access_rules(settings, events)`)."""
+    `access`: its guard (default: `access_rules(settings, events)`); `preflights`: the process pre-flights
+    run in (default: one of the app's own)."""
     from pendant.kinematics import ArmModel
     from pendant.monitoring import add_monitoring
     from pendant.planning.api import plan_router
@@ -131,7 +134,7 @@ def make_api_app(
             stops=stops,
         )
         proxy.include_router(plan_router(controller, ArmModel.load(settings.model)))
-        proxy.include_router(_preflight_router(settings, controller))
+        proxy.include_router(_preflight_router(settings, controller, preflights))
         return proxy
     from pendant.api import create_app
 
@@ -140,20 +143,22 @@ def make_api_app(
     app.include_router(
         plan_router(controller, getattr(controller, "arm", None) or ArmModel.load(settings.model))
     )
-    app.include_router(_preflight_router(settings, controller))
+    app.include_router(_preflight_router(settings, controller, preflights))
     if metrics is None:
         metrics = PendantMetrics(controller, mode="sim", model=settings.model, robot_url=None)
     add_monitoring(app, metrics, store)
     return app
 
 
-def _preflight_router(settings: Settings, controller: Controller) -> APIRouter:
+def _preflight_router(
+    settings: Settings, controller: Controller, preflights: PreflightWorker | None
+) -> APIRouter:
     """POST /pendant/preflight: the program checked on a twin of this controller (nothing moves)."""
     from pendant.planning.router import preflight_router
     from pendant.program import programs_dir
 
     folder = Path(settings.programs_dir) if settings.programs_dir else programs_dir()
-    return preflight_router(controller, settings.model, folder)
+    return preflight_router(controller, settings.model, folder, preflights)
 
 
 def start_ui(
@@ -275,7 +280,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     metrics.watch(events)
     access = access_rules(settings, events)  # one switch and one set of rules for both ports
     stops = StopBus()  # the API's stops end the page's held jog
-    api_app = make_api_app(settings, controller, started_at, events, access, metrics, stops)
+    from pendant.planning.worker import PreflightWorker
+
+    preflights = PreflightWorker()  # quitting ends a running pre-flight at once (its own process)
+    api_app = make_api_app(settings, controller, started_at, events, access, metrics, stops, preflights)
     ui = None if settings.no_ui else start_ui(settings, controller, events, access, metrics, stops)
     # Without the page's refresh loop, a thread of its own logs the arm's state changes.
     watch = StateWatch(controller, events, metrics).start() if ui is None else None
@@ -285,7 +293,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     on_main_thread = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, _exit_on_sigterm) if on_main_thread else None
     try:
-        serve_api(settings, api_app, freeze_on_quit(controller.freeze, events))  # quitting stops the arm
+        freeze = freeze_on_quit(controller.freeze, events)  # quitting stops the arm, and any pre-flight
+
+        def on_quit(reason: str) -> None:
+            freeze(reason)
+            preflights.cancel()
+
+        serve_api(settings, api_app, on_quit)
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
@@ -293,6 +307,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             ui.stop()
         if watch is not None:
             watch.stop()
+        preflights.close()
         if store is not None:
             store.close()
     return 0

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import pytest
 
+from pendant.cell.file import CELLS_DIR_ENV
 from pendant.monitoring import DATA_DIR_ENV
 from pendant.program import PROGRAMS_DIR_ENV
 from pendant.sim import FakeClock, SimController
@@ -16,10 +17,12 @@ pytest_plugins = ["tests.support.fixtures"]
 
 @pytest.fixture(autouse=True)
 def programs_folder(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch) -> Path:
-    """Every test's pendant keeps its programs (and autosave) in a fresh folder, never the checkout's."""
+    """Every test's pendant keeps its programs (and autosave), cells, event log and recordings in fresh
+    folders, never the checkout's."""
     folder = tmp_path_factory.mktemp("programs")
     monkeypatch.setenv(PROGRAMS_DIR_ENV, str(folder))
     monkeypatch.setenv(DATA_DIR_ENV, str(tmp_path_factory.mktemp("pendant-data")))  # event log, recordings
+    monkeypatch.setenv(CELLS_DIR_ENV, str(tmp_path_factory.mktemp("cells")))
     return folder
 
 

@@ -8,13 +8,13 @@ import re
 import socket
 
 import pytest
-import viser
 
 from pendant.access import ui_url
 from pendant.banner import announce, interface_addresses, qr_lines
 from pendant.cli import parse_settings, with_access_token
 from pendant.sim import SimController
 from pendant.ui.dashboard.join_qr import qr_html
+from tests.support.doubles import fire
 from tests.support.pages import new_page
 
 UI_PORT, API_PORT = 9001, 9002
@@ -76,7 +76,6 @@ def test_the_page_shows_the_viewer_qr_or_how_to_expose_the_page(sim: SimControll
         assert "<svg" not in html and "pendant --host 0.0.0.0" in html and "loopback only" in html
         lan = "http://192.168.1.20:8080/"
         assert qr_html([lan]).count("<svg") == 1 and lan in qr_html([lan])
-        for callback in session.join._impl.update_cb:  # pressed: the dialog opens with that QR code
-            callback(viser.GuiEvent(client=None, client_id=0, target=session.join))
+        fire(session.join, None)  # pressed: the dialog opens with that QR code
     finally:
         page.stop()

@@ -100,6 +100,7 @@ def test_the_robot_client_gets_the_configured_timeouts() -> None:
         assert isinstance(controller, RemoteController)
         assert (controller.connect_timeout, controller.read_timeout) == (0.4, 2.5)
     finally:
+        assert isinstance(controller, RemoteController)
         controller.close()
 
 

@@ -269,6 +269,6 @@ def test_ik_respects_limits_that_exclude_every_branch() -> None:
     full_range_solutions = ArmModel(table).ik_all(arm.fk(behind))
     assert len(full_range_solutions) > 0
     # Every branch needs q1 near 180 deg or q1 near 180 - 2 asin(d4 / r): far outside +-10 deg.
-    assert not any(abs(angle_difference(s[0], 0.0)) <= math.radians(10.0) for s in full_range_solutions)
+    assert not (np.abs(angle_difference(full_range_solutions[:, 0], np.zeros(1))) <= math.radians(10.0)).any()
     assert arm.ik(arm.fk(behind), np.zeros(6)) is None
     assert arm.ik_all(arm.fk(behind)).shape == (0, 6)

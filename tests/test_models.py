@@ -203,7 +203,9 @@ def test_collision_primitives_cover_every_visual_mesh(model: str) -> None:
     for link in urdf.robot.links:
         for visual in link.visuals:
             mesh_file = (urdf_path(model).parent / visual.geometry.mesh.filename).resolve()
-            vertices = trimesh.load(mesh_file, force="mesh").vertices
+            mesh = trimesh.load(mesh_file, force="mesh")
+            assert isinstance(mesh, trimesh.Trimesh)
+            vertices = mesh.vertices
             uncovered = ~_inside_collision_shapes(link, vertices)
             assert not uncovered.any(), f"{link.name}: {vertices[uncovered][:3]} outside its collision shapes"
 

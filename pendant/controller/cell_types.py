@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from pendant.controller.types import TOOL_NAME_MAX, FiniteFloat, Point, Position
 
@@ -58,6 +58,16 @@ class BoxObstacle(_Strict):
     name: Name
     sides: Point  # edge lengths along the box's own x, y, z
     centerPosition: Position  # in the arm's base frame
+
+    @field_validator("sides")
+    @classmethod
+    def _sides_positive(cls, sides: Point) -> Point:
+        # A box of zero or negative size is a typo, not an obstacle (it would guard nothing).
+        if min(sides.x, sides.y, sides.z) <= 0:
+            raise ValueError(
+                f"box sides must be greater than 0 m (got x={sides.x:g}, y={sides.y:g}, z={sides.z:g})"
+            )
+        return sides
 
 
 class CapsuleObstacle(_Strict):

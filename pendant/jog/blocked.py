@@ -11,6 +11,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from pendant.jog.arm import JogArm
 from pendant.jog.targets import (
     JOINT_SAMPLE_RAD,
     LINEAR_SAMPLE_M,
@@ -21,7 +22,6 @@ from pendant.jog.targets import (
     JogRequest,
     displaced,
 )
-from pendant.kinematics import ArmModel
 from pendant.kinematics.collision_words import pose_words
 from pendant.kinematics.transforms import inverse
 
@@ -35,14 +35,14 @@ MSG_NO_FURTHER = "cannot move further that way"
 PROBE_SAMPLES = SAFETY_BACKOFF_SAMPLES + 2  # the target backs off this many samples from the obstacle
 
 
-def touch_cause(arm: ArmModel, q: np.ndarray, touching: Touching) -> str:
+def touch_cause(arm: JogArm, q: np.ndarray, touching: Touching) -> str:
     """What the arm would hit at `q`, named as the Target tab names it: its own links, an obstacle, the
     floor (`arm` may be the cell-aware arm: its colliding pairs are the arm model's own)."""
     return pose_words(arm.colliding_pairs(q), touching(q))
 
 
 def why_blocked(
-    arm: ArmModel,
+    arm: JogArm,
     q: np.ndarray,
     request: JogRequest,
     touching: Touching,

@@ -12,6 +12,7 @@ import numpy as np
 
 from pendant.controller import Controller, ControllerError, MotionParams, MotionStatus, MotionType, Pose
 from pendant.controller.stops import StopBus
+from pendant.jog.arm import JogArm
 from pendant.jog.blocked import Touching, why_blocked
 from pendant.jog.deadman import DEADMAN_TIMEOUT_S, Deadman
 from pendant.jog.latch import Latch, SentJog
@@ -22,7 +23,6 @@ from pendant.jog.targets import (
     cartesian_jog_path,
     joint_jog_target,
 )
-from pendant.kinematics import ArmModel
 from pendant.kinematics.limits import JOINT_MAX_SPEED_RAD_S
 from pendant.kinematics.transforms import matrix_to_position, position_to_matrix
 
@@ -55,7 +55,7 @@ class Jogger:
     def __init__(
         self,
         controller: Controller,
-        arm: ArmModel,
+        arm: JogArm,
         clock: Callable[[], float] = time.monotonic,
         timeout_s: float = DEADMAN_TIMEOUT_S,
         on_stop: OnStop | None = None,

@@ -16,7 +16,7 @@ import numpy as np
 
 from pendant.controller.errors import PreconditionFailed
 from pendant.controller.types import SPEED_MAX
-from pendant.kinematics import ArmModel
+from pendant.jog.arm import JogArm
 from pendant.kinematics.transforms import inverse, rotvec_to_matrix
 
 JOG_SPEED_MIN = 1.0  # percent: the page's slider starts there (the API takes anything above 0)
@@ -85,7 +85,7 @@ class JogRequest:
         return f"{name}{'+' if self.direction > 0 else '-'}"
 
 
-def joint_jog_target(arm: ArmModel, q: np.ndarray, request: JogRequest, joint_speed: float) -> np.ndarray:
+def joint_jog_target(arm: JogArm, q: np.ndarray, request: JogRequest, joint_speed: float) -> np.ndarray:
     """The furthest pose along one joint (within the step or the horizon) that is in limits and collision
     free all the way; `q` itself when no progress is possible."""
     travel = request.step if request.step is not None else joint_speed * JOG_HORIZON_S
@@ -104,7 +104,7 @@ def joint_jog_target(arm: ArmModel, q: np.ndarray, request: JogRequest, joint_sp
 
 
 def cartesian_jog_path(
-    arm: ArmModel,
+    arm: JogArm,
     q: np.ndarray,
     T_base_zero: np.ndarray,
     T_flange_tool: np.ndarray,

@@ -24,6 +24,7 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
+from typing import Any
 
 import yaml
 
@@ -52,7 +53,7 @@ class Site:
     prometheus: str
     alertmanager: str
     webhook: str
-    alerts: list[dict[str, object]] = field(default_factory=list)  # what reached the webhook, in order
+    alerts: list[dict[str, Any]] = field(default_factory=list)  # the webhook's JSON, in the order it came
 
 
 def free_port() -> int:
@@ -71,7 +72,7 @@ def prometheus_config(targets: Sequence[str], alertmanager: str, timings: Timing
     return config
 
 
-def alert_rules(timings: Timings) -> dict[str, object]:
+def alert_rules(timings: Timings) -> dict[str, Any]:  # YAML, as Prometheus reads it
     rules = yaml.safe_load((deploy_dir() / "prometheus" / "pulse-alerts.yml").read_text())
     if timings.alert_for is not None:
         for group in rules["groups"]:
@@ -219,7 +220,7 @@ def _stop_all(processes: list[subprocess.Popen[bytes]]) -> None:
             process.kill()
 
 
-def query(prometheus: str, expr: str) -> list[dict[str, object]]:
+def query(prometheus: str, expr: str) -> list[dict[str, Any]]:  # JSON, as Prometheus answers
     """An instant PromQL query's result vector."""
     url = f"{prometheus}/api/v1/query?" + urllib.parse.urlencode({"query": expr})
     with urllib.request.urlopen(url, timeout=5.0) as response:

@@ -17,6 +17,7 @@ from starlette.concurrency import run_in_threadpool
 
 from pendant.api.docs import error
 from pendant.api.errors import error_response
+from pendant.api.json_body import load_json
 from pendant.controller.errors import BadRequest, ControllerError, PreconditionFailed
 from pendant.controller.protocol import Controller
 from pendant.kinematics import ArmModel
@@ -83,7 +84,7 @@ def plan_router(controller: Controller, arm: ArmModel) -> APIRouter:
     )
     async def post_plan(request: Request) -> Response:
         try:
-            body = PlanRequest.model_validate(json.loads(await request.body()))
+            body = PlanRequest.model_validate(load_json(await request.body()))  # depth checked first
         except (ValidationError, ValueError) as problem:
             return _bad_request(problem)
         return await run_in_threadpool(_plan, body)

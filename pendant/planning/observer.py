@@ -9,7 +9,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pendant.controller.types import SignalLevel
+from pendant.controller.types import MotionStatus, SignalLevel
+from pendant.planning.budget import Budget
 from pendant.planning.report import AssumedInput
 from pendant.planning.twin import Twin, TwinSeed
 from pendant.program.models import Step, WaitInputStep
@@ -37,9 +38,13 @@ class StepLog:
 
 
 class CheckedTwin(Twin):
-    """The twin as the runner sees it: inputs at their assumed levels; a wait sees the level it waits for."""
+    """The twin as the runner sees it: inputs at their assumed levels; a wait sees the level it waits for.
+    Every output, input read and motion poll checks the budget (a loop of outputs never sleeps)."""
 
-    def __init__(self, seed: TwinSeed, model: str, given: Mapping[int, SignalLevel]) -> None:
+    def __init__(
+        self, seed: TwinSeed, model: str, given: Mapping[int, SignalLevel], budget: Budget | None = None
+    ) -> None:
+        self.budget = budget or Budget()
         super().__init__(seed, model)
         self.given = dict(given)
         self.waiting: WaitInputStep | None = None  # the wait step running now
@@ -47,7 +52,16 @@ class CheckedTwin(Twin):
         for port, level in self.given.items():
             self.set_input(port, level)
 
+    def set_output(self, port: int, level: SignalLevel) -> None:
+        self.budget.check()
+        super().set_output(port, level)
+
+    def get_motion_status(self) -> MotionStatus:
+        self.budget.check()
+        return super().get_motion_status()
+
     def get_input(self, port: int) -> SignalLevel:
+        self.budget.check()
         wait = self.waiting
         if wait is not None and wait.port == port and port not in self.given:
             self.assumed.setdefault(port, AssumedInput(wait.level, "the wait's level"))
@@ -104,6 +118,7 @@ class RunObserver:
 
         While the arm is on its way to a single target nothing the runner reads changes, so the polls until
         it arrives are taken in one step, on the same grid: the runner sees what it would poll by poll."""
+        self.twin.budget.check()
         self._sample()
         now = self.twin.now()
         polls = 1

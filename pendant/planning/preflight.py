@@ -17,6 +17,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from pendant.controller.types import SignalLevel
+from pendant.planning.budget import Budget, OverBudget
 from pendant.planning.clearance import Clearance, Closest
 from pendant.planning.live import ControllerPlanner
 from pendant.planning.observer import CheckedTwin, RunObserver, TooLong
@@ -25,7 +26,7 @@ from pendant.planning.report import FirstFailure, PreflightReport, StepCheck
 from pendant.planning.twin import TwinSeed, TwinSetupError
 from pendant.program.describe import describe_step
 from pendant.program.models import CommentStep, LoopMode, LoopStep, Program, Step, children
-from pendant.program.plan import Loader, PlanError
+from pendant.program.plan import Loader, PlanError, compile_program
 from pendant.program.runner import ProgramRunner, RunState
 from pendant.program.tree import lines
 
@@ -40,6 +41,10 @@ MAX_LOOP_PASSES = 1000
 
 class PreflightRefused(Exception):
     """The program cannot be checked as it is (a missing or recursive Call, a twin that cannot be set up)."""
+
+
+class PreflightOverBudget(PreflightRefused):
+    """The program would take more steps or time to check than a pre-flight may (pendant.planning.budget)."""
 
 
 def assume_loop_passes(program: Program, passes: int) -> Program:
@@ -66,21 +71,31 @@ def preflight(
     inputs: Mapping[int, SignalLevel] | None = None,
     loop_passes: int = 1,
     max_simulated_s: float = MAX_SIMULATED_S,
+    budget: Budget | None = None,
 ) -> PreflightReport:
-    """Check `program` on a twin of `seed`. Raises PreflightRefused when it cannot be checked at all."""
+    """Check `program` on a twin of `seed`. Raises PreflightRefused when it cannot be checked at all,
+    PreflightOverBudget when it would take more steps or time than `budget` (default: Budget())."""
     if not 0 <= loop_passes <= MAX_LOOP_PASSES:
         raise PreflightRefused(f"while/until loop passes must be 0 to {MAX_LOOP_PASSES} (got {loop_passes})")
     began = time.perf_counter()
-    try:
-        twin = CheckedTwin(seed, model, inputs or {})
-    except TwinSetupError as error:
-        raise PreflightRefused(str(error)) from error
-    listed = [line.step for line in lines(program.steps)]
-    observer = RunObserver(twin, listed, max_simulated_s)
+    budget = budget or Budget()
 
     def load_assuming(name: str) -> Program:
         assert load is not None
         return assume_loop_passes(load(name), loop_passes)
+
+    assumed = assume_loop_passes(program, loop_passes)
+    try:
+        budget.check_steps(compile_program(assumed, None if load is None else load_assuming))
+        twin = CheckedTwin(seed, model, inputs or {}, budget)
+    except PlanError as error:
+        raise PreflightRefused(str(error)) from error
+    except OverBudget as error:
+        raise PreflightOverBudget(str(error)) from error
+    except TwinSetupError as error:
+        raise PreflightRefused(str(error)) from error
+    listed = [line.step for line in lines(program.steps)]
+    observer = RunObserver(twin, listed, max_simulated_s)
 
     runner = ProgramRunner(
         twin,
@@ -92,9 +107,11 @@ def preflight(
     runner.add_listener(observer.on_progress)
     notes = list(seed.notes)
     try:
-        result = runner.run(assume_loop_passes(program, loop_passes))
+        result = runner.run(assumed)
     except PlanError as error:
         raise PreflightRefused(str(error)) from error
+    except OverBudget as error:
+        raise PreflightOverBudget(str(error)) from error
     except TooLong:
         result = None
         notes.append(f"checked only the first {max_simulated_s / 3600:g} h of the program: it runs longer")

@@ -12,7 +12,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pendant.controller.cell_types import Obstacle, ToolShape
 from pendant.controller.errors import PreconditionFailed, Unreachable
-from pendant.controller.types import FiniteFloat, Position, Tool
+from pendant.controller.types import Position, Tool
 from pendant.kinematics import ArmModel
 from pendant.kinematics.analytic_ik import ik_branches, nearest_equivalents
 from pendant.kinematics.cell_check import CellCheck
@@ -27,20 +27,22 @@ MSG_OUTSIDE_LIMITS = (
 MSG_START_INSIDE = "the start itself is {inside}"
 MSG_TARGET_INSIDE = "the target itself is {inside}"
 MSG_NO_CLEAR_BRANCH = "the target position is reachable only with the arm or its tool {inside}"
+# Strict: "60" and true are not angles (a script sending them has a bug to hear about); 60 is 60.0.
+Degrees = Annotated[float, Field(strict=True, allow_inf_nan=False)]
 
 
 class Angles(BaseModel):
     """Six joint angles in degrees, base first (as PULSE poses)."""
 
     model_config = ConfigDict(extra="forbid")
-    angles: Annotated[list[FiniteFloat], Field(min_length=N_JOINTS, max_length=N_JOINTS)]
+    angles: Annotated[list[Degrees], Field(min_length=N_JOINTS, max_length=N_JOINTS)]
 
 
 class PlanTarget(BaseModel):
     """Where to go: joint angles, or a TCP position (the controller's zero point frame, its current tool)."""
 
     model_config = ConfigDict(extra="forbid")
-    angles: Annotated[list[FiniteFloat], Field(min_length=N_JOINTS, max_length=N_JOINTS)] | None = None
+    angles: Annotated[list[Degrees], Field(min_length=N_JOINTS, max_length=N_JOINTS)] | None = None
     position: Position | None = None
 
     @model_validator(mode="after")
@@ -56,7 +58,9 @@ class PlanRequest(BaseModel):
     model_config = ConfigDict(extra="forbid", populate_by_name=True)
     target: PlanTarget
     start: Angles | None = Field(default=None, alias="from")
-    budget_s: Annotated[float, Field(gt=0.0, le=MAX_BUDGET_S, allow_inf_nan=False)] = DEFAULT_BUDGET_S
+    budget_s: Annotated[float, Field(strict=True, gt=0.0, le=MAX_BUDGET_S, allow_inf_nan=False)] = (
+        DEFAULT_BUDGET_S
+    )
 
 
 @dataclass(frozen=True)

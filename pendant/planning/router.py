@@ -1,42 +1,28 @@
 """`POST /pendant/preflight`: the pre-flight over the pendant's API (the same check as `pendant preflight`).
 
 The body is a program document (as saved), or {"program": {...}, "cell": {...} | null, "inputs": {"1":
-"HIGH"}, "while_loop_passes": 1}. The twin is seeded from the controller the pendant drives, with GET
-requests only: a real arm behind the proxy does not move and is sent nothing else. 200 with the report
-(its "ok" says whether every step passes); 400 with the reason when the program, the cell or the options
-are refused; 409 while another pre-flight runs (one at a time: each takes a core for up to a second).
+"HIGH"}, "while_loop_passes": 1} (pendant.planning.preflight_body). The twin is seeded from the controller
+the pendant drives, with GET requests only: a real arm behind the proxy does not move and is sent nothing
+else. 200 with the report (its "ok" says whether every step passes); 400 with the reason when the program,
+the cell or the options are refused; 422 when the program would take more steps or time to check than a
+pre-flight may (pendant.planning.budget); 409 while another pre-flight runs (one at a time); 503 when the
+pendant is quitting. The body is parsed and checked in a process of its own (pendant.planning.worker):
+however large or slow, it never holds up the server, nor PUT /freeze.
 """
 
 from __future__ import annotations
 
-import json
-import threading
 from pathlib import Path
-from typing import Annotated
 
 from fastapi import APIRouter, Request, Response
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from starlette.concurrency import run_in_threadpool
 
-from pendant.cell.file import Cell
 from pendant.controller import Controller, ControllerError
-from pendant.controller.types import SignalLevel
-from pendant.planning.preflight import MAX_LOOP_PASSES, PreflightRefused, preflight
-from pendant.planning.twin import read_seed
-from pendant.program.files import ProgramFileError, ProgramStore, parse_program
+from pendant.planning.twin import TwinSeed, read_seed
+from pendant.planning.worker import Job, Outcome, PreflightWorker
 
 PREFLIGHT_PATH = "/pendant/preflight"
 MSG_BUSY = "A pre-flight is running: try again when it has finished"
-
-
-class PreflightOptions(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-    program: dict[str, object]
-    cell: Cell | None = None
-    inputs: dict[Annotated[int, Field(ge=1, le=4)], SignalLevel] = {}
-    while_loop_passes: Annotated[int, Field(ge=0, le=MAX_LOOP_PASSES)] = 1
-
 
 _BODY_DOC: dict[str, object] = {
     "description": 'A program document as saved, or {"program": ..., "cell": ..., "inputs": {"1": "HIGH"}, '
@@ -46,59 +32,28 @@ _BODY_DOC: dict[str, object] = {
 }
 
 
-def _refusal(status: int, message: str) -> Response:
-    return Response(json.dumps(message), status_code=status, media_type="text/plain")
-
-
-def _options(body: bytes) -> PreflightOptions:
-    try:
-        document = json.loads(body)
-    except ValueError as error:
-        raise PreflightRefused(f"the body is not JSON: {error}") from None
-    if not isinstance(document, dict):
-        raise PreflightRefused('the body must be a program document or {"program": ...}')
-    wrapped = "program" in document and "steps" not in document
-    try:
-        return PreflightOptions.model_validate(document if wrapped else {"program": document})
-    except ValidationError as error:
-        first = error.errors()[0]
-        where = ".".join(str(part) for part in first["loc"])
-        raise PreflightRefused(f"{where}: {first['msg']}") from None
-
-
-def preflight_router(controller: Controller, model: str, programs_dir: Path) -> APIRouter:
-    """POST /pendant/preflight on `controller` (an arm of `model`); Call steps open from `programs_dir`."""
+def preflight_router(
+    controller: Controller, model: str, programs_dir: Path, worker: PreflightWorker | None = None
+) -> APIRouter:
+    """POST /pendant/preflight on `controller` (an arm of `model`); Call steps open from `programs_dir`.
+    `worker`: the process pre-flights run in (give one to cancel it when quitting); default a new one."""
     router = APIRouter(tags=["pendant"])
-    one_at_a_time = threading.Lock()
+    preflights = worker if worker is not None else PreflightWorker()
+    job = Job(model=model, programs_dir=str(programs_dir))
 
-    # Run in the thread pool (the body is read first, on the event loop): a check never blocks the loop.
-    def run_preflight(body: bytes) -> Response:
+    def seed() -> TwinSeed | Outcome:
         try:
-            options = _options(body)
-            program = parse_program(json.dumps(options.program).encode(), "the request's program")
-        except (PreflightRefused, ProgramFileError) as error:
-            return _refusal(400, str(error))
-        if not one_at_a_time.acquire(blocking=False):
-            return _refusal(409, MSG_BUSY)
-        try:
-            seed = read_seed(controller)
-            if options.cell is not None:
-                seed = seed.with_cell(options.cell.obstacles, options.cell.tool_shape)
-            report = preflight(
-                program,
-                seed,
-                model=model,
-                load=ProgramStore(programs_dir).load,
-                inputs=options.inputs,
-                loop_passes=options.while_loop_passes,
-            )
-        except PreflightRefused as error:
-            return _refusal(400, str(error))
+            return read_seed(controller)
         except ControllerError as error:
-            return _refusal(error.status_code, f"Cannot read the arm: {error.message}")
-        finally:
-            one_at_a_time.release()
-        return Response(json.dumps(report.as_json()), media_type="application/json")
+            return Outcome.refused(error.status_code, f"Cannot read the arm: {error.message}")
+
+    # In the thread pool (the body is read first, on the event loop), which only waits for the worker.
+    def run_preflight(body: bytes) -> Response:
+        outcome = preflights.try_run(body, job, seed)
+        if outcome is None:
+            outcome = Outcome.refused(409, MSG_BUSY)
+        kind = "application/json" if outcome.status == 200 else "text/plain"
+        return Response(outcome.body, status_code=outcome.status, media_type=kind)
 
     @router.post(
         PREFLIGHT_PATH,

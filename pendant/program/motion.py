@@ -94,7 +94,7 @@ class StepFailed(Exception):
 
 @dataclass
 class Timing:
-    sleep: Callable[[float], None]
+    sleep: Callable[[float], object]
     now: Callable[[], float]
     poll_s: float = POLL_S
 

@@ -86,7 +86,7 @@ class ProgramRunner:
         self,
         controller: Controller,
         *,
-        sleep: Callable[[float], None] = time.sleep,
+        sleep: Callable[[float], object] = time.sleep,  # its result is ignored (FakeClock.advance)
         now: Callable[[], float] = time.monotonic,
         poll_s: float = POLL_S,
         load: Loader | None = None,
@@ -176,6 +176,13 @@ class ProgramRunner:
     def can_resume(self) -> bool:
         return self._run is not None and self._progress.state in RESUMABLE
 
+    @property
+    def resume_target(self) -> int | None:
+        """Where a paused or failed run goes on: the waypoint, within the innermost step's moves (a Path
+        step's recorded points), it heads for next; None with no run to resume."""
+        run = self._run
+        return run.interpreter.stack[-1].target if run is not None and run.interpreter.stack else None
+
     def pause(self, because: str = "") -> None:
         """Hold the arm where it is; `resume` continues from the waypoint it was heading for. `because`: a
         pause the operator did not ask for, said with the run's state until it runs again."""
@@ -219,6 +226,13 @@ class ProgramRunner:
     def busy(self) -> bool:
         worker = self._worker
         return worker is not None and worker.is_alive()
+
+    def join(self, timeout: float | None = None) -> bool:
+        """Wait for the command started on the worker thread to end; whether it has (False: timed out)."""
+        worker = self._worker
+        if worker is not None:
+            worker.join(timeout)
+        return not self.busy
 
     def start(self, command: Callable[[], RunProgress]) -> threading.Thread:
         """Run a blocking command (e.g. `lambda: runner.run(program, 3)`) on the worker thread."""

@@ -155,7 +155,7 @@ class _Forwarder:
         attempts = 2 if method == "GET" else 1
         for attempt in range(attempts):
             try:
-                return await self.pool.request(method, target, headers, body)
+                return await self.pool.request(method, target, headers, body, fresh=attempt > 0)
             except UpstreamTimeout as exc:
                 return _bad_gateway(f"Controller at {self.robot_url} did not answer {method} {path}: {exc}")
             except UpstreamConnectError as exc:
@@ -170,7 +170,14 @@ class _Forwarder:
     ) -> UpstreamResponse | Response:
         """Sent once, with the long timeout: 502 when it was never delivered, 504 when its answer was lost."""
         try:
-            return await self.pool.request(method, target, headers, body, read_timeout=self.command_timeout)
+            return await self.pool.request(
+                method,
+                target,
+                headers,
+                body,
+                read_timeout=self.command_timeout,
+                urgent=is_stop(method, path),  # a stop never waits behind queued requests
+            )
         except UpstreamConnectError as exc:
             return _bad_gateway(
                 f"Controller at {self.robot_url} is unreachable: {exc} ({method} {path} not sent)"

@@ -128,8 +128,18 @@ class _Connection(asyncio.Protocol):
         self.close()
 
 
+# Requests in flight to the controller at once; more wait their turn here (a stop never waits). Unbounded, 64
+# clients opened 64 connections and closed all but 16 after each answer: a controller that caps its
+# connections (the simulator's cap is 64 on a small open-file limit) closed kept-alive ones the proxy was
+# about to use, and the churn of new connections left thousands of sockets in TIME_WAIT: 502s (issue #32).
+MAX_IN_FLIGHT = 16
+
+
 class UpstreamPool:
-    """Keep-alive connections to one `host:port`, reused most recent first. Use from one event loop."""
+    """Keep-alive connections to one `host:port`, reused most recent first. Use from one event loop.
+
+    At most `max_in_flight` requests are sent at once (others queue, first come first served), so at most
+    that many connections are open, all of them kept; a request marked `urgent` (a stop) skips the queue."""
 
     def __init__(
         self,
@@ -138,13 +148,14 @@ class UpstreamPool:
         connect_timeout: float,
         read_timeout: float,
         keepalive_expiry: float = 2.0,
-        max_idle: int = 16,
+        max_in_flight: int = MAX_IN_FLIGHT,
     ) -> None:
         self.host, self.port = host, port
         self.connect_timeout, self.read_timeout = connect_timeout, read_timeout
-        self.keepalive_expiry, self.max_idle = keepalive_expiry, max_idle
+        self.keepalive_expiry, self.max_idle = keepalive_expiry, max_in_flight
         self._host_header = host.encode() if port in (80, 443) else f"{host}:{port}".encode()
         self._idle: list[_Connection] = []
+        self._turns = asyncio.Semaphore(max_in_flight)
 
     async def request(
         self,
@@ -153,11 +164,29 @@ class UpstreamPool:
         headers: list[tuple[bytes, bytes]],
         body: bytes,
         read_timeout: float | None = None,
+        *,
+        fresh: bool = False,
+        urgent: bool = False,
     ) -> UpstreamResponse:
         """Send one request (`target`: path and query, raw) and return the whole answer; `read_timeout`
-        (seconds) overrides the pool's for this request."""
+        (seconds) overrides the pool's for this request. `fresh`: on a new connection (a retry after a
+        kept-alive one turned out dead); `urgent`: now, not after the requests waiting their turn."""
+        if urgent:
+            return await self._send(method, target, headers, body, read_timeout, fresh)
+        async with self._turns:
+            return await self._send(method, target, headers, body, read_timeout, fresh)
+
+    async def _send(
+        self,
+        method: str,
+        target: bytes,
+        headers: list[tuple[bytes, bytes]],
+        body: bytes,
+        read_timeout: float | None,
+        fresh: bool,
+    ) -> UpstreamResponse:
         read_timeout = read_timeout if read_timeout is not None else self.read_timeout
-        connection = await self._connection()
+        connection = await self._connection(fresh)
         head = [method.encode("ascii"), b" ", target, b" HTTP/1.1\r\nhost: ", self._host_header, b"\r\n"]
         for name, value in headers:
             head += (name, b": ", value, b"\r\n")
@@ -182,9 +211,9 @@ class UpstreamPool:
         for connection in idle:
             connection.close()
 
-    async def _connection(self) -> _Connection:
+    async def _connection(self, fresh: bool) -> _Connection:
         now = time.monotonic()
-        while self._idle:
+        while self._idle and not fresh:
             connection = self._idle.pop()
             if not connection.closed and now - connection.idle_since < self.keepalive_expiry:
                 return connection

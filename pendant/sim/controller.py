@@ -108,6 +108,26 @@ class SimController(MotionCommands, Pulse18Operations, SimOnlyControls):
         self._freezes = 0  # freezes and resets so far: one more while a command is planned cancels it
         self._power_on()
 
+    # --- its parts, read-only: what a test inspects or wraps (a planner held mid-plan) --------------------
+
+    @property
+    def planner(self) -> Planner:
+        return self._planner
+
+    @property
+    def motions(self) -> MotionQueue:
+        return self._motions
+
+    @property
+    def environment(self) -> Environment:
+        """The cell as the checks see it: obstacles, tool shape, contacts."""
+        return self._environment
+
+    @property
+    def frames(self) -> Frames:
+        """The base and tool frames."""
+        return self._frames
+
     # --- state ---------------------------------------------------------------------------------------------
 
     def _power_on(self) -> None:

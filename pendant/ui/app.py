@@ -107,7 +107,7 @@ class PendantUI:
         self.runner.on_submit = self.activity.command
         # Stops heard anywhere in this process (the page's, the API's): shared with the API app by the CLI.
         self.stops = stops if stops is not None else StopBus()
-        self.loop = RefreshLoop(self._tick)  # woken when a jog starts: its first motion shows at once
+        self.loop = RefreshLoop(self.tick)  # woken when a jog starts: its first motion shows at once
         # The controller's cell: its state, and its geometry for the page's checks.
         self.obstacles = ObstacleDrawing(self.server.scene, "/cell")
         self.live_cell = LiveCell(arm, self.obstacles, ContactLog(self.events))
@@ -151,7 +151,6 @@ class PendantUI:
         self.programs.path_recordings = recordings  # a Path step simplified again reads its recording there
         self.browsers = Browsers(hold_back=lambda: self.jogger.pressed)  # the operator's jog first
         self.sessions = self.browsers.sessions  # by client id (tests add theirs under the lock)
-        self._sessions_lock = self.browsers.lock
         self.dashboard_feed = DashboardFeed(self.telemetry, self.events)
         self.reader = ControllerReader(controller)
         self.desk.on_change(self._control_changed)
@@ -288,7 +287,7 @@ class PendantUI:
         self._hand_over(self._connect, client)
 
     async def _on_disconnect(self, client: viser.ClientHandle) -> None:
-        self._hand_over(self._disconnect, client)
+        self._hand_over(self.disconnect, client)
 
     def _hand_over(self, work: Callable[[viser.ClientHandle], None], client: viser.ClientHandle) -> None:
         with contextlib.suppress(RuntimeError):  # shut down: the page is closing
@@ -310,7 +309,8 @@ class PendantUI:
         session.apply_role(self.desk.operator)  # control may have changed while it was being built
         self.dashboard_feed.show_log_again()  # show the new browser the log at once
 
-    def _disconnect(self, client: viser.ClientHandle) -> None:
+    def disconnect(self, client: viser.ClientHandle) -> None:
+        """A browser left (viser calls this when its websocket closes)."""
         who = self.desk.name(client.client_id)
         if self.programs.supervisor == client.client_id and self.programs.progress.active:
             # Off viser's thread, on the stop path: the run pauses (the arm held) before anything else.
@@ -330,7 +330,8 @@ class PendantUI:
         self.browsers.apply_role(operator)
 
     # --- the loop -----------------------------------------------------------------------------------
-    def _tick(self, work: TickWork, woken: bool) -> None:
+    def tick(self, work: TickWork, woken: bool) -> None:
+        """One step of the refresh loop: the live view, and the cell and the dashboard when `work` says."""
         try:
             self.refresh(with_io=work.io, flush=woken)
             if work.cell:

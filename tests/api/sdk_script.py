@@ -1,4 +1,4 @@
-"""A user's script written with Rozum's SDK (PyPI pulse-api 1.5.0 + pdhttp 1.5.0), unchanged.
+"""A user's script written with Rozum's SDK (PyPI pulse-api 1.5.0 + pdhttp 1.5.0).
 
 Run by tests/api/test_sdk.py with .venv-sdk/bin/python (the SDK pins urllib3 1.24.2): `sdk_script.py URL`.
 It drives the arm and prints, as JSON, what it read, for the test to check.
@@ -6,6 +6,7 @@ It drives the arm and prints, as JSON, what it read, for the test to check.
 
 import json
 import sys
+from typing import Any
 
 from pulseapi import MT_LINEAR, RobotPulse, pose, position
 
@@ -14,7 +15,7 @@ robot = RobotPulse(host)
 report = {}
 
 
-def position_as_dict(p):
+def position_as_dict(p: Any) -> dict[str, list[float]]:  # the SDK's Position (untyped)
     return {
         "point": [p.point.x, p.point.y, p.point.z],
         "rotation": [p.rotation.roll, p.rotation.pitch, p.rotation.yaw],

@@ -9,8 +9,7 @@ import pytest
 from fastapi.testclient import TestClient
 
 from pendant.controller.types import Position, SignalLevel, Tool
-
-from .helpers import JSON, POS_TOL_M, TEXT, angles_close, finish_motion
+from tests.support.api_client import JSON, POS_TOL_M, TEXT, angles_close, finish_motion
 
 
 def nudged_pose(client: TestClient, *deltas: float) -> list[float]:

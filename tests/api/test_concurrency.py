@@ -10,8 +10,7 @@ from fastapi.testclient import TestClient
 
 from pendant.sim import FakeClock, SimController
 from pendant.sim.controller import MAX_QUEUED_COMMANDS, MAX_WAYPOINTS
-
-from .helpers import TEXT, arm_state, finish_motion
+from tests.support.api_client import TEXT, arm_state, finish_motion
 
 # Not a timing threshold: long enough on any machine; only a request stuck behind the plan runs into it.
 HANG_S = 10.0
@@ -22,7 +21,7 @@ def hold_first_plan(
 ) -> tuple[threading.Event, threading.Event]:
     """Make the first call of a planner method wait for the returned `release`; `started` says it is in."""
     started, release = threading.Event(), threading.Event()
-    original = getattr(sim._planner, method)
+    original = getattr(sim.planner, method)
 
     def held(*args: Any, **kwargs: Any) -> Any:
         if not started.is_set():
@@ -30,7 +29,7 @@ def hold_first_plan(
             assert release.wait(HANG_S)
         return original(*args, **kwargs)
 
-    monkeypatch.setattr(sim._planner, method, held)
+    monkeypatch.setattr(sim.planner, method, held)
     return started, release
 
 

@@ -100,7 +100,7 @@ def test_the_arm_backs_out_of_a_wall_added_where_it_stands_and_never_goes_deeper
     assert status == 200
     cell.clock.advance(SETTLE_S)
     assert json.loads(cell.curl("GET", "/pose")[1])["angles"] == pytest.approx(OUT, abs=DEG_TOL)
-    assert cell.sim._environment.geometry.contacts(np.radians(OUT)) == {}  # out of contact
+    assert cell.sim.environment.geometry.contacts(np.radians(OUT)) == {}  # out of contact
     cell.refresh_page()
     assert cell.page.obstacles.shown == {"wall": False}
     assert cell.cell_events()[1:] == ["The arm is clear of obstacle 'wall'"]

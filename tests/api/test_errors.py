@@ -16,8 +16,7 @@ from pendant.controller.errors import (
     MSG_UNREACHABLE_POSE,
     MSG_UNREACHABLE_POSITION,
 )
-
-from .helpers import TEXT, arm_state
+from tests.support.api_client import TEXT, arm_state
 
 GOOD_POINT = {"x": 0.3, "y": 0.1, "z": 0.4}
 GOOD_ROTATION = {"roll": 3.14, "pitch": 0, "yaw": 0}

@@ -25,9 +25,8 @@ from pendant.controller.errors import (
     MSG_UNREACHABLE_POSITION,
 )
 from pendant.controller.types import MotorStatus, Pose, Position, Tool
+from tests.support.api_client import JSON, TEXT, angles_close
 from tests.support.launchers import running_pendant
-
-from .helpers import JSON, TEXT, angles_close
 
 MOTION_DEADLINE_S = 10.0  # a short move at full speed ends well within this
 POLL_INTERVAL_S = 0.1

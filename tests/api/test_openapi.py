@@ -16,8 +16,7 @@ from fastapi.testclient import TestClient
 from pendant.api import create_app
 from pendant.api.docs import TAG_SIM
 from pendant.controller.errors import MSG_BAD_FORMAT, MSG_EMERGENCY, MSG_NOT_RESPONDING
-
-from .helpers import RecordingController
+from tests.support.api_client import RecordingController
 
 PULSE_OPERATIONS = {
     ("get", "/position"),

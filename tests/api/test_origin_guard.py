@@ -19,11 +19,8 @@ from tests.support.launchers import running_pendant
 from tests.support.threads import serve_in_thread
 
 EVIL = "http://evil.example"
-TOOL = {
-    "name": "evil",
-    "radius": 0.01,
-    "position": {"point": {"x": 0, "y": 0, "z": 0.3}, "rotation": {"roll": 0, "pitch": 0, "yaw": 0}},
-}
+POSITION = {"point": {"x": 0, "y": 0, "z": 0.3}, "rotation": {"roll": 0, "pitch": 0, "yaw": 0}}
+TOOL = {"name": "evil", "radius": 0.01, "position": POSITION}
 POSE = {"angles": [10.0, -90.0, 90.0, -90.0, -90.0, 0.0]}
 
 
@@ -85,7 +82,7 @@ def test_a_json_body_sent_as_text_plain_by_a_page_is_refused_without_an_origin_t
 
 def test_a_script_may_label_its_json_body_as_it_likes(api: httpx.Client) -> None:
     """No `Origin`, no `Sec-Fetch-*`: no page sent it, and the body is read as JSON whatever its type."""
-    tool = {"name": "script", "radius": 0.01, **TOOL["position"]}  # type: ignore[dict-item]
+    tool = {"name": "script", "radius": 0.01, **POSITION}
     answer = api.post("/tool", content=json.dumps(tool), headers={"Content-Type": "text/plain"})
     assert answer.status_code == 200, answer.text
     assert api.get("/tool").json()["name"] == "script"

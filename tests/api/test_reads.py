@@ -9,8 +9,7 @@ import pytest
 from fastapi.testclient import TestClient
 
 from pendant.controller.types import MotionStatus, MotorStatus, Pose, Position, SignalLevel, Tool
-
-from .helpers import JSON, TEXT
+from tests.support.api_client import JSON, TEXT
 
 MOTOR_FIELDS = set(MotorStatus.model_fields)
 

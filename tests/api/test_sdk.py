@@ -10,9 +10,8 @@ from typing import Any
 import httpx
 import pytest
 
+from tests.support.api_client import ANGLE_TOL_DEG, POS_TOL_M
 from tests.support.launchers import REPO_ROOT, running_pendant
-
-from .helpers import ANGLE_TOL_DEG, POS_TOL_M
 
 pytestmark = [pytest.mark.sdk, pytest.mark.slow]
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import ast
 import contextlib
+import email.message
 import importlib.metadata
 import io
 import math
@@ -36,7 +37,8 @@ SETTLE_S = 600.0  # fake seconds to let whatever an example left running finish 
 def readme_examples() -> list[str]:
     metadata = importlib.metadata.metadata("pulse-api")
     assert metadata["Version"] == "1.8.4"
-    text = metadata.get_payload() or metadata["Description"]  # type: ignore[attr-defined]
+    assert isinstance(metadata, email.message.Message)  # what importlib.metadata gives for a wheel's METADATA
+    text = str(metadata.get_payload() or metadata["Description"])
     return re.findall(r"```python\n(.*?)```", text, re.S)
 
 

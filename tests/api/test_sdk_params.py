@@ -10,8 +10,7 @@ from fastapi.testclient import TestClient
 
 from pendant.api import create_app
 from pendant.controller.types import MotionParams, MotionType
-
-from .helpers import RecordingController
+from tests.support.api_client import RecordingController
 
 
 @pytest.fixture

@@ -4,18 +4,18 @@ from __future__ import annotations
 
 import json
 
+import httpx
 import pytest
 from fastapi.testclient import TestClient
 
 from pendant.api import errors as api_errors
 from pendant.controller.errors import MSG_EMERGENCY, MSG_NOT_RESPONDING
+from tests.support.api_client import TEXT, angles_close
 
-from .helpers import TEXT, angles_close
 
-
-def assert_empty_ok(response: object) -> None:
-    assert response.status_code == 200, response.text  # type: ignore[attr-defined]
-    assert response.content == b""  # type: ignore[attr-defined]
+def assert_empty_ok(response: httpx.Response) -> None:
+    assert response.status_code == 200, response.text
+    assert response.content == b""
 
 
 @pytest.mark.parametrize("port", [1, 2, 3, 4])

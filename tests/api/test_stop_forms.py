@@ -12,7 +12,8 @@ from collections.abc import Callable, Iterator
 import httpx
 import pytest
 
-from tests.api.stop_clients import (
+from tests.support.launchers import running_pendant
+from tests.support.stop_clients import (
     FAR_POSE,
     SETTLE_DEG,
     STILL_DEG,
@@ -24,7 +25,6 @@ from tests.api.stop_clients import (
     start_long_move,
     urllib_request,
 )
-from tests.support.launchers import running_pendant
 
 EVIL = "http://evil.example"
 LARGE_BODY = "x" * 4096  # more than any bodiless command may carry (1 KiB)

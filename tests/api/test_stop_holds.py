@@ -39,7 +39,9 @@ def a_little_further(api: httpx.Client) -> list[float]:
     return angles
 
 
-def test_freeze_does_not_lift_a_protective_stop_only_recover_does(served) -> None:
+def test_freeze_does_not_lift_a_protective_stop_only_recover_does(
+    served: tuple[httpx.Client, SimController, StopBus],
+) -> None:
     api, _, _ = served
     assert api.post("/stop").status_code == 200
     assert api.put("/freeze").status_code == 200  # open to everyone, never refused ...
@@ -57,7 +59,9 @@ def test_freeze_does_not_lift_a_protective_stop_only_recover_does(served) -> Non
 
 
 @pytest.mark.parametrize("stop", ["PUT /freeze", "POST /stop"])
-def test_a_stop_sent_to_the_api_ends_the_held_jog_until_it_is_released(served, stop: str) -> None:
+def test_a_stop_sent_to_the_api_ends_the_held_jog_until_it_is_released(
+    served: tuple[httpx.Client, SimController, StopBus], stop: str
+) -> None:
     api, sim, stops = served
     jogger = Jogger(sim, sim.arm, stops=stops)
     assert jogger.hold(J1_PLUS, jogger.releases, "browser")

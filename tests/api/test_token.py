@@ -6,6 +6,7 @@ import json
 
 import numpy as np
 import pytest
+from fastapi import FastAPI
 from fastapi.testclient import TestClient
 
 from pendant.access import TOKEN_HEADER
@@ -75,6 +76,7 @@ def test_reads_need_no_token(api: TestClient, path: str) -> None:
 
 
 def test_simulator_routes_are_commands_too(api: TestClient) -> None:
+    assert isinstance(api.app, FastAPI)
     paths = api.app.openapi()["paths"]
     sim_commands = [
         (method.upper(), path.replace("{port}", "1"))

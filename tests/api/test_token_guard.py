@@ -22,7 +22,7 @@ from pendant.api import create_app
 from pendant.eventlog import EventKind, EventLog
 from pendant.remote import create_proxy_app
 from pendant.sim import FakeClock, SimController
-from tests.remote.servers import http_answer, raw_server
+from tests.support.bad_servers import http_answer, raw_server
 from tests.support.launchers import REPO_ROOT, running_pendant
 from tests.support.threads import serve_in_thread
 
@@ -65,8 +65,8 @@ def test_stopping_needs_no_token(api: httpx.Client) -> None:
 
 
 def test_a_utf8_token_is_accepted_as_raw_bytes_or_percent_encoded(api: httpx.Client) -> None:
-    raw = {TOKEN_HEADER: TOKEN.encode("utf-8")}
-    assert api.put("/relax", headers=raw).status_code == 200  # type: ignore[arg-type]
+    raw = {TOKEN_HEADER.encode(): TOKEN.encode("utf-8")}
+    assert api.put("/relax", headers=raw).status_code == 200
     assert api.get("/status/motion").text == '"ZERO_GRAVITY"'
     assert api.put("/freeze").status_code == 200
     encoded = {TOKEN_HEADER: quote(TOKEN, safe="")}

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from pendant.controller import MotionStatus
+from pendant.controller import MotionParams, MotionStatus, Pose
 from pendant.jog import DEADMAN_TIMEOUT_S, JOG_TCP_MAX_VELOCITY_M_S, JogFrame, Jogger, JogRequest
 from pendant.sim import FakeClock, SimController
 
@@ -42,7 +42,9 @@ def hold_for(jogger: Jogger, clock: FakeClock, request: JogRequest, seconds: flo
         jogger.hold(request)
 
 
-def test_joint_jog_moves_only_the_held_joint_while_confirmed(sim, clock, jogger):
+def test_joint_jog_moves_only_the_held_joint_while_confirmed(
+    sim: SimController, clock: FakeClock, jogger: Jogger
+) -> None:
     before = pose_deg(sim)
     hold_for(jogger, clock, JogRequest(JogFrame.JOINT, 0, +1, speed_percent=10), 1.0)
     after = pose_deg(sim)
@@ -51,7 +53,9 @@ def test_joint_jog_moves_only_the_held_joint_while_confirmed(sim, clock, jogger)
     np.testing.assert_allclose(after[1:], before[1:], atol=ANGLE_TOL_DEG)
 
 
-def test_deadman_freezes_the_arm_when_confirmations_stop(sim, clock, jogger):
+def test_deadman_freezes_the_arm_when_confirmations_stop(
+    sim: SimController, clock: FakeClock, jogger: Jogger
+) -> None:
     hold_for(jogger, clock, JogRequest(JogFrame.JOINT, 0, +1, speed_percent=10), 0.5)
     clock.advance(DEADMAN_TIMEOUT_S * 0.9)
     assert not jogger.check_deadman()  # still inside the grace period
@@ -64,7 +68,7 @@ def test_deadman_freezes_the_arm_when_confirmations_stop(sim, clock, jogger):
     assert jogger.active is None
 
 
-def test_release_stops_at_once(sim, clock, jogger):
+def test_release_stops_at_once(sim: SimController, clock: FakeClock, jogger: Jogger) -> None:
     hold_for(jogger, clock, JogRequest(JogFrame.JOINT, 2, -1, speed_percent=20), 0.4)
     jogger.release()
     stopped_at = pose_deg(sim)
@@ -72,7 +76,9 @@ def test_release_stops_at_once(sim, clock, jogger):
     np.testing.assert_allclose(pose_deg(sim), stopped_at, atol=ANGLE_TOL_DEG)
 
 
-def test_cartesian_base_z_jog_moves_the_tcp_straight_up(sim, clock, jogger):
+def test_cartesian_base_z_jog_moves_the_tcp_straight_up(
+    sim: SimController, clock: FakeClock, jogger: Jogger
+) -> None:
     start = tcp_xyz(sim)
     hold_for(jogger, clock, JogRequest(JogFrame.BASE, 2, +1, speed_percent=50), 1.0)
     moved = tcp_xyz(sim) - start
@@ -80,7 +86,9 @@ def test_cartesian_base_z_jog_moves_the_tcp_straight_up(sim, clock, jogger):
     assert np.linalg.norm(moved[:2]) < 1e-4
 
 
-def test_jog_speed_never_exceeds_250_mm_s_even_at_full_speed(sim, clock, jogger):
+def test_jog_speed_never_exceeds_250_mm_s_even_at_full_speed(
+    sim: SimController, clock: FakeClock, jogger: Jogger
+) -> None:
     request = JogRequest(JogFrame.JOINT, 1, +1, speed_percent=100)
     jogger.hold(request)
     previous = tcp_xyz(sim)
@@ -97,7 +105,9 @@ def test_jog_speed_never_exceeds_250_mm_s_even_at_full_speed(sim, clock, jogger)
     assert fastest <= JOG_TCP_MAX_VELOCITY_M_S * 1.001
 
 
-def test_step_jog_moves_exactly_one_increment_and_stops(sim, clock, jogger):
+def test_step_jog_moves_exactly_one_increment_and_stops(
+    sim: SimController, clock: FakeClock, jogger: Jogger
+) -> None:
     before = pose_deg(sim)
     assert jogger.step(JogRequest(JogFrame.JOINT, 5, +1, speed_percent=50, step=math.radians(10)))
     clock.advance(5.0)
@@ -105,7 +115,9 @@ def test_step_jog_moves_exactly_one_increment_and_stops(sim, clock, jogger):
     np.testing.assert_allclose(pose_deg(sim) - before, [0, 0, 0, 0, 0, 10], atol=1e-6)
 
 
-def test_tool_frame_step_moves_along_the_tool_axis(sim, clock, jogger):
+def test_tool_frame_step_moves_along_the_tool_axis(
+    sim: SimController, clock: FakeClock, jogger: Jogger
+) -> None:
     T_before = sim.arm.fk(np.radians(pose_deg(sim)))
     assert jogger.step(JogRequest(JogFrame.TOOL, 2, +1, speed_percent=50, step=0.01))
     clock.advance(5.0)
@@ -113,7 +125,9 @@ def test_tool_frame_step_moves_along_the_tool_axis(sim, clock, jogger):
     np.testing.assert_allclose(T_after[:3, 3] - T_before[:3, 3], 0.01 * T_before[:3, 2], atol=1e-5)
 
 
-def test_jog_into_the_floor_stops_short_and_reports_no_progress(sim, clock, jogger):
+def test_jog_into_the_floor_stops_short_and_reports_no_progress(
+    sim: SimController, clock: FakeClock, jogger: Jogger
+) -> None:
     request = JogRequest(JogFrame.BASE, 2, -1, speed_percent=100)
     for _ in range(400):
         if not jogger.hold(request):
@@ -137,17 +151,19 @@ class SlowController:
     def __getattr__(self, name: str) -> Any:  # the simulator's: a Controller to the type checker
         return getattr(self._sim, name)
 
-    def set_pose(self, *args: object, **kwargs: object) -> None:
+    def set_pose(self, pose: Pose, params: MotionParams) -> None:
         self.sending.set()
         assert self.let_through.wait(THREAD_TIMEOUT_S)
-        self._sim.set_pose(*args, **kwargs)
+        self._sim.set_pose(pose, params)
 
     def freeze(self) -> None:
         self.freezes += 1
         self._sim.freeze()
 
 
-def test_a_slow_controller_never_delays_the_deadman_and_a_late_motion_is_frozen(sim, clock):
+def test_a_slow_controller_never_delays_the_deadman_and_a_late_motion_is_frozen(
+    sim: SimController, clock: FakeClock
+) -> None:
     slow = SlowController(sim)
     jogger = Jogger(slow, sim.arm, clock=clock.now)
     request = JogRequest(JogFrame.JOINT, 0, +1, speed_percent=10)

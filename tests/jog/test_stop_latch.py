@@ -15,7 +15,7 @@ import pytest
 
 from pendant.cell.collision_names import name_collision
 from pendant.cell.geometry import CellAwareArm, CellModel
-from pendant.controller import MotionStatus, Point, Position, Rotation, SignalLevel
+from pendant.controller import MotionParams, MotionStatus, Point, Pose, Position, Rotation, SignalLevel
 from pendant.controller.cell_types import BoxObstacle
 from pendant.controller.stops import StopBus
 from pendant.eventlog import EventLog
@@ -70,7 +70,9 @@ def jogger(sim: SimController, clock: FakeClock, stops: StopBus) -> Jogger:
     return Jogger(sim, sim.arm, clock=clock.now, stops=stops)
 
 
-def test_a_freeze_from_a_page_or_the_api_ends_the_held_jog_until_release(sim, clock, stops, jogger):
+def test_a_freeze_from_a_page_or_the_api_ends_the_held_jog_until_release(
+    sim: SimController, clock: FakeClock, stops: StopBus, jogger: Jogger
+) -> None:
     start = j1(sim)
     confirm(jogger, clock, 0.5)
     assert j1(sim) > start + MOVED_DEG
@@ -81,7 +83,9 @@ def test_a_freeze_from_a_page_or_the_api_ends_the_held_jog_until_release(sim, cl
     moves_after_release_and_press(jogger, sim, clock)
 
 
-def test_a_confirmation_read_before_the_stop_and_handled_after_it_cannot_restart(sim, clock, stops, jogger):
+def test_a_confirmation_read_before_the_stop_and_handled_after_it_cannot_restart(
+    sim: SimController, clock: FakeClock, stops: StopBus, jogger: Jogger
+) -> None:
     confirm(jogger, clock, 0.3)
     count = jogger.releases  # read on viser's loop, before the stop
     stops.notify("Freeze from the API (127.0.0.1)")
@@ -90,7 +94,9 @@ def test_a_confirmation_read_before_the_stop_and_handled_after_it_cannot_restart
     assert sim.get_motion_status() is MotionStatus.IDLE
 
 
-def test_a_protective_stop_holds_until_recover_and_the_jog_until_release(sim, clock, stops, jogger):
+def test_a_protective_stop_holds_until_recover_and_the_jog_until_release(
+    sim: SimController, clock: FakeClock, stops: StopBus, jogger: Jogger
+) -> None:
     confirm(jogger, clock, 0.3)
     stops.notify("Protective stop from the API (127.0.0.1)")
     sim.stop()
@@ -102,16 +108,20 @@ def test_a_protective_stop_holds_until_recover_and_the_jog_until_release(sim, cl
     moves_after_release_and_press(jogger, sim, clock)
 
 
-def test_the_deadman_stop_holds_when_confirmations_come_back(sim, clock, jogger):
+def test_the_deadman_stop_holds_when_confirmations_come_back(
+    sim: SimController, clock: FakeClock, jogger: Jogger
+) -> None:
     confirm(jogger, clock, 0.3)
     clock.advance(DEADMAN_TIMEOUT_S * 2)  # the page hung
     assert jogger.check_deadman()
-    assert jogger.latch_cause(BROWSER).startswith("deadman")
+    assert (jogger.latch_cause(BROWSER) or "").startswith("deadman")
     still_while_held(jogger, sim, clock)  # it runs again, the button still down: no restart
     moves_after_release_and_press(jogger, sim, clock)
 
 
-def test_a_confirmation_heard_on_arrival_keeps_only_the_running_jog_alive(sim, clock, jogger):
+def test_a_confirmation_heard_on_arrival_keeps_only_the_running_jog_alive(
+    sim: SimController, clock: FakeClock, jogger: Jogger
+) -> None:
     # viser's loop hears each confirmation (still_held) before a worker thread asks the controller (hold):
     # with the workers late (many browsers), the arrivals alone keep the operator's running jog alive...
     confirm(jogger, clock, 0.3)
@@ -130,7 +140,7 @@ def test_a_confirmation_heard_on_arrival_keeps_only_the_running_jog_alive(sim, c
         clock.advance(CONFIRM_PERIOD_S)
         jogger.check_deadman()
     assert abs(j1(sim) - stopped_at) < STILL_TOL_DEG
-    assert jogger.latch_cause(BROWSER).startswith("deadman")
+    assert (jogger.latch_cause(BROWSER) or "").startswith("deadman")
     moves_after_release_and_press(jogger, sim, clock)
 
 
@@ -138,7 +148,9 @@ API_STOPS = ["Freeze from the API (127.0.0.1)", "Protective stop from the API (1
 
 
 @pytest.mark.parametrize("stop", API_STOPS)
-def test_an_api_stop_amid_confirmations_holds_until_the_operator_acts(sim, clock, stops, jogger, stop):
+def test_an_api_stop_amid_confirmations_holds_until_the_operator_acts(
+    sim: SimController, clock: FakeClock, stops: StopBus, jogger: Jogger, stop: str
+) -> None:
     # PUT /freeze or POST /stop while J1+ is held: the arrivals heard on viser's loop (still_held) and the
     # workers' holds that follow keep coming, and the arm stays still until release and a new press (after
     # Recover, for a protective stop).
@@ -162,7 +174,9 @@ def test_an_api_stop_amid_confirmations_holds_until_the_operator_acts(sim, clock
 
 
 @pytest.mark.parametrize("how", ["freeze", "input"])
-def test_a_stop_the_pendant_did_not_hear_of_is_seen_and_holds(sim, clock, how):
+def test_a_stop_the_pendant_did_not_hear_of_is_seen_and_holds(
+    sim: SimController, clock: FakeClock, how: str
+) -> None:
     jogger = Jogger(sim, sim.arm, clock=clock.now)  # no bus: a real controller's own stops
     confirm(jogger, clock, 0.5)
     if how == "freeze":
@@ -176,7 +190,7 @@ def test_a_stop_the_pendant_did_not_hear_of_is_seen_and_holds(sim, clock, how):
     assert jogger.latch_cause(BROWSER) == cause
 
 
-def test_a_jog_held_past_its_horizon_goes_on(sim, clock, jogger):
+def test_a_jog_held_past_its_horizon_goes_on(sim: SimController, clock: FakeClock, jogger: Jogger) -> None:
     """The end of a continuous jog's plan is not a stop: the next piece follows while the button is held."""
     start = j1(sim)
     confirm(jogger, clock, JOG_HORIZON_S * 1.5)
@@ -187,7 +201,9 @@ def test_a_jog_held_past_its_horizon_goes_on(sim, clock, jogger):
     assert moved > speed_deg_s * JOG_HORIZON_S * 1.2  # well past where the first piece ended
 
 
-def test_another_browsers_press_is_not_held_by_this_ones_stop(sim, clock, stops, jogger):
+def test_another_browsers_press_is_not_held_by_this_ones_stop(
+    sim: SimController, clock: FakeClock, stops: StopBus, jogger: Jogger
+) -> None:
     confirm(jogger, clock, 0.3)
     stops.notify("Freeze by browser #2")
     sim.freeze()
@@ -196,7 +212,9 @@ def test_another_browsers_press_is_not_held_by_this_ones_stop(sim, clock, stops,
     assert j1(sim) > before + MOVED_DEG
 
 
-def test_a_stop_while_nothing_is_held_does_not_hold_the_next_press(sim, clock, stops, jogger):
+def test_a_stop_while_nothing_is_held_does_not_hold_the_next_press(
+    sim: SimController, clock: FakeClock, stops: StopBus, jogger: Jogger
+) -> None:
     stops.notify("Freeze by browser #1")
     sim.freeze()
     clock.advance(1.0)
@@ -216,10 +234,10 @@ class LaggingLink:
     def __getattr__(self, name: str) -> Any:  # the simulator's: a Controller to the type checker
         return getattr(self._sim, name)
 
-    def set_pose(self, *args: object, **kwargs: object) -> None:
+    def set_pose(self, pose: Pose, params: MotionParams) -> None:
         self.sends += 1
         self.sent_at = self._clock.now()
-        self._sim.set_pose(*args, **kwargs)
+        self._sim.set_pose(pose, params)
 
     def get_motion_status(self) -> MotionStatus:
         if self._clock.now() - self.sent_at < self._lag_s:
@@ -227,7 +245,9 @@ class LaggingLink:
         return self._sim.get_motion_status()
 
 
-def test_a_motion_status_that_lags_the_send_is_neither_a_stop_nor_a_reason_to_send_again(sim, clock):
+def test_a_motion_status_that_lags_the_send_is_neither_a_stop_nor_a_reason_to_send_again(
+    sim: SimController, clock: FakeClock
+) -> None:
     link = LaggingLink(sim, clock, lag_s=SEND_SETTLE_S * 0.8)
     jogger = Jogger(link, sim.arm, clock=clock.now)
     before = j1(sim)
@@ -248,7 +268,9 @@ def box_at(name: str, xyz: tuple[float, float, float]) -> BoxObstacle:
     )
 
 
-def test_a_jog_into_an_obstacle_stops_and_the_event_log_names_it(sim, clock):
+def test_a_jog_into_an_obstacle_stops_and_the_event_log_names_it(
+    sim: SimController, clock: FakeClock
+) -> None:
     # Where the flange gets to with J1 turned 20 degrees from home: the jog runs into it.
     obstacle = box_at("Box 1", (-0.397, -0.273, 0.485))
     sim.add_obstacle(obstacle)
@@ -256,7 +278,7 @@ def test_a_jog_into_an_obstacle_stops_and_the_event_log_names_it(sim, clock):
     events = EventLog()
     jogger = LoggedJogger(
         sim,
-        CellAwareArm(sim.arm, lambda: cell),  # type: ignore[arg-type]
+        CellAwareArm(sim.arm, lambda: cell),
         events=events,
         desk=ControlDesk(events),
         touching=cell.touching,

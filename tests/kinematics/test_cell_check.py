@@ -14,8 +14,7 @@ from pendant.kinematics.cell_shapes import obstacle_shape, tool_capsules
 from pendant.kinematics.obstacles import Capsule, box_shape
 from pendant.planning.scenes import FLANGE, HOME_DEG, README_CELL, SCENES
 from pendant.sim import FakeClock, SimController
-
-from .reference_cell_check import CellGeometry
+from tests.support.reference_cell_check import CellGeometry
 
 CONFIGURATIONS = 10_000
 CONTACT_TOL_M = 0.0005  # a disagreement is allowed only this close to contact
@@ -106,11 +105,11 @@ def test_obstacles_added_and_removed_at_run_time_change_the_simulators_answers()
     )
     moved = q.copy()
     moved[0] -= np.radians(25.0)  # swings the hand into the crate
-    assert sim._environment.touching(moved) is None
+    assert sim.environment.touching(moved) is None
     sim.add_obstacle(box)
-    assert sim._environment.touching(moved) == ["crate"]
+    assert sim.environment.touching(moved) == ["crate"]
     sim.remove_obstacle("crate")
-    assert sim._environment.touching(moved) is None
+    assert sim.environment.touching(moved) is None
     on_the_hand = box.model_copy(
         update={
             "centerPosition": Position(
@@ -121,7 +120,7 @@ def test_obstacles_added_and_removed_at_run_time_change_the_simulators_answers()
     # Touching the arm where it stands still: taken, as a controller takes it (the contact rule then lets
     # the arm only back out of it; tests/sim/test_contact.py), and the answer says which links it touches.
     assert sim.add_obstacle(on_the_hand).startswith("Obstacle 'crate' added touching the arm (")
-    contact = sim._environment.geometry.contacts(q)["crate"]
+    contact = sim.environment.geometry.contacts(q)["crate"]
     assert contact.depth_m > 0.01 and "link6" in contact.links
 
 

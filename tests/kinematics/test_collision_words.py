@@ -53,7 +53,7 @@ def test_a_box_in_the_way_is_named_alike_by_the_controller_the_target_check_and_
         just_short[0] -= np.radians(1.0)
     arm = CellAwareArm(sim.arm, lambda: cell)
     request = JogRequest(JogFrame.JOINT, 0, +1, 50.0)
-    assert why_blocked(arm, just_short, request, cell.touching) == words  # type: ignore[arg-type]
+    assert why_blocked(arm, just_short, request, cell.touching) == words
 
 
 def test_the_arm_against_itself_names_its_two_links_in_the_jog_as_in_the_target_check(

@@ -3,18 +3,18 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import httpx
 
 from tests.support.launchers import running_pendant
-
-from .scrape import scrape, values
+from tests.support.metrics import scrape, values
 
 REACHABLE_POSE = {"angles": [10.0, -90.0, 90.0, -90.0, -90.0, 0.0]}
 
 
-def put(base_url: str, path: str, **kwargs: object) -> int:
-    return httpx.put(f"{base_url}{path}", timeout=10.0, **kwargs).status_code  # type: ignore[arg-type]
+def put(base_url: str, path: str, **kwargs: Any) -> int:  # httpx.put's keywords (json=, content=)
+    return httpx.put(f"{base_url}{path}", timeout=10.0, **kwargs).status_code
 
 
 def test_commands_are_counted_by_endpoint_and_status(tmp_path: Path) -> None:

@@ -10,6 +10,7 @@ from pathlib import Path
 
 from pendant.monitoring.fleet import Timings, alert_rules, alertmanager_config, prometheus_config
 from pendant.paths import deploy_dir
+from tests.support.metrics import dashboard_queries
 
 PROMETHEUS = deploy_dir() / "prometheus"
 
@@ -67,16 +68,6 @@ def test_the_fleets_adapted_copies_still_pass_the_tools(tmp_path: Path) -> None:
     )
     assert "SUCCESS" in run("promtool", "check", "config", "prometheus.yml", cwd=tmp_path)
     assert "SUCCESS" in run("amtool", "check-config", "alertmanager.yml", cwd=tmp_path)
-
-
-def dashboard_queries() -> list[str]:
-    """Every PromQL query of the Grafana dashboard, with its arm variable set to all arms."""
-    dashboard = json.loads((deploy_dir() / "grafana" / "pulse-dashboard.json").read_text())
-    return [
-        target["expr"].replace("$instance", ".*")
-        for panel in dashboard["panels"]
-        for target in panel.get("targets", [])
-    ]
 
 
 def test_each_dashboard_query_is_valid_promql(tmp_path: Path) -> None:

@@ -9,6 +9,7 @@ import sqlite3
 import subprocess
 import time
 from pathlib import Path
+from typing import Any
 
 import httpx
 import pytest
@@ -25,8 +26,8 @@ from tests.support.waiting import wait_until
 POSE = {"angles": [10.0, -90.0, 90.0, -90.0, -90.0, 0.0]}
 
 
-def events(base: str, **params: object) -> list[dict[str, object]]:
-    answer = httpx.get(f"{base}/pendant/events", params=params, timeout=10.0)  # type: ignore[arg-type]
+def events(base: str, **params: str | int | float) -> list[dict[str, Any]]:  # the API's JSON
+    answer = httpx.get(f"{base}/pendant/events", params=params, timeout=10.0)
     assert answer.status_code == 200, answer.text
     return answer.json()["events"]
 
@@ -46,7 +47,7 @@ def test_events_survive_a_restart_and_a_kill(tmp_path: Path) -> None:
         assert httpx.put(f"{base}/signal/output/1/high", timeout=10).status_code == 200
         newest = events(base, limit=1, kind="command")[0]
         assert newest["message"] == "PUT /signal/output/1/high -> 200"
-        assert newest["id"] > int(before[0]["id"]), "numbering goes on"  # type: ignore[call-overload]
+        assert newest["id"] > int(before[0]["id"]), "numbering goes on"
         os.kill(_pid_on(base), signal.SIGKILL)  # no clean shutdown: what the page showed must still be there
     with running_pendant("--data", str(tmp_path)) as base:
         assert [e["message"] for e in events(base, kind="command")] == [

@@ -6,13 +6,14 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from functools import partial
 from typing import TypeVar
 
 import httpx
 import pytest
 
 from pendant.monitoring.fleet import Site, Timings, query, running_fleet
-from tests.monitoring.test_deploy_files import dashboard_queries
+from tests.support.metrics import dashboard_queries
 
 T = TypeVar("T")
 FAST = Timings(scrape_interval="1s", alert_for="2s", group_wait="1s")
@@ -39,7 +40,7 @@ def instance(site: Site, index: int) -> str:
 
 def firing_at_webhook(site: Site) -> set[tuple[str, str]]:
     return {
-        (str(alert["labels"]["alertname"]), str(alert["labels"]["instance"]))  # type: ignore[index]
+        (str(alert["labels"]["alertname"]), str(alert["labels"]["instance"]))
         for alert in list(site.alerts)
         if alert.get("status") == "firing"
     }
@@ -66,7 +67,7 @@ def test_three_pendants_scraped_alerted_and_charted_by_the_real_tools() -> None:
             assert httpx.put(f"{api}/pose?speed=20", json=REACHABLE_POSE, timeout=10).status_code == 200
             assert httpx.put(f"{api}/pose?speed=20", json={"angles": [1, 2]}, timeout=10).status_code == 400
         for expr in dashboard_queries():
-            eventually(lambda expr=expr: query(site.prometheus, expr), bool, f"dashboard query {expr}")
+            eventually(partial(query, site.prometheus, expr), bool, f"dashboard query {expr}")
         assert firing_at_webhook(site) == set(), "a healthy site pages nobody"
 
         # One fault per arm: each alert must come from its own arm and no other.

@@ -16,8 +16,8 @@ from pathlib import Path
 import httpx
 import pytest
 
-from tests.monitoring.scrape import scrape, values
 from tests.support.launchers import REPO_ROOT
+from tests.support.metrics import scrape, values
 from tests.support.ports import LOOPBACK, free_port
 from tests.support.waiting import wait_until
 

@@ -15,9 +15,9 @@ from pendant.sim import FakeClock, Fault, SimController
 from pendant.ui.kit.snapshot import Snapshot
 from pendant.ui.page.activity import ActivityLog
 from pendant.ui.page.roles import ControlDesk
-from tests.program.conftest import POLL_S, POSE_A_DEG, settle, teach
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser
 from tests.support.pages import headless_session, new_page
+from tests.support.programs import POLL_S, POSE_A_DEG, settle, teach
 
 WAIT_S = 10.0
 
@@ -47,12 +47,12 @@ def test_program_runs_failures_and_alarms_are_counted(
     sim.reset()
 
     workspace.start_run(loops=1)
-    runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]  # the run started it
+    assert runner.join(timeout=WAIT_S)
     settle(sim, clock)
     assert workspace.progress.state is RunState.FINISHED
     sim.inject_fault(Fault.ERROR)
     workspace.start_run(loops=1)
-    runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]  # the run started it
+    assert runner.join(timeout=WAIT_S)
     assert workspace.progress.state is RunState.FAILED
 
     idle, failed = MotionStatus.IDLE, MotionStatus.MOTION_FAILED
@@ -75,7 +75,9 @@ def test_viewers_and_page_commands_are_counted(sim: SimController) -> None:
         page.desk.join(OPERATOR)
         page.desk.join(VIEWER)
         page.runner.submit("Home", lambda controller: controller.freeze(), None).result(timeout=WAIT_S)
-        refused = page.runner.submit("Relax", lambda controller: controller.relax(), FakeBrowser(VIEWER))  # type: ignore[arg-type]
+        refused = page.runner.submit(
+            "Relax", lambda controller: controller.relax(), FakeBrowser(VIEWER).handle
+        )
         assert refused.exception() is not None
     finally:
         page.stop()

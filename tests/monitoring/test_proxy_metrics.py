@@ -12,9 +12,8 @@ from pendant.api import create_app
 from pendant.config import Settings
 from pendant.remote import RemoteController, create_proxy_app
 from pendant.sim import SimController
+from tests.support.metrics import scrape, values
 from tests.support.threads import serve_in_thread
-
-from .scrape import scrape, values
 
 CONNECT_TIMEOUT_S = 0.5
 READ_TIMEOUT_S = 1.0

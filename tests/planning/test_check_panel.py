@@ -16,10 +16,10 @@ from pendant.program import ProgramRunner, ProgramStore, ProgramWorkspace, RunSt
 from pendant.remote import RemoteController
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.program.panel import ProgramPanel
-from tests.planning.scenes import BOX_NAME, LEFT_DEG, box_in_the_way, swing_program
 from tests.support.doubles import FakeBrowser, fire
 from tests.support.launchers import running_pendant
 from tests.support.ports import free_port
+from tests.support.preflight_scene import BOX_NAME, LEFT_DEG, box_in_the_way, swing_program
 from tests.support.waiting import wait_until
 
 WAIT_S = 30.0
@@ -32,7 +32,9 @@ def arm_url() -> Iterator[str]:
 
 
 @pytest.fixture
-def panel(arm_url: str, tmp_path: Path) -> Iterator[tuple[ProgramPanel, ProgramWorkspace, RemoteController]]:
+def checked(
+    arm_url: str, tmp_path: Path
+) -> Iterator[tuple[ProgramPanel, ProgramWorkspace, RemoteController]]:
     arm = RemoteController(arm_url)
     arm.remove_obstacles()
     arm.set_pose(Pose(angles=list(LEFT_DEG)), MotionParams(speed=100.0))
@@ -55,8 +57,10 @@ def check(panel: ProgramPanel, browser: FakeBrowser) -> Any:
     return panel.pending.result(timeout=WAIT_S)
 
 
-def test_run_waits_for_a_passing_check_and_check_marks_the_failing_step(panel) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
-    panel, workspace, arm = panel
+def test_run_waits_for_a_passing_check_and_check_marks_the_failing_step(
+    checked: tuple[ProgramPanel, ProgramWorkspace, RemoteController],
+) -> None:
+    panel, workspace, arm = checked
     browser = FakeBrowser(1)
     section = panel.check_section
     assert section.shared.gate.required and section.override.visible  # a real arm: the gate is on
@@ -71,7 +75,7 @@ def test_run_waits_for_a_passing_check_and_check_marks_the_failing_step(panel) -
     assert f"✘ the gripper would hit '{BOX_NAME}'" in rows[2]
     assert "✔" in rows[0] and "✘ not checked" in rows[3]
     assert section.summary.content.startswith("**✘ Step 3 (Move J to right")
-    assert {node.name for node in section._nodes} == {"/program_check/swept", "/program_check/failure"}
+    assert {node.name for node in section.nodes} == {"/program_check/swept", "/program_check/failure"}
     assert not section.playback.disabled and section.playback.max == pytest.approx(
         report.cycle_time_s, abs=0.01
     )
@@ -87,8 +91,10 @@ def test_run_waits_for_a_passing_check_and_check_marks_the_failing_step(panel) -
     wait_until(lambda: workspace.progress.state is RunState.FINISHED, timeout_s=WAIT_S)
 
 
-def test_playback_moves_the_ghost_and_the_step_list_follows(panel) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
-    panel, _, arm = panel
+def test_playback_moves_the_ghost_and_the_step_list_follows(
+    checked: tuple[ProgramPanel, ProgramWorkspace, RemoteController],
+) -> None:
+    panel, _, arm = checked
     arm.remove_obstacles()
     browser = FakeBrowser(1)
     report = check(panel, browser)

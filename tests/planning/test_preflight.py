@@ -9,6 +9,7 @@ from pendant.controller.types import MotionParams, MotionType, Point, Pose, Posi
 from pendant.planning.clearance import Clearance
 from pendant.planning.preflight import PreflightRefused, preflight
 from pendant.planning.twin import TwinSeed, read_seed
+from pendant.program import Step, Waypoint
 from pendant.program.models import (
     CallStep,
     IfStep,
@@ -20,7 +21,7 @@ from pendant.program.models import (
     WaitInputStep,
 )
 from pendant.sim import HOME_POSE_DEG, FakeClock, SimController
-from tests.planning.scenes import LEFT_DEG, RIGHT_DEG, box_in_the_way, waypoint
+from tests.support.preflight_scene import LEFT_DEG, RIGHT_DEG, box_in_the_way, waypoint
 
 HIGH, LOW = SignalLevel.HIGH, SignalLevel.LOW
 
@@ -35,9 +36,9 @@ def arm(clock: FakeClock) -> SimController:
     return SimController(clock=clock)
 
 
-def program(*steps: object, extra: tuple[object, ...] = ()) -> Program:
+def program(*steps: Step, extra: tuple[Waypoint, ...] = ()) -> Program:
     points = (waypoint("left", LEFT_DEG), waypoint("right", RIGHT_DEG), *extra)
-    return Program(name="t", waypoints=points, steps=steps)  # type: ignore[arg-type]
+    return Program(name="t", waypoints=points, steps=steps)
 
 
 def test_an_if_follows_the_input_as_the_arm_reads_it_unless_one_is_given(arm: SimController) -> None:

@@ -20,9 +20,9 @@ from pendant.planning.preflight import preflight
 from pendant.planning.twin import read_seed
 from pendant.program.runner import ProgramRunner, RunState
 from pendant.remote import RemoteController
-from tests.planning.counting import counting_forwarder
-from tests.planning.scenes import BOX_NAME, LEFT_DEG, box_in_the_way, swing_program
+from tests.support.counting_forwarder import counting_forwarder
 from tests.support.launchers import REPO_ROOT, child_env, pendant_command, running_pendant
+from tests.support.preflight_scene import BOX_NAME, LEFT_DEG, box_in_the_way, swing_program
 from tests.support.waiting import wait_until
 
 CYCLE_TIME_TOLERANCE = 0.03  # the bound: within 3 % of the run's

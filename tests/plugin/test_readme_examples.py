@@ -8,8 +8,7 @@ from pathlib import Path
 import pytest
 
 from tests.support.launchers import REPO_ROOT
-
-from .project import run_project
+from tests.support.user_project import run_project
 
 pytestmark = [pytest.mark.sdk, pytest.mark.slow]
 

@@ -10,8 +10,7 @@ from pathlib import Path
 import pytest
 
 from tests.support.launchers import REPO_ROOT
-
-from .project import port_is_closed, run_project
+from tests.support.user_project import port_is_closed, run_project
 
 pytestmark = pytest.mark.slow
 

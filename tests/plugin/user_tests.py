@@ -3,12 +3,13 @@
 import math
 import os
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import httpx
 import pytest
 
-from pendant.testing import FAULT_KINDS, PulseSimError
+from pendant.testing import FAULT_KINDS, PulseSim, PulseSimError
 
 HOME = [0.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 FAR = [270.0, -90.0, 90.0, -90.0, -90.0, 0.0]  # J1 turns 270 degrees: about 60 s at speed 4
@@ -17,7 +18,7 @@ URLS = Path(__file__).with_name("urls")
 
 
 @pytest.fixture
-def api(pulse_sim):
+def api(pulse_sim: PulseSim) -> Iterator[httpx.Client]:
     URLS.mkdir(exist_ok=True)
     worker = os.environ.get("PYTEST_XDIST_WORKER", "main")
     (URLS / f"{worker}-{time.monotonic_ns()}.txt").write_text(pulse_sim.url)
@@ -25,11 +26,11 @@ def api(pulse_sim):
         yield client
 
 
-def motion_status(api):
+def motion_status(api: httpx.Client) -> str:
     return api.get("/status/motion").json()
 
 
-def wait_while_running(api, limit_s=60.0):
+def wait_while_running(api: httpx.Client, limit_s: float = 60.0) -> str:
     deadline = time.monotonic() + limit_s
     while motion_status(api) == "RUNNING":
         assert time.monotonic() < deadline, "the arm never stopped"
@@ -37,11 +38,11 @@ def wait_while_running(api, limit_s=60.0):
     return motion_status(api)
 
 
-def angles(api):
+def angles(api: httpx.Client) -> list[float]:
     return api.get("/pose").json()["angles"]
 
 
-def test_a_changes_everything(pulse_sim, api):
+def test_a_changes_everything(pulse_sim: PulseSim, api: httpx.Client) -> None:
     api.put("/signal/output/1/high").raise_for_status()
     pulse_sim.set_input(2, "high")
     assert api.get("/signal/input/2").json() == "HIGH"
@@ -53,7 +54,7 @@ def test_a_changes_everything(pulse_sim, api):
     assert api.get("/pose").status_code == 503
 
 
-def test_b_starts_from_power_on(pulse_sim, api):
+def test_b_starts_from_power_on(pulse_sim: PulseSim, api: httpx.Client) -> None:
     assert motion_status(api) == "IDLE"
     assert api.get("/signal/output/1").json() == "LOW"
     assert api.get("/signal/input/2").json() == "LOW"
@@ -61,7 +62,7 @@ def test_b_starts_from_power_on(pulse_sim, api):
     assert pulse_sim.time < 100.0
 
 
-def test_every_fault_that_refuses_motion(pulse_sim, api):
+def test_every_fault_that_refuses_motion(pulse_sim: PulseSim, api: httpx.Client) -> None:
     have = pulse_sim.fault_kinds()
     assert {"error", "emergency", "no_response", "motion_failed", "overheat"} <= set(have)
     for kind in FAULT_KINDS:
@@ -77,7 +78,7 @@ def test_every_fault_that_refuses_motion(pulse_sim, api):
         assert angles(api) == pytest.approx(HOME), kind
 
 
-def test_error_message_and_recover(pulse_sim, api):
+def test_error_message_and_recover(pulse_sim: PulseSim, api: httpx.Client) -> None:
     pulse_sim.fault("error")
     refused = api.put("/pose", params=SLOW, json={"angles": FAR})
     assert (refused.status_code, refused.json()) == (500, "Robot does not respond")
@@ -85,19 +86,19 @@ def test_error_message_and_recover(pulse_sim, api):
     assert api.put("/recover").json() == "SUCCESS"
 
 
-def test_overheat_heats_the_stators(pulse_sim, api):
+def test_overheat_heats_the_stators(pulse_sim: PulseSim, api: httpx.Client) -> None:
     cold = max(m["statorTemperature"] for m in api.get("/status/motors").json())
     pulse_sim.fault("overheat")
     hot = max(m["statorTemperature"] for m in api.get("/status/motors").json())
     assert cold < 40.0 < 100.0 < hot
 
 
-def test_unknown_fault_is_refused(pulse_sim):
+def test_unknown_fault_is_refused(pulse_sim: PulseSim) -> None:
     with pytest.raises(PulseSimError, match="unknown fault 'meltdown'"):
         pulse_sim.fault("meltdown")
 
 
-def test_motion_failed_stops_the_moving_arm(pulse_sim, api):
+def test_motion_failed_stops_the_moving_arm(pulse_sim: PulseSim, api: httpx.Client) -> None:
     api.put("/pose", params=SLOW, json={"angles": FAR}).raise_for_status()
     time.sleep(0.05)
     pulse_sim.fault("motion_failed")
@@ -109,7 +110,7 @@ def test_motion_failed_stops_the_moving_arm(pulse_sim, api):
 
 
 @pytest.mark.pulse_sim(time_scale=100)
-def test_at_a_simulated_time_exactly(pulse_sim, api):
+def test_at_a_simulated_time_exactly(pulse_sim: PulseSim, api: httpx.Client) -> None:
     api.put("/pose", params=SLOW, json={"angles": FAR}).raise_for_status()
     (motion,) = pulse_sim.controller.queued_motions()
     event = pulse_sim.at(30.0, "error")
@@ -120,7 +121,7 @@ def test_at_a_simulated_time_exactly(pulse_sim, api):
 
 
 @pytest.mark.pulse_sim(time_scale=100)
-def test_when_a_waypoint_is_reached(pulse_sim, api):
+def test_when_a_waypoint_is_reached(pulse_sim: PulseSim, api: httpx.Client) -> None:
     event = pulse_sim.on_waypoint(2, "emergency")
     run = [{"angles": [j1, -90.0, 90.0, -90.0, -90.0, 0.0]} for j1 in (30.0, 60.0, 90.0)]
     api.put("/poses/run", params={"speed": 20}, json=run).raise_for_status()
@@ -134,7 +135,7 @@ def test_when_a_waypoint_is_reached(pulse_sim, api):
 
 
 @pytest.mark.pulse_sim(time_scale=100)
-def test_waypoint_error_leaves_the_arm_at_the_waypoint(pulse_sim, api):
+def test_waypoint_error_leaves_the_arm_at_the_waypoint(pulse_sim: PulseSim, api: httpx.Client) -> None:
     pulse_sim.on_waypoint(2, "error")
     run = [{"angles": [j1, -90.0, 90.0, -90.0, -90.0, 0.0]} for j1 in (30.0, 60.0, 90.0)]
     api.put("/poses/run", params={"speed": 20}, json=run).raise_for_status()
@@ -142,7 +143,7 @@ def test_waypoint_error_leaves_the_arm_at_the_waypoint(pulse_sim, api):
     assert angles(api) == pytest.approx(run[1]["angles"], abs=0.01)
 
 
-def test_waypoint_of_the_run_already_moving(pulse_sim, api):
+def test_waypoint_of_the_run_already_moving(pulse_sim: PulseSim, api: httpx.Client) -> None:
     run = [{"angles": [j1, -90.0, 90.0, -90.0, -90.0, 0.0]} for j1 in (30.0, 60.0, 90.0)]
     api.put("/poses/run", params={"speed": 5}, json=run).raise_for_status()
     assert motion_status(api) == "RUNNING"
@@ -152,11 +153,11 @@ def test_waypoint_of_the_run_already_moving(pulse_sim, api):
 
 
 @pytest.mark.pulse_sim(time_scale=100)
-def test_waypoint_of_a_linear_positions_run(pulse_sim, api):
+def test_waypoint_of_a_linear_positions_run(pulse_sim: PulseSim, api: httpx.Client) -> None:
     start = api.get("/position").json()
     points = [dict(start, point=dict(start["point"], x=start["point"]["x"] + dx)) for dx in (0.05, 0.1, 0.15)]
     pulse_sim.on_waypoint(1, "error")
-    params = {"speed": 20, "type": "LINEAR"}
+    params: dict[str, str | int] = {"speed": 20, "type": "LINEAR"}
     api.put("/positions/run", params=params, json=points).raise_for_status()
     assert wait_while_running(api) == "ERROR"
     stopped = api.get("/position").json()["point"]
@@ -164,14 +165,14 @@ def test_waypoint_of_a_linear_positions_run(pulse_sim, api):
 
 
 @pytest.mark.pulse_sim(time_scale=1000)
-def test_a_moment_already_past_is_refused(pulse_sim):
+def test_a_moment_already_past_is_refused(pulse_sim: PulseSim) -> None:
     while pulse_sim.time < 1.0:
         time.sleep(0.001)
     with pytest.raises(ValueError, match="the test's simulated time is already"):
         pulse_sim.at(0.5, "error")
 
 
-def test_on_the_nth_command(pulse_sim, api):
+def test_on_the_nth_command(pulse_sim: PulseSim, api: httpx.Client) -> None:
     event = pulse_sim.on_command(2, "no_response")
     assert api.put("/signal/output/1/high").status_code == 200
     second = api.put("/signal/output/2/high")
@@ -180,7 +181,7 @@ def test_on_the_nth_command(pulse_sim, api):
 
 
 @pytest.mark.pulse_sim(time_scale=50)
-def test_a_function_as_the_action(pulse_sim, api):
+def test_a_function_as_the_action(pulse_sim: PulseSim, api: httpx.Client) -> None:
     event = pulse_sim.at(2.0, lambda: pulse_sim.set_input(1, True))
     deadline = time.monotonic() + 10.0
     while api.get("/signal/input/1").json() != "HIGH":
@@ -191,7 +192,7 @@ def test_a_function_as_the_action(pulse_sim, api):
 
 
 @pytest.mark.pulse_sim(time_scale=100)
-def test_a_60_s_motion_takes_a_fraction_of_it(pulse_sim, api):
+def test_a_60_s_motion_takes_a_fraction_of_it(pulse_sim: PulseSim, api: httpx.Client) -> None:
     api.put("/pose", params=SLOW, json={"angles": FAR}).raise_for_status()
     (motion,) = pulse_sim.controller.queued_motions()
     wall0 = time.monotonic()  # before the first read and after the second: the server's span is inside
@@ -209,7 +210,7 @@ def test_a_60_s_motion_takes_a_fraction_of_it(pulse_sim, api):
 
 
 @pytest.mark.pulse_sim(time_scale=100)
-def test_gripper_waits_scale_too(pulse_sim, api):
+def test_gripper_waits_scale_too(pulse_sim: PulseSim, api: httpx.Client) -> None:
     t0 = api.get("/sim/clock").json()["time"]
     api.put("/gripper/close", params={"timeout": 20000}).raise_for_status()  # 20 s
     assert motion_status(api) == "RUNNING"
@@ -218,18 +219,18 @@ def test_gripper_waits_scale_too(pulse_sim, api):
 
 
 @pytest.mark.pulse_sim(model="pulse90")
-def test_model_option(pulse_sim, api):
+def test_model_option(pulse_sim: PulseSim, api: httpx.Client) -> None:
     assert pulse_sim.model == "pulse90"
     assert pulse_sim.controller.arm.name == "pulse90"
 
 
-def test_user_code_meets_the_scripted_error(pulse_sim, api):
+def test_user_code_meets_the_scripted_error(pulse_sim: PulseSim, api: httpx.Client) -> None:
     # Robot code that does not expect a failure: this test must fail, showing the controller's message.
     pulse_sim.on_command(1, "error")
     api.put("/pose", params=SLOW, json={"angles": FAR}).raise_for_status()
 
 
-def test_waypoint_the_run_does_not_have(pulse_sim, api):
+def test_waypoint_the_run_does_not_have(pulse_sim: PulseSim, api: httpx.Client) -> None:
     # Scripted against a waypoint the run lacks: reported as an error at teardown.
     pulse_sim.on_waypoint(5, "error")
     api.put("/pose", params=SLOW, json={"angles": FAR}).raise_for_status()

@@ -1,35 +1,20 @@
-"""Program fixtures: a runner on the simulator's fake clock, and waypoints taught by moving the simulator."""
+"""Program fixtures: a runner on the simulator's fake clock, waypoints taught by moving the simulator, and
+the Program tab on a real viser server (`setup`)."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any, NamedTuple
 
 import pytest
+import viser
 
-from pendant.controller import MotionParams, MotionType, Pose
-from pendant.program import MoveStep, Program, ProgramRunner, ProgramStore, ProgramWorkspace, Step, Waypoint
+from pendant.program import ProgramRunner, ProgramStore, ProgramWorkspace, Waypoint
 from pendant.sim import FakeClock, SimController
-
-# Three poses near home (0, -90, 90, -90, -90, 0), clear of the floor and of each other.
-POSE_A_DEG = (20.0, -90.0, 90.0, -90.0, -90.0, 0.0)
-POSE_B_DEG = (-20.0, -80.0, 80.0, -90.0, -90.0, 0.0)
-POSE_C_DEG = (0.0, -100.0, 100.0, -90.0, -90.0, 10.0)
-TEACH_SPEED_PERCENT = 100.0
-POLL_S = 0.05
-
-
-def settle(sim: SimController, clock: FakeClock) -> None:
-    """Advance the fake clock until everything the simulator has queued is done."""
-    clock.advance(max(0.0, sim.busy_until() - clock.now()))
-
-
-def teach(sim: SimController, clock: FakeClock, angles_deg: tuple[float, ...], name: str) -> Waypoint:
-    """Move the simulator to `angles_deg` and read back its pose and TCP position, as Record does."""
-    sim.set_pose(Pose(angles=list(angles_deg)), MotionParams(speed=TEACH_SPEED_PERCENT))
-    settle(sim, clock)
-    return Waypoint(name=name, pose=sim.get_pose(), position=sim.get_position())
+from pendant.ui.kit.commands import CommandRunner
+from pendant.ui.program.panel import ProgramPanel
+from tests.support.ports import free_port
+from tests.support.programs import POLL_S, POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, teach
 
 
 @pytest.fixture
@@ -55,27 +40,24 @@ def make_workspace(tmp_path: Path, runner: ProgramRunner) -> Callable[[], Progra
     return lambda: ProgramWorkspace(ProgramStore(tmp_path / "programs"), runner)
 
 
-class Taught(NamedTuple):
-    """A move together with the waypoint it goes to, for `program_of` to put in the waypoint table."""
-
-    waypoint: Waypoint
-    step: MoveStep
-
-
-def move(
-    waypoint: Waypoint, motion: MotionType = MotionType.JOINT, speed: float = 50.0, **more: Any
-) -> Taught:
-    return Taught(waypoint, MoveStep(waypoint=waypoint.name, motion=motion, speed=speed, **more))
+@pytest.fixture
+def server() -> Iterator[viser.ViserServer]:
+    """A real viser server on a free loopback port, for a panel built without a PendantUI."""
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    yield server
+    server.stop()
 
 
-def program_of(*items: Step | Taught, name: str = "untitled", extra: tuple[Waypoint, ...] = ()) -> Program:
-    """A program of these steps; the waypoints the moves go to (and `extra` ones) make up its table."""
-    table: dict[str, Waypoint] = {w.name: w for w in extra}
-    steps: list[Step] = []
-    for item in items:
-        if isinstance(item, Taught):
-            table.setdefault(item.waypoint.name, item.waypoint)
-            steps.append(item.step)
-        else:
-            steps.append(item)
-    return Program(name=name, waypoints=tuple(table.values()), steps=tuple(steps))
+@pytest.fixture
+def setup(
+    server: viser.ViserServer, sim: SimController, clock: FakeClock, tmp_path: Path
+) -> Iterator[tuple[ProgramPanel, ProgramWorkspace]]:
+    """The Program tab on `server`, its runner on the fake clock: (panel, workspace)."""
+    runner = CommandRunner(sim)
+    workspace = ProgramWorkspace(
+        ProgramStore(tmp_path / "programs"), ProgramRunner(sim, sleep=clock.advance, now=clock.now)
+    )
+    panel = ProgramPanel(server, workspace, runner, arm=sim.arm)
+    yield panel, workspace
+    panel.close()
+    runner.shutdown()

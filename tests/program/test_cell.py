@@ -32,8 +32,8 @@ from pendant.program import (
     Waypoint,
     export_script,
 )
-from tests.program.conftest import move, program_of
 from tests.support.launchers import REPO_ROOT, running_pendant
+from tests.support.programs import move, program_of
 
 pytestmark = pytest.mark.slow
 
@@ -127,7 +127,7 @@ def api(api_url: str) -> Iterator[httpx.Client]:
 
 
 def test_pendant_run_drives_the_cell_until_the_sensor_says_so(
-    api, api_url, waypoints, tmp_path: Path
+    api: httpx.Client, api_url: str, waypoints: dict[str, Waypoint], tmp_path: Path
 ) -> None:
     ProgramStore(tmp_path).save(cell(waypoints), "pallet cell")
     code, out, err = run_cell(api, pendant_run(str(tmp_path / "pallet cell.json"), "--robot", api_url))
@@ -138,7 +138,9 @@ def test_pendant_run_drives_the_cell_until_the_sensor_says_so(
     assert api.get("/signal/output/1").text.strip('"') == "LOW"
 
 
-def test_the_exported_cell_does_the_same(api, api_url, waypoints, tmp_path: Path) -> None:
+def test_the_exported_cell_does_the_same(
+    api: httpx.Client, api_url: str, waypoints: dict[str, Waypoint], tmp_path: Path
+) -> None:
     script = tmp_path / "cell.py"
     script.write_text(export_script(cell(waypoints)))
     process = subprocess.Popen(
@@ -151,7 +153,7 @@ def test_the_exported_cell_does_the_same(api, api_url, waypoints, tmp_path: Path
 
 
 def test_pendant_run_on_its_own_simulator_and_a_failure_names_step_and_message(
-    waypoints, tmp_path: Path
+    waypoints: dict[str, Waypoint], tmp_path: Path
 ) -> None:
     a = waypoints["A"]
     store = ProgramStore(tmp_path)

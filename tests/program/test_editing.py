@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import re
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -20,14 +21,19 @@ from pendant.program import (
     Offset,
     PalletStep,
     ProgramStore,
+    ProgramWorkspace,
     WaitStep,
+    Waypoint,
     compile_program,
 )
 from pendant.program.plan import MoveGroup
-from tests.program.conftest import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, teach
+from pendant.sim import FakeClock, SimController
+from tests.support.programs import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, teach
 
 
-def test_many_moves_to_one_waypoint_follow_its_reteach_and_its_rename(sim, clock, make_workspace) -> None:
+def test_many_moves_to_one_waypoint_follow_its_reteach_and_its_rename(
+    sim: SimController, clock: FakeClock, make_workspace: Callable[[], ProgramWorkspace]
+) -> None:
     workspace = make_workspace()
     teach(sim, clock, POSE_A_DEG, "ignored")
     workspace.record_from(sim)  # line 0: Move to P1
@@ -51,7 +57,9 @@ def test_many_moves_to_one_waypoint_follow_its_reteach_and_its_rename(sim, clock
         workspace.delete_waypoint("pick")
 
 
-def test_a_pallet_keeps_its_corners_through_a_rename(sim, clock, make_workspace) -> None:
+def test_a_pallet_keeps_its_corners_through_a_rename(
+    sim: SimController, clock: FakeClock, make_workspace: Callable[[], ProgramWorkspace]
+) -> None:
     workspace = make_workspace()
     for pose in (POSE_A_DEG, POSE_B_DEG, POSE_C_DEG):
         teach(sim, clock, pose, "ignored")
@@ -62,7 +70,9 @@ def test_a_pallet_keeps_its_corners_through_a_rename(sim, clock, make_workspace)
     assert isinstance(pallet, PalletStep) and pallet.corners == ("P1", "row end", "P3")
 
 
-def test_steps_nest_and_the_lines_number_the_tree(sim, make_workspace) -> None:
+def test_steps_nest_and_the_lines_number_the_tree(
+    sim: SimController, make_workspace: Callable[[], ProgramWorkspace]
+) -> None:
     workspace = make_workspace()
     workspace.insert_step(LoopStep(times=2))  # line 0
     workspace.insert_step(WaitStep(ms=10))  # line 1
@@ -90,7 +100,9 @@ def test_steps_nest_and_the_lines_number_the_tree(sim, make_workspace) -> None:
         workspace.indent(0)
 
 
-def test_undo_and_redo_every_edit_including_new_and_load(sim, clock, make_workspace) -> None:
+def test_undo_and_redo_every_edit_including_new_and_load(
+    sim: SimController, clock: FakeClock, make_workspace: Callable[[], ProgramWorkspace]
+) -> None:
     workspace = make_workspace()
     history = [workspace.program]
     workspace.record_from(sim)
@@ -102,7 +114,7 @@ def test_undo_and_redo_every_edit_including_new_and_load(sim, clock, make_worksp
     history.append(workspace.program)
     workspace.new()  # replaces the program on screen
     history.append(workspace.program)
-    assert workspace.program.steps == ()
+    assert not workspace.program.steps
 
     workspace.undo()  # New taken back: the program and its file come back
     assert workspace.program == history[3] and workspace.file_name == "job" and not workspace.dirty
@@ -124,7 +136,9 @@ def test_undo_and_redo_every_edit_including_new_and_load(sim, clock, make_worksp
     assert isinstance(workspace.program.steps[-1], WaitStep) and workspace.program.steps[-1].ms == 20
 
 
-def test_a_version_1_file_is_migrated_and_saved_as_version_2(tmp_path: Path, waypoints) -> None:
+def test_a_version_1_file_is_migrated_and_saved_as_version_2(
+    tmp_path: Path, waypoints: dict[str, Waypoint]
+) -> None:
     a = waypoints["A"].model_dump(mode="json")
     version_1 = {
         "schema_version": 1,
@@ -145,7 +159,9 @@ def test_a_version_1_file_is_migrated_and_saved_as_version_2(tmp_path: Path, way
     assert saved["schema_version"] == 2 and saved["steps"][0]["waypoint"] == "A"
 
 
-def test_saved_files_carry_no_float_noise(sim, clock, make_workspace, tmp_path: Path) -> None:
+def test_saved_files_carry_no_float_noise(
+    sim: SimController, clock: FakeClock, make_workspace: Callable[[], ProgramWorkspace], tmp_path: Path
+) -> None:
     workspace = make_workspace()
     sim.reset()  # at home: TCP coordinates such as y come out of FK as -9.5e-15, not 0
     workspace.record_from(sim)

@@ -37,9 +37,9 @@ from pendant.program import (
     program_operations,
 )
 from pendant.program.export import TOKEN_ENV
-from pendant.sim import MonotonicClock, SimController
-from tests.program.conftest import move, program_of
+from pendant.sim import FakeClock, MonotonicClock, SimController
 from tests.support.launchers import running_pendant
+from tests.support.programs import move, program_of
 from tests.support.threads import serve_in_thread
 
 ANGLE_TOL_DEG = 1e-6
@@ -87,7 +87,7 @@ def pick_and_place(waypoints: dict[str, Waypoint]) -> Program:
     )
 
 
-def test_the_export_is_one_call_per_blended_group_and_valid_python(waypoints) -> None:
+def test_the_export_is_one_call_per_blended_group_and_valid_python(waypoints: dict[str, Waypoint]) -> None:
     program = pick_and_place(waypoints)
     operations = program_operations(program)
     assert [o["op"] for o in operations] == [
@@ -108,7 +108,7 @@ def test_the_export_is_one_call_per_blended_group_and_valid_python(waypoints) ->
 
 
 def test_the_exported_script_ends_where_the_runner_does(
-    sim, clock, waypoints, tmp_path: Path, api_url
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint], tmp_path: Path, api_url: str
 ) -> None:
     program = pick_and_place(waypoints)
     in_process = ProgramRunner(sim, sleep=clock.advance, now=clock.now).run(program)
@@ -128,7 +128,7 @@ def test_the_exported_script_ends_where_the_runner_does(
 
 
 def test_a_refused_step_exits_1_with_the_step_and_the_controller_message(
-    tmp_path: Path, waypoints, api_url
+    tmp_path: Path, waypoints: dict[str, Waypoint], api_url: str
 ) -> None:
     a = waypoints["A"]
     far = a.model_copy(update={"name": "Far", "pose": Pose(angles=[0.0, -90.0, 400.0, -90.0, -90.0, 0.0])})
@@ -155,7 +155,7 @@ def guarded_api() -> Iterator[tuple[SimController, str]]:
 
 
 def test_the_exported_script_sends_an_exposed_pendants_token(
-    tmp_path: Path, waypoints, guarded_api: tuple[SimController, str]
+    tmp_path: Path, waypoints: dict[str, Waypoint], guarded_api: tuple[SimController, str]
 ) -> None:
     sim, url = guarded_api
     a, b = waypoints["A"], waypoints["B"]
@@ -185,7 +185,7 @@ def test_the_exported_script_sends_an_exposed_pendants_token(
 
 
 def test_every_step_type_exports_and_runs_like_the_runner(
-    sim, clock, waypoints, tmp_path: Path, api_url
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint], tmp_path: Path, api_url: str
 ) -> None:
     a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
     store = ProgramStore(tmp_path)
@@ -207,7 +207,8 @@ def test_every_step_type_exports_and_runs_like_the_runner(
     operations = program_operations(program, store.load)
     # The relative and the absolute LINEAR move blend into one call; the gripper closes once at the second.
     assert [o["op"] for o in operations] == ["loop", "if", "run_positions", "run_poses", "output"]
-    assert len(operations[2]["targets"]) == 2  # type: ignore[arg-type]
+    targets = operations[2]["targets"]
+    assert isinstance(targets, list) and len(targets) == 2
     assert operations[2]["actions"] == [{"target": "gripper", "value": "close"}]
     assert (
         operations[3]["steps"] == operations[4]["steps"] == [10]

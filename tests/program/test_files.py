@@ -18,11 +18,13 @@ from pendant.program import (
     MoveStep,
     Program,
     ProgramFileError,
+    ProgramRunner,
     ProgramStore,
     Waypoint,
     atomic_write,
     sanitize_name,
 )
+from pendant.sim import SimController
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 
@@ -54,7 +56,9 @@ def test_save_and_load_round_trip_the_program(tmp_path: Path) -> None:
     assert [s["waypoint"] for s in document["steps"]] == ["P1", "P2"]
 
 
-def test_a_write_that_fails_midway_leaves_the_old_file_and_no_litter(tmp_path: Path, monkeypatch) -> None:
+def test_a_write_that_fails_midway_leaves_the_old_file_and_no_litter(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     store = ProgramStore(tmp_path)
     store.save(program_of("P1"), "job")
     before = (tmp_path / "job.json").read_bytes()
@@ -135,7 +139,9 @@ def test_the_autosave_is_not_listed_and_restores_the_program(tmp_path: Path) -> 
     store = ProgramStore(tmp_path)
     store.autosave(program_of("P1"), None, True)
     assert store.names() == []
-    program, file_name, dirty = store.restore()  # type: ignore[misc]
+    restored = store.restore()
+    assert restored is not None
+    program, file_name, dirty = restored
     assert program.waypoint_names() == ["P1"] and file_name is None and dirty
     assert store.restore_problem is None
 
@@ -145,7 +151,7 @@ def refused_autosaves(folder: Path) -> list[Path]:
 
 
 def test_a_corrupt_autosave_starts_an_empty_program_and_every_refused_one_is_kept_and_explained(
-    tmp_path: Path, runner
+    tmp_path: Path, runner: ProgramRunner
 ) -> None:
     from pendant.program import ProgramWorkspace
 
@@ -197,7 +203,7 @@ def test_an_autosave_that_is_not_one_is_refused_with_the_reason(
 
 
 def test_an_autosave_that_cannot_be_moved_aside_is_left_and_the_message_says_to_copy_it(
-    tmp_path: Path, monkeypatch
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     (tmp_path / ".autosave.json").write_text("{garbage")
 
@@ -234,7 +240,7 @@ def test_a_recorded_waypoint_survives_the_process_being_killed(tmp_path: Path) -
 
     from pendant.program import ProgramRunner, ProgramWorkspace
 
-    restarted = ProgramWorkspace(ProgramStore(tmp_path), ProgramRunner(controller=None))  # type: ignore[arg-type]
+    restarted = ProgramWorkspace(ProgramStore(tmp_path), ProgramRunner(SimController()))
     assert restarted.program.waypoint_names() == ["P1"]
     assert restarted.program.waypoint("P1").pose.angles[0] == 10.0
     assert restarted.dirty

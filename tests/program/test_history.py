@@ -5,13 +5,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from dulwich.objects import Commit
 from dulwich.repo import Repo
 
 from pendant.program import MoveStep, ProgramRunner, ProgramWorkspace, WaitStep
 from pendant.program.history import COMMITTER, OUTSIDE
 from pendant.program.versions import VersionedStore
-
-from .history_support import git, pick_program, waypoint
+from tests.support.program_history import git, pick_program, waypoint
 
 OPERATOR = "browser #2 (10.0.0.7)"
 
@@ -20,7 +20,9 @@ def workspace_in(folder: Path, runner: ProgramRunner, who: str = OPERATOR) -> Pr
     return ProgramWorkspace(VersionedStore(folder, who=lambda: who), runner)
 
 
-def test_three_saves_are_three_commits_that_dulwich_and_git_read(tmp_path, runner) -> None:
+def test_three_saves_are_three_commits_that_dulwich_and_git_read(
+    tmp_path: Path, runner: ProgramRunner
+) -> None:
     folder = tmp_path / "programs"
     workspace = workspace_in(folder, runner)
     workspace.open_uploaded(pick_program())
@@ -47,6 +49,7 @@ def test_three_saves_are_three_commits_that_dulwich_and_git_read(tmp_path, runne
     repo = Repo(str(folder))
     try:
         newest = repo[repo.head()]
+        assert isinstance(newest, Commit)
         assert newest.author.decode().startswith(f"{OPERATOR} <")
         # The whole diff is in the message, one change a line, and who saved it.
         assert b"- step 6 (Wait 250 ms) added" in newest.message and OPERATOR.encode() in newest.message
@@ -56,7 +59,9 @@ def test_three_saves_are_three_commits_that_dulwich_and_git_read(tmp_path, runne
     assert git(folder, "show", "HEAD:pick.json").encode() == (folder / "pick.json").read_bytes()
 
 
-def test_restore_brings_back_a_versions_bytes_as_a_new_version_and_undo_goes_back(tmp_path, runner) -> None:
+def test_restore_brings_back_a_versions_bytes_as_a_new_version_and_undo_goes_back(
+    tmp_path: Path, runner: ProgramRunner
+) -> None:
     folder = tmp_path / "programs"
     workspace = workspace_in(folder, runner)
     workspace.open_uploaded(pick_program())
@@ -82,7 +87,9 @@ def test_restore_brings_back_a_versions_bytes_as_a_new_version_and_undo_goes_bac
     assert workspace.program == saved and not workspace.dirty
 
 
-def test_delete_is_a_version_and_the_deleted_program_can_still_be_read(tmp_path, runner) -> None:
+def test_delete_is_a_version_and_the_deleted_program_can_still_be_read(
+    tmp_path: Path, runner: ProgramRunner
+) -> None:
     folder = tmp_path / "programs"
     workspace = workspace_in(folder, runner)
     workspace.open_uploaded(pick_program())
@@ -96,7 +103,9 @@ def test_delete_is_a_version_and_the_deleted_program_can_still_be_read(tmp_path,
     assert workspace.versions.version_program("pick", version.commit) == saved
 
 
-def test_a_file_changed_behind_the_pendants_back_is_kept_before_it_is_replaced(tmp_path, runner) -> None:
+def test_a_file_changed_behind_the_pendants_back_is_kept_before_it_is_replaced(
+    tmp_path: Path, runner: ProgramRunner
+) -> None:
     folder = tmp_path / "programs"
     workspace = workspace_in(folder, runner)
     workspace.open_uploaded(pick_program())
@@ -116,7 +125,7 @@ def test_a_file_changed_behind_the_pendants_back_is_kept_before_it_is_replaced(t
     assert "step 5 (Wait 500 ms): wait 750 -> 500 ms" in git(folder, "log", "-1", "--format=%B")
 
 
-def test_a_repository_the_user_made_is_used_as_it_is(tmp_path, runner) -> None:
+def test_a_repository_the_user_made_is_used_as_it_is(tmp_path: Path, runner: ProgramRunner) -> None:
     folder = tmp_path / "programs"
     folder.mkdir()
     git(folder, "init", "-q")
@@ -140,7 +149,7 @@ def test_a_repository_the_user_made_is_used_as_it_is(tmp_path, runner) -> None:
     assert git(folder, "show", "--name-only", "--format=", "HEAD").split() == ["pick.json"]
 
 
-def test_programs_already_in_the_folder_start_the_history(tmp_path, runner) -> None:
+def test_programs_already_in_the_folder_start_the_history(tmp_path: Path, runner: ProgramRunner) -> None:
     folder = tmp_path / "programs"
     folder.mkdir()
     (folder / "old.json").write_bytes(b"kept as it was\n")  # not even a program: kept all the same
@@ -157,7 +166,7 @@ def test_programs_already_in_the_folder_start_the_history(tmp_path, runner) -> N
     assert set(git(folder, "ls-files").split()) == {".gitignore", "old.json", "pick.json"}
 
 
-def test_the_folder_pushes_to_a_server_with_ordinary_git(tmp_path, runner) -> None:
+def test_the_folder_pushes_to_a_server_with_ordinary_git(tmp_path: Path, runner: ProgramRunner) -> None:
     folder = tmp_path / "programs"
     workspace = workspace_in(folder, runner)
     workspace.open_uploaded(pick_program())

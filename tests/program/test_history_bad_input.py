@@ -15,8 +15,7 @@ from pendant.program import MoveStep
 from pendant.program.files import dump_program
 from pendant.program.history import HistoryError
 from pendant.program.versions import VersionedStore
-
-from .history_support import git, pick_program
+from tests.support.program_history import git, pick_program
 
 # A real process without CAP_DAC_OVERRIDE: even as root, a folder's write bits then hold (the suite runs as
 # root in CI, where chmod alone would not make a folder read-only).
@@ -58,7 +57,7 @@ def faster(program_speed: float) -> MoveStep:
     return MoveStep(waypoint="P1", speed=program_speed)
 
 
-def test_a_read_only_folder_refuses_the_save_clearly_and_keeps_the_file(tmp_path) -> None:
+def test_a_read_only_folder_refuses_the_save_clearly_and_keeps_the_file(tmp_path: Path) -> None:
     folder = tmp_path / "programs"
     saved_once(folder)
     before = (folder / "pick.json").read_bytes()
@@ -74,7 +73,7 @@ def test_a_read_only_folder_refuses_the_save_clearly_and_keeps_the_file(tmp_path
     assert git(folder, "rev-list", "--all") == commits
 
 
-def test_a_read_only_history_keeps_the_save_and_says_it_was_not_recorded(tmp_path) -> None:
+def test_a_read_only_history_keeps_the_save_and_says_it_was_not_recorded(tmp_path: Path) -> None:
     folder = tmp_path / "programs"
     saved_once(folder)
     subprocess.run(["chmod", "-R", "a-w", str(folder / ".git")], check=True)
@@ -90,7 +89,7 @@ def test_a_read_only_history_keeps_the_save_and_says_it_was_not_recorded(tmp_pat
     assert b'"speed": 90.0' in (folder / "pick.json").read_bytes()  # the save itself is on disk
 
 
-def test_a_damaged_repository_keeps_the_save_and_says_what_to_do(tmp_path) -> None:
+def test_a_damaged_repository_keeps_the_save_and_says_what_to_do(tmp_path: Path) -> None:
     folder = tmp_path / "programs"
     store = saved_once(folder)
     branch = git(folder, "symbolic-ref", "HEAD").strip()
@@ -107,7 +106,7 @@ def test_a_damaged_repository_keeps_the_save_and_says_what_to_do(tmp_path) -> No
         store.versions("pick")
 
 
-def test_a_git_folder_that_is_not_a_repository_keeps_the_save(tmp_path) -> None:
+def test_a_git_folder_that_is_not_a_repository_keeps_the_save(tmp_path: Path) -> None:
     folder = tmp_path / "programs"
     folder.mkdir()
     (folder / ".git").write_text("this is not a repository\n")
@@ -118,7 +117,7 @@ def test_a_git_folder_that_is_not_a_repository_keeps_the_save(tmp_path) -> None:
     assert ".git" in store.history_note
 
 
-def test_a_repository_in_the_middle_of_a_merge_is_not_committed_to(tmp_path) -> None:
+def test_a_repository_in_the_middle_of_a_merge_is_not_committed_to(tmp_path: Path) -> None:
     folder = tmp_path / "programs"
     store = saved_once(folder)
     head = git(folder, "rev-parse", "HEAD").strip()
@@ -130,7 +129,7 @@ def test_a_repository_in_the_middle_of_a_merge_is_not_committed_to(tmp_path) -> 
     assert git(folder, "rev-parse", "HEAD").strip() == head
 
 
-def test_a_version_that_is_not_there_is_refused_clearly(tmp_path) -> None:
+def test_a_version_that_is_not_there_is_refused_clearly(tmp_path: Path) -> None:
     folder = tmp_path / "programs"
     store = saved_once(folder)
     with pytest.raises(HistoryError, match="No version 'abcdef12'"):
@@ -140,7 +139,7 @@ def test_a_version_that_is_not_there_is_refused_clearly(tmp_path) -> None:
     assert store.load("pick") == VersionedStore(folder).load("pick")
 
 
-def test_a_file_that_is_not_a_program_is_kept_and_the_save_described_as_new(tmp_path) -> None:
+def test_a_file_that_is_not_a_program_is_kept_and_the_save_described_as_new(tmp_path: Path) -> None:
     folder = tmp_path / "programs"
     store = saved_once(folder)
     (folder / "pick.json").write_bytes(b"{ broken by hand")

@@ -10,8 +10,7 @@ from pathlib import Path
 from pendant.program import LoopStep, MoveStep, WaitStep
 from pendant.program.files import ProgramStore
 from pendant.program.versions import VersionedStore
-
-from .history_support import pick_program, waypoint
+from tests.support.program_history import pick_program, waypoint
 
 EXIT_REFUSED = 2
 
@@ -27,7 +26,7 @@ def pendant(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[
     )
 
 
-def test_pendant_diff_of_two_files_says_what_changed(tmp_path) -> None:
+def test_pendant_diff_of_two_files_says_what_changed(tmp_path: Path) -> None:
     old, new = pick_program(), pick_program(speed=40.0, loop_times=5)
     table = (*new.waypoints[:2], waypoint("P3", 488.0))
     ProgramStore(tmp_path).save(old, "A")
@@ -44,7 +43,7 @@ def test_pendant_diff_of_two_files_says_what_changed(tmp_path) -> None:
     assert (same.returncode, same.stdout) == (0, "No changes.\n")
 
 
-def test_pendant_history_lists_the_versions_and_diff_reads_them(tmp_path) -> None:
+def test_pendant_history_lists_the_versions_and_diff_reads_them(tmp_path: Path) -> None:
     store = VersionedStore(tmp_path / "programs", who=lambda: "browser #3 (10.0.0.9)")
     store.save(pick_program(), "pick")
     store.save(pick_program(extra=(WaitStep(ms=100),)), "pick")
@@ -69,7 +68,7 @@ def test_pendant_history_lists_the_versions_and_diff_reads_them(tmp_path) -> Non
     ]
 
 
-def test_the_command_line_refuses_bad_input_clearly(tmp_path) -> None:
+def test_the_command_line_refuses_bad_input_clearly(tmp_path: Path) -> None:
     ProgramStore(tmp_path).save(pick_program(), "A")
     (tmp_path / "broken.json").write_text('{"schema_version": 2, "steps": [')
 
@@ -84,7 +83,7 @@ def test_the_command_line_refuses_bad_input_clearly(tmp_path) -> None:
     assert "Traceback" not in missing.stderr + broken.stderr + no_history.stderr + too_far.stderr
 
 
-def test_a_loop_nested_change_is_numbered_as_the_step_list_numbers_it(tmp_path) -> None:
+def test_a_loop_nested_change_is_numbered_as_the_step_list_numbers_it(tmp_path: Path) -> None:
     old = pick_program()
     loop = LoopStep(times=3, body=(WaitStep(ms=500), MoveStep(waypoint="P2")))
     new = old.model_copy(update={"steps": (*old.steps[:3], loop)})

@@ -11,8 +11,7 @@ from pathlib import Path
 
 from pendant.program.versions import VersionedStore
 from tests.support.launchers import child_env
-
-from .history_support import git, pick_program
+from tests.support.program_history import git, pick_program
 
 ROUNDS = 20
 WRITERS = 2

@@ -13,8 +13,7 @@ import pytest
 from pendant.program import MoveStep
 from pendant.program.versions import VersionedStore
 from tests.support.launchers import child_env
-
-from .history_support import cut_head_commit, pick_program
+from tests.support.program_history import cut_head_commit, pick_program
 
 EXIT_REFUSED = 2  # docs/history.md
 

@@ -17,7 +17,7 @@ from pendant.program import PathStep, Program, export_script, program_operations
 from pendant.program.blended import FALLBACK_NOTE
 from pendant.sim import FakeClock, MonotonicClock, SimController
 from pendant.teach.path_step import path_step
-from tests.program.test_path_step import WithoutRunOperations, hand_drawn_s
+from tests.support.path_playback import WithoutRunOperations, hand_drawn_s
 from tests.support.threads import serve_in_thread
 
 SCRIPT_TIMEOUT_S = 60.0

@@ -7,10 +7,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import viser
 from fastapi.testclient import TestClient
 
 from pendant.api import create_app
 from pendant.controller import SignalLevel
+from pendant.planning.report import PreflightReport
 from pendant.program import OutputStep, PathStep, ProgramRunner, ProgramStore, ProgramWorkspace, RunState
 from pendant.program.blended import FALLBACK_NOTE
 from pendant.remote import RemoteController
@@ -19,15 +21,17 @@ from pendant.teach.path_step import path_step
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.program.panel import ProgramPanel
 from pendant.ui.program.scene import ROOT
-from tests.program.test_path_step import WithoutRunOperations, hand_drawn_s
-from tests.program.test_program_panel import FakeClient, fire, server, setup  # noqa: F401  (fixtures)
+from tests.support.doubles import OPERATOR, FakeBrowser, fire
+from tests.support.path_playback import WithoutRunOperations, hand_drawn_s
 
 WAIT_S = 10.0
 
 
-def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]  # noqa: F811
+def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, clock: FakeClock
+) -> None:
     panel, workspace = setup
-    browser = FakeClient()
+    browser = FakeBrowser(OPERATOR)
     step = path_step(hand_drawn_s(sim, clock), name="s1")
     workspace.insert_step(OutputStep(port=1, level=SignalLevel.HIGH))
     workspace.insert_step(step)
@@ -35,14 +39,15 @@ def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup
     line = f"2. Path s1: {count} waypoints, 1 mm / 1° @ 100 mm/s"
     assert list(panel.select.options)[2] == line  # after "(no step selected)" and line 1
 
-    drawn = {node.name: node for node in panel.scene._nodes}
+    drawn = {node.name: node for node in panel.scene.nodes}
     polyline = drawn[f"{ROOT}/recorded_paths"]
     dots = drawn[f"{ROOT}/recorded_waypoints"]
+    assert isinstance(polyline, viser.LineSegmentsHandle) and isinstance(dots, viser.PointCloudHandle)
     assert polyline.points.shape[1:] == (2, 3) and len(polyline.points) == count - 1
     end = step.points[-1].position.point
     assert np.allclose(dots.points[-1], [end.x, end.y, end.z], atol=1e-6)
     # A marker at its start (where the arm goes first) and one at its end: not one per waypoint.
-    assert [step_line for _, step_line in panel.scene._markers] == [1, 1]
+    assert [step_line for _, step_line in panel.scene.markers] == [1, 1]
 
     fire(panel.select, browser, line)
     assert panel.form.path_speed.visible and panel.form.speed.visible and not panel.form.goes_to.visible
@@ -50,11 +55,13 @@ def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup
     edited = workspace.program.steps[1]
     assert isinstance(edited, PathStep) and edited.velocity_mm_s == 40.0 and edited.points == step.points
     fire(panel.form.path_speed, browser, 1e9)  # beyond 2 m/s: refused, nothing changed
-    assert workspace.program.steps[1] == edited and browser.notifications[-1]["title"] == "Edit step refused"
+    assert workspace.program.steps[1] == edited and browser.notifications[-1].startswith(
+        "Edit step refused: "
+    )
 
     # Another tolerance simplifies the path again from its kept recording (here: none kept, refused).
     fire(panel.form.path_tol, browser, (2.0, 2.0))
-    assert workspace.program.steps[1] == edited and "no kept recording" in browser.notifications[-1]["body"]
+    assert workspace.program.steps[1] == edited and "no kept recording" in browser.notifications[-1]
 
     fire(panel.order, browser, "Up")
     assert isinstance(workspace.program.steps[0], PathStep)
@@ -63,9 +70,11 @@ def test_a_path_step_is_one_line_drawn_as_a_polyline_and_edited_as_a_whole(setup
     assert [type(s) for s in workspace.program.steps] == [OutputStep]
 
 
-def test_another_tolerance_simplifies_the_kept_recording_again(setup, sim, clock, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]  # noqa: F811
+def test_another_tolerance_simplifies_the_kept_recording_again(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, clock: FakeClock, tmp_path: Path
+) -> None:
     panel, workspace = setup
-    browser = FakeClient()
+    browser = FakeBrowser(OPERATOR)
     workspace.path_recordings = tmp_path / "recordings"
     recording = hand_drawn_s(sim, clock, folder=workspace.path_recordings)
     step = path_step(recording, name="s1").model_copy(update={"velocity_mm_s": 40.0})
@@ -83,7 +92,7 @@ def test_another_tolerance_simplifies_the_kept_recording_again(setup, sim, clock
 
 
 def test_on_a_controller_without_run_operations_the_tab_says_the_path_played_stop_and_go(
-    server,  # noqa: F811
+    server: viser.ViserServer,
     sim: SimController,
     clock: FakeClock,
     tmp_path: Path,
@@ -98,10 +107,13 @@ def test_on_a_controller_without_run_operations_the_tab_says_the_path_played_sto
         panel = ProgramPanel(server, workspace, commands, arm=sim.arm)
         try:
             workspace.insert_step(step)
-            fire(panel.check_section.check, FakeClient())  # a real arm: Run waits for a passing check
-            assert panel.pending is not None and panel.pending.result(timeout=WAIT_S).ok
-            fire(panel.run, FakeClient())
-            workspace.runner._worker.join(timeout=WAIT_S)  # type: ignore[union-attr]  # the run started it
+            # A real arm: Run waits for a passing check.
+            fire(panel.check_section.check, FakeBrowser(OPERATOR))
+            assert panel.pending is not None
+            report = panel.pending.result(timeout=WAIT_S)
+            assert isinstance(report, PreflightReport) and report.ok
+            fire(panel.run, FakeBrowser(OPERATOR))
+            assert workspace.runner.join(timeout=WAIT_S)
             assert workspace.progress.state is RunState.FINISHED
             assert panel.run_status.content == f"Finished\n\n{FALLBACK_NOTE}"
         finally:

@@ -41,11 +41,10 @@ from pendant.remote import RemoteController
 from pendant.sim import FakeClock, SimController
 from pendant.teach.path_step import path_step
 from pendant.teach.recording import Recording
-from tests.program.conftest import move, program_of
-from tests.program.test_bounds import many_moves
-from tests.program.test_runner import Recording as CallLog
 from tests.support.deviation import from_rest_at, max_deviation_mm, max_turn_deg, start_index
 from tests.support.path_playback import Sampler, WithoutRunOperations, hand_drawn_s, recorded_points
+from tests.support.programs import Recording as CallLog
+from tests.support.programs import many_moves, move, program_of
 
 TOL_MM = 1.0
 TOL_DEG = 1.0
@@ -167,8 +166,8 @@ def test_a_paused_path_resumes_at_the_waypoint_it_was_heading_for(
     a_second_into_the_path(sampler, log, clock, runner.pause)
     paused = runner.run(program)
     assert paused.state is RunState.PAUSED
-    heading = runner._run.interpreter.stack[-1].target  # type: ignore[union-attr]
-    assert 1 <= heading < len(step.points) - 1
+    heading = runner.resume_target
+    assert heading is not None and 1 <= heading < len(step.points) - 1
     stopped_at = sim.get_position()
 
     resumed = runner.resume()
@@ -191,7 +190,8 @@ def test_a_path_step_is_saved_and_read_back_and_programs_hold_a_bounded_number_o
     program = Program(name="drawn", steps=(step,))
     saved = dump_program(program)
     read = parse_program(saved, "drawn.json")
-    assert dump_program(read) == saved and read.steps[0].points[0].pose == step.points[0].pose  # type: ignore[union-attr]
+    assert dump_program(read) == saved and isinstance(read.steps[0], PathStep)
+    assert read.steps[0].points[0].pose == step.points[0].pose
 
     # The largest program: full paths (every number at full precision) up to the limit, long moves after.
     rng = np.random.default_rng(7)
@@ -238,7 +238,7 @@ def test_as_the_runners_blended_path_it_runs_taught_moves_with_their_actions_in_
     sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
 ) -> None:
     log = CallLog(sim)
-    runner = ProgramRunner(log, sleep=clock.advance, now=clock.now, blended=BlendedRun(log))  # type: ignore[arg-type]
+    runner = ProgramRunner(log, sleep=clock.advance, now=clock.now, blended=BlendedRun(log))
     set_do1 = (OutputAction(port=1, value=SignalLevel.HIGH),)
     program = program_of(move(waypoints["A"], actions=set_do1), move(waypoints["B"]), move(waypoints["C"]))
     result = runner.run(program)

@@ -19,7 +19,7 @@ from pendant.program import MoveStep, ProgramRunner, RunState, Waypoint
 from pendant.program.files import dump_program, parse_program
 from pendant.program.motion import MSG_NO_PLANNER
 from pendant.sim import FakeClock, SimController
-from tests.program.conftest import POLL_S, move, program_of, settle, teach
+from tests.support.programs import POLL_S, move, program_of, settle, teach
 
 ANGLE_TOL_DEG = 0.5  # the runner's own arrival tolerance
 SEARCH_POLLS_BEFORE_STOP = 1  # the search has begun: its first look at the run's stop
@@ -91,7 +91,7 @@ def test_stop_while_the_path_is_searched_ends_the_search_and_nothing_moves(
     # The operator presses Stop while the planned step is still searching its path round the box: the
     # search ends there (it polls the run's stop), the run says stopped, and no path is sent afterwards.
     plans = ControllerPlanner(ArmModel.load("pulse75"), budget_s=10.0)  # long enough to be under way
-    polls_after_stop = []
+    polls_after_stop: list[int] = []
     ended_by: list[str] = []
 
     def planner(controller: Controller, goal: Pose | Position, cancelled: Callable[[], bool]) -> list[Pose]:

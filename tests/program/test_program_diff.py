@@ -7,8 +7,7 @@ import pytest
 from pendant.controller import SignalLevel
 from pendant.program import LoopStep, MoveStep, Program, WaitInputStep, WaitStep
 from pendant.program.diff import diff_programs
-
-from .history_support import pick_program, waypoint
+from tests.support.program_history import pick_program, waypoint
 
 DISTANCE_TOL_MM = 1e-6
 

@@ -2,13 +2,9 @@
 
 from __future__ import annotations
 
-import asyncio
-import inspect
 import json
 import re
-from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pytest
@@ -33,77 +29,32 @@ from pendant.ui.kit.snapshot import Snapshot
 from pendant.ui.page.banner import Banner
 from pendant.ui.page.recovery import Recovery
 from pendant.ui.program.panel import NO_SELECTION, ProgramPanel
+from tests.support.doubles import OPERATOR, FakeBrowser, fire
 from tests.support.ports import free_port
-
-from .conftest import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, teach
+from tests.support.programs import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, teach
 
 ANGLE_TOL_DEG = 1e-6
 WAIT_S = 10.0
 
 
-class FakeClient:
-    """Stands in for a browser: keeps the notifications and downloads it is sent."""
-
-    client_id = 1
-
-    def __init__(self) -> None:
-        self.notifications: list[dict[str, Any]] = []
-        self.downloads: list[tuple[str, bytes]] = []
-
-    def add_notification(self, **kwargs: Any) -> None:
-        self.notifications.append(kwargs)
-
-    def send_file_download(self, filename: str, content: bytes, **_: Any) -> None:
-        self.downloads.append((filename, content))
-
-
-def fire(handle: Any, client: FakeClient, value: Any = None) -> None:
-    """What viser does when a browser clicks or edits `handle`: set the value, call the callbacks once."""
-    if value is not None:
-        handle._impl.value = value  # not `handle.value = ...`: that would also call back, as from Python
-    for callback in list(handle._impl.update_cb):
-        called = callback(viser.GuiEvent(client=client, client_id=client.client_id, target=handle))  # type: ignore[arg-type]  # a fake client for viser's
-        if inspect.iscoroutine(called):  # viser awaits it on its event loop (the banner's buttons)
-            asyncio.run(called)
-
-
-@pytest.fixture
-def server() -> Iterator[viser.ViserServer]:
-    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
-    yield server
-    server.stop()
-
-
-@pytest.fixture
-def setup(
-    server: viser.ViserServer, sim: SimController, clock: FakeClock, tmp_path: Path
-) -> Iterator[tuple[ProgramPanel, ProgramWorkspace]]:
-    runner = CommandRunner(sim)
-    workspace = ProgramWorkspace(
-        ProgramStore(tmp_path / "programs"), ProgramRunner(sim, sleep=clock.advance, now=clock.now)
-    )
-    panel = ProgramPanel(server, workspace, runner, arm=sim.arm)
-    yield panel, workspace
-    panel.close()
-    runner.shutdown()
-
-
-def record(panel: ProgramPanel, client: FakeClient) -> None:
+def record(panel: ProgramPanel, client: FakeBrowser) -> None:
     fire(panel.record, client)
     assert panel.pending is not None
     panel.pending.result(timeout=WAIT_S)
 
 
-def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_record_edit_save_run_download_from_the_tab(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, clock: FakeClock, tmp_path: Path
+) -> None:
     panel, workspace = setup
-    browser = FakeClient()
+    browser = FakeBrowser(OPERATOR)
     for pose in (POSE_A_DEG, POSE_B_DEG):
         teach(sim, clock, pose, "ignored")
         record(panel, browser)
     sim.reset()
     assert list(panel.select.options) == [NO_SELECTION, "1. Move J to P1 @ 20%", "2. Move J to P2 @ 20%"]
     assert "P2" in panel.steps_view.content
-    assert len(panel.scene._markers) == 2
+    assert len(panel.scene.markers) == 2
 
     fire(panel.select, browser, "1. Move J to P1 @ 20%")
     fire(panel.form.speed, browser, 80.0)
@@ -121,11 +72,11 @@ def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path)
     fire(panel.file_section.file_name, browser, "cell 4")
     fire(panel.file_section.files, browser, "Save as")
     assert (tmp_path / "programs" / "cell 4.json").is_file()
-    assert browser.notifications[-1]["title"] == "Saved"
+    assert browser.notifications[-1].startswith("Saved: ")
     assert "`cell 4.json`" in panel.title.content
 
     fire(panel.run, browser)
-    workspace.runner._worker.join(timeout=WAIT_S)
+    assert workspace.runner.join(timeout=WAIT_S)
     assert workspace.progress.state is RunState.FINISHED
     assert panel.progress.value == 100.0 and panel.run_status.content == "Finished"
     np.testing.assert_allclose(sim.get_pose().angles, POSE_B_DEG, atol=ANGLE_TOL_DEG)
@@ -138,35 +89,39 @@ def test_record_edit_save_run_download_from_the_tab(setup, sim, clock, tmp_path)
     assert browser.downloads[-1][0] == "cell_4.py"
 
 
-def test_a_refused_upload_is_explained_and_changes_nothing(setup, sim) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_a_refused_upload_is_explained_and_changes_nothing(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController
+) -> None:
     panel, workspace = setup
-    browser = FakeClient()
+    browser = FakeBrowser(OPERATOR)
     record(panel, browser)
     before = workspace.program
-    panel.file_section.upload._impl.value = viser.UploadedFile(
-        name="future.json", content=b'{"schema_version": 7}'
-    )
-    fire(panel.file_section.upload, browser)
+    future = viser.UploadedFile(name="future.json", content=b'{"schema_version": 7}')
+    fire(panel.file_section.upload, browser, future)
     assert workspace.program == before
-    assert browser.notifications[-1]["title"] == "Upload refused"
-    assert "newer pendant" in browser.notifications[-1]["body"]
+    assert browser.notifications[-1].startswith("Upload refused: ")
+    assert "newer pendant" in browser.notifications[-1]
 
 
-def test_two_browsers_see_the_same_program(setup, sim) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_two_browsers_see_the_same_program(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController
+) -> None:
     panel, workspace = setup
     elsewhere = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)  # its own scene
     other = ProgramPanel(elsewhere, workspace, CommandRunner(sim))
     try:
-        record(panel, FakeClient())
+        record(panel, FakeBrowser(OPERATOR))
         assert list(other.select.options) == [NO_SELECTION, "1. Move J to P1 @ 20%"]
     finally:
         other.close()
         elsewhere.stop()
 
 
-def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_a_reloaded_page_selects_nothing_and_record_appends(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, clock: FakeClock
+) -> None:
     panel, workspace = setup
-    browser = FakeClient()
+    browser = FakeBrowser(OPERATOR)
     for pose in (POSE_A_DEG, POSE_B_DEG):
         teach(sim, clock, pose, "ignored")
         record(panel, browser)
@@ -176,11 +131,12 @@ def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -
     reloaded = ProgramPanel(elsewhere, workspace, CommandRunner(sim), arm=sim.arm)
     try:
         assert reloaded.selected is None and reloaded.select.value == NO_SELECTION
-        ghost = reloaded.waypoints._ghost
+        ghost = reloaded.waypoints.ghost
         assert ghost is not None and not ghost.show_visual  # nothing selected, nothing previewed
         teach(sim, clock, POSE_C_DEG, "ignored")
         record(reloaded, browser)
-        assert [s.waypoint for s in workspace.program.steps] == ["P1", "P2", "P3"]
+        assert [s.waypoint for s in workspace.program.steps if isinstance(s, MoveStep)] == ["P1", "P2", "P3"]
+        assert len(workspace.program.steps) == 3
         fire(reloaded.select, browser, "1. Move J to P1 @ 20%")
         assert ghost.show_visual  # a move selected: its waypoint previewed
         record(reloaded, browser)  # a selection alone still appends
@@ -195,7 +151,9 @@ def test_a_reloaded_page_selects_nothing_and_record_appends(setup, sim, clock) -
         elsewhere.stop()
 
 
-def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(
+    server: viser.ViserServer, sim: SimController, clock: FakeClock, tmp_path: Path
+) -> None:
     folder = tmp_path / "programs"
     folder.mkdir()
     (folder / ".autosave.json").write_text("{ half a program")  # the pendant was killed mid-write by hand
@@ -212,9 +170,11 @@ def test_a_corrupt_autosave_is_reported_on_the_tab_and_kept(server, sim, clock, 
         runner.shutdown()
 
 
-def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(setup, sim, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, tmp_path: Path
+) -> None:
     panel, workspace = setup
-    browser = FakeClient()
+    browser = FakeBrowser(OPERATOR)
     files = panel.file_section
     for _ in range(3):
         record(panel, browser)
@@ -254,7 +214,12 @@ def test_nothing_is_lost_without_a_question_and_undo_brings_edits_back(setup, si
     assert workspace.program.uses_of("P2") == 0
 
 
-def test_run_from_the_selected_step_and_retry_a_failed_one_from_the_banner(setup, server, sim, clock) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_run_from_the_selected_step_and_retry_a_failed_one_from_the_banner(
+    setup: tuple[ProgramPanel, ProgramWorkspace],
+    server: viser.ViserServer,
+    sim: SimController,
+    clock: FakeClock,
+) -> None:
     panel, workspace = setup
     recovery = Recovery(EventLog(), sim.arm, simulator=True)
     banner = Banner(server, recovery, panel.commands, workspace, sim=sim)
@@ -266,7 +231,7 @@ def test_run_from_the_selected_step_and_retry_a_failed_one_from_the_banner(setup
         panel.run_section.redraw()
         return [b.label for b in banner.buttons if b.visible]
 
-    browser = FakeClient()
+    browser = FakeBrowser(OPERATOR)
     teach(sim, clock, POSE_A_DEG, "ignored")
     record(panel, browser)
     fire(panel.add, browser, "Wait DI")  # DI1 HIGH, 5 s: nobody sets it, so it fails
@@ -276,7 +241,7 @@ def test_run_from_the_selected_step_and_retry_a_failed_one_from_the_banner(setup
     sim.reset()
     fire(panel.select, browser, "2. Wait DI1 HIGH (timeout 5000 ms)")
     fire(panel.run_section.run_from, browser)
-    workspace.runner._worker.join(timeout=WAIT_S)
+    assert workspace.runner.join(timeout=WAIT_S)
     progress = workspace.progress
     assert progress.state is RunState.FAILED and progress.failed_step == 1
     assert sim.get_pose().angles == pytest.approx([0.0, -90.0, 90.0, -90.0, -90.0, 0.0])  # step 1 skipped
@@ -288,32 +253,37 @@ def test_run_from_the_selected_step_and_retry_a_failed_one_from_the_banner(setup
 
     sim.set_input(1, SignalLevel.HIGH)
     fire(banner.buttons[0], browser)
-    workspace.runner._worker.join(timeout=WAIT_S)
+    assert workspace.runner.join(timeout=WAIT_S)
     assert workspace.progress.state is RunState.FINISHED
     assert sim.get_output(1) is SignalLevel.HIGH
     np.testing.assert_allclose(sim.get_pose().angles, POSE_B_DEG, atol=ANGLE_TOL_DEG)
     assert read() == [] and panel.run_status.content == "Finished"
 
 
-def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(setup, sim, clock) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_the_3d_view_draws_relative_targets_and_the_pallet_grid(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, clock: FakeClock
+) -> None:
     panel, workspace = setup
     for pose in (POSE_A_DEG, POSE_B_DEG, POSE_C_DEG):
         teach(sim, clock, pose, "ignored")
         workspace.add_waypoint(sim.get_pose(), sim.get_position())
     workspace.insert_step(MoveStep(waypoint="P1", motion=MotionType.LINEAR, offset=Offset(z=50.0)))
     workspace.insert_step(PalletStep(corners=("P1", "P2", "P3"), rows=3, columns=4, approach_mm=30.0))
-    cells = [node for node in panel.scene._nodes if node.name == "/program/pallet_cells"]
-    assert len(cells) == 1 and cells[0].points.shape == (12, 3)
+    cells = [node for node in panel.scene.nodes if node.name == "/program/pallet_cells"]
+    assert len(cells) == 1 and isinstance(cells[0], viser.PointCloudHandle)
+    assert cells[0].points.shape == (12, 3)
     p1 = workspace.program.waypoint("P1").position.point
-    marker_points = [np.asarray(marker.position) for marker, _ in panel.scene._markers]
+    marker_points = [np.asarray(marker.position) for marker, _ in panel.scene.markers]
     above_p1 = np.array([p1.x, p1.y, p1.z + 0.05])
     assert min(float(np.linalg.norm(p - above_p1)) for p in marker_points) < 1e-4  # the relative target
     assert any(abs(float(p[2]) - (p1.z + 0.03)) < 1e-4 for p in marker_points)  # above the first cell
 
 
-def test_save_of_an_unnamed_program_asks_for_its_name_then_saves(setup, sim, clock, tmp_path) -> None:  # type: ignore[no-untyped-def]  # untyped fixtures
+def test_save_of_an_unnamed_program_asks_for_its_name_then_saves(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, clock: FakeClock, tmp_path: Path
+) -> None:
     panel, workspace = setup
-    files, browser, folder = panel.file_section, FakeClient(), tmp_path / "programs"
+    files, browser, folder = panel.file_section, FakeBrowser(OPERATOR), tmp_path / "programs"
     teach(sim, clock, POSE_A_DEG, "ignored")
     record(panel, browser)
     assert workspace.file_name is None
@@ -330,7 +300,7 @@ def test_save_of_an_unnamed_program_asks_for_its_name_then_saves(setup, sim, clo
     fire(files.files, browser, "Save")
     assert json.loads((folder / "first job.json").read_text())["name"] == "first job"
     assert workspace.file_name == "first job" and not workspace.dirty
-    assert browser.notifications[-1]["title"] == "Saved" and not files.name_prompt.visible
+    assert browser.notifications[-1].startswith("Saved: ") and not files.name_prompt.visible
 
     fire(files.files, browser, "New")
     record(panel, browser)  # the box still says "first job": Save does not write over that file

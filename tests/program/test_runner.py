@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import Any
-
 import numpy as np
 import pytest
 
@@ -20,54 +17,14 @@ from pendant.program import (
     Waypoint,
     compile_program,
 )
-from pendant.program.plan import MoveGroup
+from pendant.program.plan import MoveGroup, Node
 from pendant.sim import FakeClock, SimController
-from tests.program.conftest import move, program_of
-
-ANGLE_TOL_DEG = 1e-6
+from tests.support.programs import ANGLE_TOL_DEG, Recording, angles, move, program_of, sleeping
 
 
-class Recording:
-    """The simulator, with every command the runner sends written down in order."""
-
-    def __init__(self, sim: SimController) -> None:
-        self._sim = sim
-        self.calls: list[tuple[str, tuple[Any, ...]]] = []
-
-    def __getattr__(self, name: str) -> Any:  # the simulator's: a Controller to the type checker
-        attribute = getattr(self._sim, name)
-        if name.startswith("get_") or not callable(attribute):
-            return attribute
-
-        def record(*args: object) -> object:
-            self.calls.append((name, args))
-            return attribute(*args)
-
-        return record
-
-    def names(self) -> list[str]:
-        return [name for name, _ in self.calls]
-
-
-def sleeping(clock: FakeClock, at: float, action: Callable[[], None]) -> Callable[[float], None]:
-    """A sleep that advances the fake clock and does `action` once, when the clock passes `at` seconds."""
-    done = False
-
-    def sleep(dt: float) -> None:
-        nonlocal done
-        clock.advance(dt)
-        if not done and clock.now() >= at:
-            done = True
-            action()
-
-    return sleep
-
-
-def angles(sim: SimController) -> np.ndarray:
-    return np.array(sim.get_pose().angles)
-
-
-def test_consecutive_moves_of_one_type_and_speed_run_as_one_blended_call(sim, clock, waypoints) -> None:
+def test_consecutive_moves_of_one_type_and_speed_run_as_one_blended_call(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
     program = program_of(
         move(a),
@@ -93,18 +50,22 @@ def test_consecutive_moves_of_one_type_and_speed_run_as_one_blended_call(sim, cl
     assert sim.get_output(1) is SignalLevel.HIGH
 
 
-def test_plan_groups_only_neighbouring_moves_and_step_mode_splits_them(waypoints) -> None:
+def test_plan_groups_only_neighbouring_moves_and_step_mode_splits_them(
+    waypoints: dict[str, Waypoint],
+) -> None:
     a, b = waypoints["A"], waypoints["B"]
     program = program_of(move(a), move(b), WaitStep(ms=10), move(a), move(b, MotionType.LINEAR))
     assert [_lines(n) for n in compile_program(program)] == [[0, 1], [2], [3], [4]]
     assert [_lines(n) for n in compile_program(program, blend=False)] == [[0], [1], [2], [3], [4]]
 
 
-def _lines(node: object) -> list[int]:
-    return [t.line for t in node.targets] if isinstance(node, MoveGroup) else [node.line]  # type: ignore[attr-defined]
+def _lines(node: Node) -> list[int]:
+    return [t.line for t in node.targets] if isinstance(node, MoveGroup) else [node.line]
 
 
-def test_outputs_are_set_only_once_the_arm_has_arrived(sim, clock, waypoints) -> None:
+def test_outputs_are_set_only_once_the_arm_has_arrived(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     a = waypoints["A"]
     seen: list[np.ndarray] = []
     recording = Recording(sim)
@@ -113,13 +74,15 @@ def test_outputs_are_set_only_once_the_arm_has_arrived(sim, clock, waypoints) ->
         seen.append(angles(sim))
         sim.set_output(port, level)
 
-    recording.set_output = set_output
+    recording.answer("set_output", set_output)
     runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now)
     runner.run(program_of(move(a), OutputStep(port=2, level=SignalLevel.HIGH)))
     np.testing.assert_allclose(seen[0], a.pose.angles, atol=ANGLE_TOL_DEG)
 
 
-def test_loop_count_repeats_the_whole_program(sim, clock, waypoints) -> None:
+def test_loop_count_repeats_the_whole_program(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     program = program_of(
         move(waypoints["A"]),
         GripperStep(action=GripperAction.CLOSE, timeout_ms=100),
@@ -138,7 +101,9 @@ def test_loop_count_repeats_the_whole_program(sim, clock, waypoints) -> None:
     assert progress == sorted(progress) and progress[-1] == 1.0
 
 
-def test_step_runs_one_step_at_a_time_without_blending(sim, clock, waypoints) -> None:
+def test_step_runs_one_step_at_a_time_without_blending(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     a, b = waypoints["A"], waypoints["B"]
     program = program_of(move(a), move(b), OutputStep(port=1, level=SignalLevel.HIGH))
     runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
@@ -154,7 +119,9 @@ def test_step_runs_one_step_at_a_time_without_blending(sim, clock, waypoints) ->
     assert sim.get_output(1) is SignalLevel.HIGH
 
 
-def test_a_refused_move_stops_the_program_naming_the_step_and_the_reason(sim, clock, waypoints) -> None:
+def test_a_refused_move_stops_the_program_naming_the_step_and_the_reason(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     a = waypoints["A"]
     beyond_limits = Waypoint(
         name="Far", pose=Pose(angles=[0.0, -90.0, 400.0, -90.0, -90.0, 0.0]), position=a.position
@@ -174,7 +141,9 @@ def test_a_refused_move_stops_the_program_naming_the_step_and_the_reason(sim, cl
     assert sim.get_output(1) is SignalLevel.HIGH and sim.get_output(2) is SignalLevel.LOW
 
 
-def test_a_refused_blended_run_names_every_step_it_covers_and_moves_nothing(sim, clock, waypoints) -> None:
+def test_a_refused_blended_run_names_every_step_it_covers_and_moves_nothing(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     a, b = waypoints["A"], waypoints["B"]
     far = Waypoint(name="Far", pose=Pose(angles=[0.0, -90.0, 400.0, -90.0, -90.0, 0.0]), position=a.position)
     runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
@@ -187,7 +156,9 @@ def test_a_refused_blended_run_names_every_step_it_covers_and_moves_nothing(sim,
     np.testing.assert_allclose(angles(sim), before, atol=ANGLE_TOL_DEG)
 
 
-def test_a_fault_during_a_motion_names_the_step_it_interrupted(sim, clock, waypoints) -> None:
+def test_a_fault_during_a_motion_names_the_step_it_interrupted(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     from pendant.sim.controller import Fault
 
     program = program_of(WaitStep(ms=100), move(waypoints["A"]))
@@ -203,7 +174,7 @@ def test_a_fault_during_a_motion_names_the_step_it_interrupted(sim, clock, waypo
     assert result.message == "Step 2 (Move J to A @ 50%) failed: Robot unavailable in emergency state"
 
 
-def test_wait_for_input_times_out_with_a_clear_message(sim, clock) -> None:
+def test_wait_for_input_times_out_with_a_clear_message(sim: SimController, clock: FakeClock) -> None:
     program = program_of(
         WaitInputStep(port=2, level=SignalLevel.HIGH, timeout_ms=1500),
     )
@@ -220,7 +191,7 @@ def test_wait_for_input_times_out_with_a_clear_message(sim, clock) -> None:
     assert clock.now() - started == pytest.approx(1.5, abs=0.06)
 
 
-def test_wait_for_input_continues_when_the_input_arrives(sim, clock) -> None:
+def test_wait_for_input_continues_when_the_input_arrives(sim: SimController, clock: FakeClock) -> None:
     program = program_of(
         WaitInputStep(port=3, level=SignalLevel.HIGH, timeout_ms=5000),
         OutputStep(port=1, level=SignalLevel.HIGH),
@@ -232,7 +203,7 @@ def test_wait_for_input_continues_when_the_input_arrives(sim, clock) -> None:
     assert sim.get_output(1) is SignalLevel.HIGH
 
 
-def test_waits_and_the_gripper_take_their_time(sim, clock) -> None:
+def test_waits_and_the_gripper_take_their_time(sim: SimController, clock: FakeClock) -> None:
     program = program_of(WaitStep(ms=750), GripperStep(action=GripperAction.CLOSE, timeout_ms=500))
     runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
     started = clock.now()
@@ -241,7 +212,9 @@ def test_waits_and_the_gripper_take_their_time(sim, clock) -> None:
     assert sim.gripper_opening() == 0.0
 
 
-def test_loops_zero_repeats_until_stop(sim, clock, waypoints) -> None:
+def test_loops_zero_repeats_until_stop(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     program = program_of(move(waypoints["A"]), move(waypoints["B"], speed=80.0))
     holder: list[ProgramRunner] = []
     runner = ProgramRunner(sim, now=clock.now, sleep=sleeping(clock, 30.0, lambda: holder[0].stop()))

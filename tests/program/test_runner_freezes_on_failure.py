@@ -10,7 +10,7 @@ import numpy as np
 from pendant.controller import MotionStatus, MotionType, NotResponding
 from pendant.program import ProgramRunner, RunState, Waypoint
 from pendant.sim import FakeClock, SimController
-from tests.program.conftest import move, program_of
+from tests.support.programs import move, program_of
 
 FAIL_AT_S = 0.5
 SLOW_PERCENT = 10.0
@@ -41,7 +41,7 @@ def test_a_controller_error_mid_group_freezes_the_arm_where_it_is(
     a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
     program = program_of(*(move(w, MotionType.JOINT, SLOW_PERCENT) for w in (a, b, c)))
     flaky = FlakyStatus(sim, clock, clock.now() + FAIL_AT_S)
-    runner = ProgramRunner(flaky, sleep=clock.advance, now=clock.now, poll_s=0.05)  # type: ignore[arg-type]
+    runner = ProgramRunner(flaky, sleep=clock.advance, now=clock.now, poll_s=0.05)
 
     result = runner.run(program)
 

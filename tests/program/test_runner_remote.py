@@ -18,8 +18,7 @@ from pendant.program import (
 )
 from pendant.remote import RemoteController
 from pendant.sim import FakeClock, SimController
-from tests.program.conftest import POLL_S, move, program_of
-from tests.program.test_runner import angles, sleeping
+from tests.support.programs import POLL_S, angles, move, program_of, sleeping
 
 ANGLE_TOL_DEG = 1e-6
 POS_TOL_M = 1e-6

@@ -7,9 +7,9 @@ import numpy as np
 
 from pendant.controller.cell_types import BoxObstacle
 from pendant.controller.types import Point, Position, Rotation
-from pendant.program import ProgramRunner, RunState, Waypoint
+from pendant.program import MoveStep, Program, ProgramRunner, RunState, Waypoint
 from pendant.sim import SimController
-from tests.program.conftest import move, program_of
+from tests.support.programs import move, program_of
 
 ANGLE_TOL_DEG = 1e-6
 BOX_SIDE_M = 0.08
@@ -53,7 +53,13 @@ def test_the_runner_names_the_failure_with_its_hook(
 ) -> None:
     a, b = waypoints["A"], waypoints["B"]
     sim.add_obstacle(box_at("Box", sim.arm.fk(np.radians(b.pose.angles))[:3, 3]))
-    runner.explain_failure = lambda program, line, last, reason: f"{reason} ({program.steps[line].waypoint})"  # type: ignore[union-attr]
+
+    def explain(program: Program, line: int, last: int, reason: str) -> str:
+        step = program.steps[line]
+        assert isinstance(step, MoveStep)
+        return f"{reason} ({step.waypoint})"
+
+    runner.explain_failure = explain
     failed = runner.run(program_of(move(a, speed=50.0), move(b, speed=40.0)))
     # The hook's words end the message: the controller's reason (which names the box), then the hook's "(B)".
     assert failed.message.endswith("'Box' (B)") and "Collision detected" in failed.message, failed.message

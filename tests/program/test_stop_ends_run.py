@@ -29,7 +29,7 @@ from pendant.program import (
     Waypoint,
 )
 from pendant.sim import FakeClock, SimController
-from tests.program.conftest import POLL_S, Taught, move, program_of
+from tests.support.programs import POLL_S, Taught, move, program_of
 
 CAUSE = "Freeze from the API (127.0.0.1)"
 ANGLE_TOL_DEG = 1e-6

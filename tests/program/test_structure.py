@@ -34,9 +34,9 @@ from pendant.program import (
     compile_program,
 )
 from pendant.program.geometry import pallet_cells
-from pendant.sim import SimController
-from tests.program.conftest import move, program_of
-from tests.program.test_runner import ANGLE_TOL_DEG, Recording, angles, sleeping
+from pendant.program.plan import MoveGroup
+from pendant.sim import FakeClock, SimController
+from tests.support.programs import ANGLE_TOL_DEG, Recording, angles, move, program_of, sleeping
 
 POSITION_TOL_M = 0.002  # the runner's arrival tolerance for TCP targets
 
@@ -51,7 +51,9 @@ def point(waypoint: Waypoint) -> np.ndarray:
     return np.array([p.x, p.y, p.z])
 
 
-def test_a_loop_repeats_its_body_n_times_and_comments_do_nothing(sim, clock, waypoints) -> None:
+def test_a_loop_repeats_its_body_n_times_and_comments_do_nothing(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     a, b = waypoints["A"], waypoints["B"]
     loop = LoopStep(
         times=3,
@@ -70,7 +72,9 @@ def test_a_loop_repeats_its_body_n_times_and_comments_do_nothing(sim, clock, way
 
 
 @pytest.mark.parametrize("mode", [LoopMode.UNTIL, LoopMode.WHILE])
-def test_a_loop_on_an_input_stops_when_the_sensor_says_so(sim, clock, waypoints, mode) -> None:
+def test_a_loop_on_an_input_stops_when_the_sensor_says_so(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint], mode: LoopMode
+) -> None:
     a, b = waypoints["A"], waypoints["B"]
     # until DI1 HIGH; while DI1 LOW: the same loop, said two ways
     level = SignalLevel.HIGH if mode is LoopMode.UNTIL else SignalLevel.LOW
@@ -92,7 +96,7 @@ def test_a_loop_on_an_input_stops_when_the_sensor_says_so(sim, clock, waypoints,
     assert again.names() == []  # the condition is checked before the first pass too
 
 
-def test_if_runs_then_or_else_by_the_input(sim, clock) -> None:
+def test_if_runs_then_or_else_by_the_input(sim: SimController, clock: FakeClock) -> None:
     branch = IfStep(
         port=2,
         level=SignalLevel.HIGH,
@@ -108,7 +112,9 @@ def test_if_runs_then_or_else_by_the_input(sim, clock) -> None:
     assert (sim.get_output(1), sim.get_output(2)) == (SignalLevel.HIGH, SignalLevel.LOW)
 
 
-def test_relative_moves_go_to_the_offset_in_the_base_and_in_the_tool_frame(sim, clock, waypoints) -> None:
+def test_relative_moves_go_to_the_offset_in_the_base_and_in_the_tool_frame(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     a = waypoints["A"]
     runner = ProgramRunner(sim, sleep=clock.advance, now=clock.now)
     above = move(a, MotionType.LINEAR, offset=Offset(z=50.0))
@@ -121,7 +127,9 @@ def test_relative_moves_go_to_the_offset_in_the_base_and_in_the_tool_frame(sim, 
     np.testing.assert_allclose(tcp(sim), point(a) - 0.03 * tool_z, atol=POSITION_TOL_M)
 
 
-def test_a_waypoint_action_is_done_once_the_arm_is_there_and_ends_the_blend(sim, clock, waypoints) -> None:
+def test_a_waypoint_action_is_done_once_the_arm_is_there_and_ends_the_blend(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     a, b = waypoints["A"], waypoints["B"]
     seen: list[np.ndarray] = []
     recording = Recording(sim)
@@ -130,7 +138,7 @@ def test_a_waypoint_action_is_done_once_the_arm_is_there_and_ends_the_blend(sim,
         seen.append(angles(sim))
         sim.set_output(port, level)
 
-    recording.set_output = set_output
+    recording.answer("set_output", set_output)
     at_a = move(
         a,
         actions=(OutputAction(port=1, value=SignalLevel.HIGH), GripperAtWaypoint(value=GripperAction.CLOSE)),
@@ -142,7 +150,9 @@ def test_a_waypoint_action_is_done_once_the_arm_is_there_and_ends_the_blend(sim,
     assert sim.get_output(1) is SignalLevel.HIGH and sim.gripper_opening() == 0.0
 
 
-def test_a_pallet_takes_the_next_cell_each_pass_and_starts_over(sim, clock, waypoints) -> None:
+def test_a_pallet_takes_the_next_cell_each_pass_and_starts_over(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
     pallet = PalletStep(
         name="tray",
@@ -174,7 +184,7 @@ def test_a_pallet_takes_the_next_cell_each_pass_and_starts_over(sim, clock, wayp
 
 
 def test_a_call_runs_the_other_program_and_recursion_is_refused_before_moving(
-    sim, clock, waypoints, tmp_path: Path
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint], tmp_path: Path
 ) -> None:
     a, b = waypoints["A"], waypoints["B"]
     store = ProgramStore(tmp_path)
@@ -195,7 +205,9 @@ def test_a_call_runs_the_other_program_and_recursion_is_refused_before_moving(
         runner.run(program_of(CallStep(program="nowhere")))
 
 
-def test_a_failed_run_resumes_at_the_failed_step_and_not_before(sim, clock, waypoints) -> None:
+def test_a_failed_run_resumes_at_the_failed_step_and_not_before(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     a, b = waypoints["A"], waypoints["B"]
     program = program_of(
         move(a),
@@ -220,7 +232,9 @@ def test_a_failed_run_resumes_at_the_failed_step_and_not_before(sim, clock, wayp
     np.testing.assert_allclose(angles(sim), b.pose.angles, atol=ANGLE_TOL_DEG)
 
 
-def test_run_from_a_line_skips_what_is_before_it(sim, clock, waypoints) -> None:
+def test_run_from_a_line_skips_what_is_before_it(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     a, b, c = waypoints["A"], waypoints["B"], waypoints["C"]
     program = program_of(
         move(a),
@@ -237,14 +251,18 @@ def test_run_from_a_line_skips_what_is_before_it(sim, clock, waypoints) -> None:
     assert sim.get_output(1) is SignalLevel.LOW
 
 
-def test_blended_moves_split_at_a_hundred_targets(waypoints) -> None:
+def test_blended_moves_split_at_a_hundred_targets(waypoints: dict[str, Waypoint]) -> None:
     a, b = waypoints["A"], waypoints["B"]
     program = program_of(*[move(a if k % 2 else b) for k in range(250)])
-    sizes = [len(node.targets) for node in compile_program(program)]  # type: ignore[union-attr]
+    groups = compile_program(program)
+    assert all(isinstance(node, MoveGroup) for node in groups)
+    sizes = [len(node.targets) for node in groups if isinstance(node, MoveGroup)]
     assert sizes == [100, 100, 50]
 
 
-def test_a_refused_pose_inside_a_loop_names_its_line(sim, clock, waypoints) -> None:
+def test_a_refused_pose_inside_a_loop_names_its_line(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
     a = waypoints["A"]
     far = Waypoint(name="Far", pose=Pose(angles=[0.0, -90.0, 400.0, -90.0, -90.0, 0.0]), position=a.position)
     program = program_of(CommentStep(text="start"), LoopStep(times=2, body=(move(far).step,)), extra=(far,))
@@ -257,20 +275,20 @@ class FailingInput:
     """The simulator, whose input reads fail (a controller that stopped answering) after `after` reads."""
 
     def __init__(self, sim: SimController, after: int) -> None:
-        self._sim, self._left = sim, after
+        self._sim, self.reads_left = sim, after
 
     def __getattr__(self, name: str) -> Any:  # the simulator's: a Controller to the type checker
         return getattr(self._sim, name)
 
     def get_input(self, port: int) -> SignalLevel:
-        self._left -= 1
-        if self._left < 0:
+        self.reads_left -= 1
+        if self.reads_left < 0:
             raise NotResponding()
         return self._sim.get_input(port)
 
 
 def test_a_failed_input_read_at_the_end_of_a_pass_fails_the_loop_and_a_retry_reads_again(
-    sim, clock, waypoints
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
 ) -> None:
     a = waypoints["A"]
     loop = LoopStep(mode=LoopMode.UNTIL, port=1, level=SignalLevel.HIGH, body=(move(a).step,))
@@ -279,6 +297,6 @@ def test_a_failed_input_read_at_the_end_of_a_pass_fails_the_loop_and_a_retry_rea
     failed = runner.run(program_of(CommentStep(text="cell"), loop, extra=(a,)))
     assert failed.state is RunState.FAILED and failed.failed_step == 1
     assert failed.message.startswith("Step 2 (Loop until DI1 HIGH) failed: ")
-    flaky._left = 10
+    flaky.reads_left = 10
     sim.set_input(1, SignalLevel.HIGH)
     assert runner.resume().state is RunState.FINISHED

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,17 +18,21 @@ from pendant.program import (
     MoveStep,
     OutputStep,
     ProgramFileError,
+    ProgramRunner,
+    ProgramWorkspace,
     RunState,
     WaitStep,
 )
 from pendant.program.limits import WAYPOINT_NAME_MAX
-
-from .conftest import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, settle, teach
+from pendant.sim import FakeClock, SimController
+from tests.support.programs import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, settle, teach
 
 ANGLE_TOL_DEG = 1e-6
 
 
-def test_teach_save_restart_load_and_run_a_pick_and_place(sim, clock, make_workspace) -> None:
+def test_teach_save_restart_load_and_run_a_pick_and_place(
+    sim: SimController, clock: FakeClock, make_workspace: Callable[[], ProgramWorkspace]
+) -> None:
     workspace = make_workspace()
     changes: list[Change] = []
     workspace.on_change(changes.append)
@@ -65,7 +71,7 @@ def test_teach_save_restart_load_and_run_a_pick_and_place(sim, clock, make_works
     restarted = make_workspace()
     assert restarted.saved_programs() == ["pick and place"]
     restarted.new()
-    assert restarted.program.steps == ()
+    assert not restarted.program.steps
     restarted.load("pick and place")
     assert restarted.program == workspace.program
 
@@ -80,7 +86,9 @@ def test_teach_save_restart_load_and_run_a_pick_and_place(sim, clock, make_works
     assert sim.gripper_opening() == 0.0
 
 
-def test_record_inserts_after_the_selected_step_with_a_fresh_name(sim, clock, make_workspace) -> None:
+def test_record_inserts_after_the_selected_step_with_a_fresh_name(
+    sim: SimController, clock: FakeClock, make_workspace: Callable[[], ProgramWorkspace]
+) -> None:
     workspace = make_workspace()
     workspace.record_from(sim)
     workspace.record_from(sim)
@@ -92,7 +100,9 @@ def test_record_inserts_after_the_selected_step_with_a_fresh_name(sim, clock, ma
     assert workspace.program.waypoint_names()[copy] == "P1 copy"
 
 
-def test_edits_that_make_no_sense_are_refused_and_change_nothing(sim, make_workspace) -> None:
+def test_edits_that_make_no_sense_are_refused_and_change_nothing(
+    sim: SimController, make_workspace: Callable[[], ProgramWorkspace]
+) -> None:
     workspace = make_workspace()
     workspace.record_from(sim)
     workspace.record_from(sim)
@@ -109,7 +119,9 @@ def test_edits_that_make_no_sense_are_refused_and_change_nothing(sim, make_works
     assert workspace.program.steps[:2] == before.steps
 
 
-def test_long_names_are_refused_and_duplicates_stay_loadable_after_a_restart(sim, make_workspace) -> None:
+def test_long_names_are_refused_and_duplicates_stay_loadable_after_a_restart(
+    sim: SimController, make_workspace: Callable[[], ProgramWorkspace]
+) -> None:
     workspace = make_workspace()
     workspace.record_from(sim)
     with pytest.raises(EditError, match=f"at most {WAYPOINT_NAME_MAX}"):
@@ -125,7 +137,7 @@ def test_long_names_are_refused_and_duplicates_stay_loadable_after_a_restart(sim
 
 
 def test_loading_a_refused_file_keeps_the_program_on_screen_and_the_file(
-    sim, make_workspace, tmp_path
+    sim: SimController, make_workspace: Callable[[], ProgramWorkspace], tmp_path: Path
 ) -> None:
     workspace = make_workspace()
     workspace.record_from(sim)
@@ -144,7 +156,9 @@ def test_loading_a_refused_file_keeps_the_program_on_screen_and_the_file(
     assert json.loads(path.read_text()) == newer
 
 
-def test_save_as_does_not_overwrite_another_program(sim, make_workspace) -> None:
+def test_save_as_does_not_overwrite_another_program(
+    sim: SimController, make_workspace: Callable[[], ProgramWorkspace]
+) -> None:
     workspace = make_workspace()
     workspace.record_from(sim)
     workspace.save_as("first")
@@ -157,7 +171,9 @@ def test_save_as_does_not_overwrite_another_program(sim, make_workspace) -> None
     assert workspace.store.load("first").waypoint_names() == ["P1"]
 
 
-def test_upload_and_download_round_trip(sim, make_workspace) -> None:
+def test_upload_and_download_round_trip(
+    sim: SimController, make_workspace: Callable[[], ProgramWorkspace]
+) -> None:
     workspace = make_workspace()
     workspace.record_from(sim)
     workspace.save_as("cell 4")
@@ -174,7 +190,9 @@ def test_upload_and_download_round_trip(sim, make_workspace) -> None:
     assert workspace.program.name == "cell 4 copy"  # none inside: the file's name, without its folders
 
 
-def test_unsaved_edits_come_back_after_a_restart(sim, make_workspace) -> None:
+def test_unsaved_edits_come_back_after_a_restart(
+    sim: SimController, make_workspace: Callable[[], ProgramWorkspace]
+) -> None:
     workspace = make_workspace()
     workspace.record_from(sim)
     workspace.save_as("job")
@@ -184,7 +202,9 @@ def test_unsaved_edits_come_back_after_a_restart(sim, make_workspace) -> None:
     assert len(restarted.program.steps) == 2
 
 
-def test_runs_in_the_background_and_reports_progress(sim, clock, make_workspace) -> None:
+def test_runs_in_the_background_and_reports_progress(
+    sim: SimController, clock: FakeClock, make_workspace: Callable[[], ProgramWorkspace]
+) -> None:
     workspace = make_workspace()
     teach(sim, clock, POSE_A_DEG, "ignored")
     workspace.record_from(sim)
@@ -192,13 +212,15 @@ def test_runs_in_the_background_and_reports_progress(sim, clock, make_workspace)
     seen: list[Change] = []
     workspace.on_change(seen.append)
     workspace.start_run(loops=1)
-    workspace.runner._worker.join(timeout=10)
+    assert workspace.runner.join(timeout=10)
     settle(sim, clock)
     assert workspace.progress.state is RunState.FINISHED
     assert Change.RUN in seen
 
 
-def test_an_edit_that_cannot_be_autosaved_is_refused_whole(sim, runner, tmp_path) -> None:
+def test_an_edit_that_cannot_be_autosaved_is_refused_whole(
+    sim: SimController, runner: ProgramRunner, tmp_path: Path
+) -> None:
     from pendant.program import ProgramStore, ProgramWorkspace
 
     blocked = tmp_path / "not-a-folder"

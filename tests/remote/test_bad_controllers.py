@@ -12,10 +12,9 @@ import pytest
 from pendant.controller.errors import ControllerOffline
 from pendant.controller.types import MotionStatus
 from pendant.remote import RemoteController, create_proxy_app
+from tests.support.bad_servers import http_answer, raw_server, request_path
 from tests.support.ports import free_port
 from tests.support.threads import serve_in_thread
-
-from .servers import http_answer, raw_server, request_path
 
 # Short timeouts keep each test to a fraction of a second; the defaults (1 s / 3 s) behave the same.
 CONNECT_TIMEOUT_S = 0.5

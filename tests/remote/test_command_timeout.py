@@ -11,7 +11,7 @@ import httpx
 
 from pendant.remote import create_proxy_app
 from pendant.remote.proxy import MSG_MAY_HAVE_RUN
-from tests.remote.servers import http_answer, raw_server, request_path
+from tests.support.bad_servers import http_answer, raw_server, request_path
 from tests.support.ports import free_port
 from tests.support.threads import serve_in_thread
 

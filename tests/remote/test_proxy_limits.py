@@ -10,9 +10,8 @@ import pytest
 
 from pendant.api.limits import DEFAULT_BODY_LIMIT, RUN_BODY_LIMIT, too_large_message
 from pendant.remote import create_proxy_app
+from tests.support.bad_servers import http_answer, raw_server, request_path
 from tests.support.threads import serve_in_thread
-
-from .servers import http_answer, raw_server, request_path
 
 HUGE_BYTES = 8 * 1024 * 1024
 

@@ -10,7 +10,8 @@ from collections.abc import Iterator
 import httpx
 import pytest
 
-from tests.api.stop_clients import (
+from tests.support.launchers import STOP_TIMEOUT_S, pendant_process, running_pendant
+from tests.support.stop_clients import (
     MOVING_DEG,
     STILL_DEG,
     STILL_WINDOW_S,
@@ -18,7 +19,6 @@ from tests.api.stop_clients import (
     ready_to_move,
     start_long_move,
 )
-from tests.support.launchers import STOP_TIMEOUT_S, pendant_process, running_pendant
 
 
 @pytest.fixture(scope="module")

@@ -7,14 +7,14 @@ import time
 
 import httpx
 import pytest
+from fastapi import FastAPI
 
 from pendant.cli import make_api_app, make_controller, parse_settings
 from pendant.controller.errors import ControllerOffline
 from pendant.remote import RemoteController, create_proxy_app
 from pendant.remote.client import DEFAULT_CONNECT_TIMEOUT_S, DEFAULT_READ_TIMEOUT_S
+from tests.support.bad_servers import http_answer, raw_server, request_path
 from tests.support.threads import serve_in_thread
-
-from .servers import http_answer, raw_server, request_path
 
 READ_TIMEOUT_S = 0.3  # short, so the hung request costs a fraction of a second
 PROXY_CLIENT_TIMEOUT_S = 10.0  # the test's own client waits well past the proxy's read timeout
@@ -33,6 +33,7 @@ def test_the_configured_read_timeout_bounds_the_client_and_the_proxy() -> None:
         controller = make_controller(settings)
         assert isinstance(controller, RemoteController)
         app = make_api_app(settings, controller, started_at=time.monotonic())
+        assert isinstance(app, FastAPI)  # the proxy
         with (
             controller,
             serve_in_thread(app) as proxy_url,

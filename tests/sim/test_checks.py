@@ -4,6 +4,7 @@ A refused command changes nothing."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import partial
 
 import numpy as np
 import pytest
@@ -14,13 +15,13 @@ from pendant.controller.errors import (
     MSG_UNREACHABLE_POSITION,
     BadRequest,
     Collision,
+    ControllerError,
     PreconditionFailed,
     Unreachable,
 )
 from pendant.controller.types import MotionParams, MotionType, Pose, SignalLevel
 from pendant.sim import FakeClock, SimController
-
-from .helpers import finish, position, shifted
+from tests.support.sim_sampling import finish, position, shifted
 
 JOINT_50 = MotionParams(speed=50)
 LINEAR_50 = MotionParams(speed=50, motion_type=MotionType.LINEAR)
@@ -31,11 +32,14 @@ LOW_REACH_WRIST_TURNED = Pose(angles=[0.0, -10.0, -20.0, 90.0, -90.0, 0.0])
 
 
 def _snapshot(sim: SimController) -> tuple[object, ...]:
-    return sim.get_pose(), sim.get_motion_status(), len(sim._motions.queue), sim.gripper_opening()
+    return sim.get_pose(), sim.get_motion_status(), len(sim.motions.queue), sim.gripper_opening()
 
 
 def _assert_refused(
-    sim: SimController, command: Callable[[], object], error: type[Exception], message: str | None = None
+    sim: SimController,
+    command: Callable[[], object],
+    error: type[ControllerError],
+    message: str | None = None,
 ) -> None:
     before = _snapshot(sim)
     with pytest.raises(error) as info:
@@ -127,9 +131,9 @@ def test_empty_waypoint_lists_are_bad_requests(sim: SimController) -> None:
 
 def test_ports_and_gripper_timeouts_out_of_range_are_refused(sim: SimController) -> None:
     for port in (0, 3):
-        _assert_refused(sim, lambda port=port: sim.set_output(port, SignalLevel.HIGH), PreconditionFailed)
-        _assert_refused(sim, lambda port=port: sim.get_output(port), PreconditionFailed)
+        _assert_refused(sim, partial(sim.set_output, port, SignalLevel.HIGH), PreconditionFailed)
+        _assert_refused(sim, partial(sim.get_output, port), PreconditionFailed)
     for port in (0, 5):
-        _assert_refused(sim, lambda port=port: sim.get_input(port), PreconditionFailed)
-        _assert_refused(sim, lambda port=port: sim.set_input(port, SignalLevel.HIGH), PreconditionFailed)
+        _assert_refused(sim, partial(sim.get_input, port), PreconditionFailed)
+        _assert_refused(sim, partial(sim.set_input, port, SignalLevel.HIGH), PreconditionFailed)
     _assert_refused(sim, lambda: sim.open_gripper(-1), PreconditionFailed)

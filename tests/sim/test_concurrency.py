@@ -16,8 +16,7 @@ from pendant.controller.types import MotionParams, MotionStatus, MotionType, Pos
 from pendant.kinematics.limits import JOINT_MAX_SPEED_RAD_S
 from pendant.sim import FakeClock, SimController
 from pendant.sim.controller import MAX_QUEUED_COMMANDS, MAX_WAYPOINTS, MSG_QUEUE_BUSY
-
-from .helpers import ANGLE_TOL_DEG, POS_TOL_M, finish, record, shifted
+from tests.support.sim_sampling import ANGLE_TOL_DEG, POS_TOL_M, finish, record, shifted
 
 # Not a timing threshold: long enough on any machine; only a thread stuck behind a lock runs into it.
 HANG_S = 10.0
@@ -36,7 +35,7 @@ class HeldPlanner:
         self.release = threading.Event()
         self.calls = 0
         self.first_raises: Exception | None = None
-        original = getattr(sim._planner, method)
+        original = getattr(sim.planner, method)
         count = itertools.count()
 
         def held(*args: Any, **kwargs: Any) -> Any:
@@ -48,7 +47,7 @@ class HeldPlanner:
                     raise self.first_raises
             return original(*args, **kwargs)
 
-        monkeypatch.setattr(sim._planner, method, held)
+        monkeypatch.setattr(sim.planner, method, held)
 
 
 def in_thread(call: Callable[..., Any], *args: Any) -> tuple[threading.Thread, list[Any]]:
@@ -179,13 +178,13 @@ def test_a_refusal_planned_from_a_stale_queue_end_is_planned_again(
 def test_a_queue_end_that_keeps_moving_gives_up_after_a_few_plans(
     sim: SimController, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    original = sim._planner.joint
+    original = sim.planner.joint
 
     def planner_with_a_busy_neighbour(*args: Any, **kwargs: Any) -> Any:
         sim.set_tool(sim.get_tool())  # another client sets the tool during every plan
         return original(*args, **kwargs)
 
-    monkeypatch.setattr(sim._planner, "joint", planner_with_a_busy_neighbour)
+    monkeypatch.setattr(sim.planner, "joint", planner_with_a_busy_neighbour)
     with pytest.raises(PreconditionFailed) as refused:
         sim.set_pose(X, JOINT_50)
     assert refused.value.message == MSG_QUEUE_BUSY

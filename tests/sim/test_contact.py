@@ -19,8 +19,7 @@ from pendant.jog.targets import JogFrame, JogRequest, joint_jog_target
 from pendant.kinematics.contact import CONTACT_DEEPER_TOLERANCE_M, worse_contact
 from pendant.sim import FakeClock, SimController
 from pendant.ui.target.check import check_joint_target
-
-from .helpers import finish
+from tests.support.sim_sampling import finish
 
 README_WALL = PlaneObstacle(
     obstacleType="PLANE",
@@ -46,11 +45,11 @@ def sim(clock: FakeClock) -> SimController:
 
 def wall_contacts(sim: SimController) -> dict[str | None, float]:
     q = np.radians(sim.get_pose().angles)
-    return {name: c.depth_m for name, c in sim._environment.geometry.contacts(q).items()}
+    return {name: c.depth_m for name, c in sim.environment.geometry.contacts(q).items()}
 
 
 def test_the_rule_refuses_a_new_contact_and_a_deeper_one_within_a_named_tolerance() -> None:
-    allowed = {"wall": 0.013}
+    allowed: dict[str | None, float] = {"wall": 0.013}
     assert worse_contact(allowed, {"wall": 0.013 + 0.5 * CONTACT_DEEPER_TOLERANCE_M}) is None
     assert worse_contact(allowed, {"wall": 0.005}) is None  # shallower: backing out
     deeper = worse_contact(allowed, {"wall": 0.013 + 2 * CONTACT_DEEPER_TOLERANCE_M})
@@ -106,7 +105,7 @@ def test_the_pendants_jog_and_target_check_apply_the_same_rule(sim: SimControlle
 
     def jog(axis: int, direction: int) -> np.ndarray:
         request = JogRequest(JogFrame.JOINT, axis, direction, 50.0, step=np.radians(5.0))
-        return joint_jog_target(arm, q, request, joint_speed=1.0)  # type: ignore[arg-type]
+        return joint_jog_target(arm, q, request, joint_speed=1.0)
 
     assert np.degrees(jog(0, +1)[0]) == pytest.approx(5.0)  # the base turns the wrist out: the full step
     np.testing.assert_allclose(jog(2, +1), q)  # the forearm pushes the gripper in: no progress at all

@@ -10,8 +10,7 @@ import pytest
 from pendant.controller.types import MotionParams, MotionType, Point, Position, Rotation, Tool
 from pendant.kinematics.transforms import position_to_matrix
 from pendant.sim import DEFAULT_BASE, DEFAULT_TOOL, FakeClock, SimController
-
-from .helpers import POS_TOL_M, finish, position, record, shifted
+from tests.support.sim_sampling import POS_TOL_M, finish, position, record, shifted
 
 ROT_TOL_RAD = 1e-6
 LINE_TOL_M = 1e-4

@@ -6,8 +6,7 @@ import pytest
 
 from pendant.controller.types import MotionParams, MotionStatus, Pose, SignalLevel
 from pendant.sim import FakeClock, SimController
-
-from .helpers import finish
+from tests.support.sim_sampling import finish
 
 
 def test_outputs_start_low_and_keep_what_they_are_set_to(sim: SimController) -> None:

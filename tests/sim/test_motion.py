@@ -10,8 +10,7 @@ from pendant.kinematics.limits import JOINT_MAX_ACCEL_RAD_S2, JOINT_MAX_SPEED_RA
 from pendant.kinematics.transforms import matrix_to_rotvec, rotation_angle, rotvec_to_matrix
 from pendant.sim import FakeClock, SimController
 from pendant.sim.paths import CARTESIAN_BLEND_TOL_M
-
-from .helpers import ANGLE_TOL_DEG, DT, POS_TOL_M, finish, record, shifted
+from tests.support.sim_sampling import ANGLE_TOL_DEG, DT, POS_TOL_M, finish, record, shifted
 
 LINE_TOL_M = 1e-4  # a LINEAR path stays this close to its line
 SPEED_TOL = 1e-6  # relative slack on measured peak speeds (finite differences of an exact profile)
@@ -126,7 +125,7 @@ def test_poses_run_passes_waypoints_without_stopping(sim: SimController, clock: 
 def test_separate_pose_commands_stop_at_each_target(sim: SimController, clock: FakeClock) -> None:
     via = Pose(angles=[20.0, -80.0, 80.0, -90.0, -70.0, 10.0])
     sim.set_pose(via, JOINT_50)
-    first_duration = sim._motions.queue[0].duration  # the planned length of the first command
+    first_duration = sim.motions.queue[0].duration  # the planned length of the first command
     sim.set_pose(TARGET, JOINT_50)
     clock.advance(first_duration)
     assert np.allclose(sim.get_pose().angles, via.angles, atol=ANGLE_TOL_DEG)
@@ -180,7 +179,7 @@ def test_a_queued_command_is_checked_from_where_the_queue_ends(sim: SimControlle
     # The flange turned a whole turn further: from home, IK would pick the equivalent angle 10 degrees.
     flipped = Pose(angles=[20.0, -80.0, 80.0, -90.0, -70.0, -350.0])
     sim.set_pose(flipped, JOINT_50)
-    flipped_position = sim._frames.T_zero_origbase @ sim.arm.fk(np.radians(flipped.angles))
+    flipped_position = sim.frames.T_zero_origbase @ sim.arm.fk(np.radians(flipped.angles))
     from pendant.kinematics.transforms import matrix_to_position
 
     sim.set_position(matrix_to_position(flipped_position), JOINT_50)

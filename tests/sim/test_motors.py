@@ -7,8 +7,7 @@ import pytest
 
 from pendant.controller.types import MotionParams, Pose
 from pendant.sim import FakeClock, SimController
-
-from .helpers import finish
+from tests.support.sim_sampling import finish
 
 UPRIGHT = Pose(angles=[0.0, -90.0, 0.0, -90.0, -90.0, 0.0])  # the arm stands up: little shoulder torque
 STRETCHED = Pose(angles=[0.0, -5.0, 0.0, -90.0, -90.0, 0.0])  # reaching out level: the most shoulder torque

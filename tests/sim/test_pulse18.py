@@ -27,8 +27,7 @@ from pendant.controller.types import (
     SignalLevel,
 )
 from pendant.sim import FakeClock, Fault, SimController
-
-from .helpers import finish, position, record, shifted
+from tests.support.sim_sampling import finish, position, record, shifted
 
 LINEAR = LinearMotionParameters(velocity=0.2, acceleration=1.0)
 DEFAULT_BLEND_TOL_M = 1e-3
@@ -258,13 +257,13 @@ def test_free_drive_lets_the_arm_be_moved_by_hand(sim: SimController) -> None:
 def test_a_disabled_gripper_refuses_to_move(sim: SimController) -> None:
     sim.disable_gripper()
     with pytest.raises(PreconditionFailed, match="gripper is disabled"):
-        sim.close_gripper(250.5)
+        sim.close_gripper(250)
     close = GripperAction(target="gripper", value="CLOSE")
     with pytest.raises(PreconditionFailed, match="gripper is disabled"):
         sim.run_linear_positions([waypoint(shifted(sim.get_position(), dx=0.05), actions=[close])], LINEAR)
     assert sim.gripper_opening() == 1.0 and sim.get_system_state() is SystemState.ACTIVE
     sim.enable_gripper()
-    sim.close_gripper(250.5)
+    sim.close_gripper(250)
     assert sim.get_system_state() is SystemState.MOTION
 
 

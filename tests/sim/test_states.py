@@ -25,8 +25,7 @@ from pendant.controller.system_types import (
 )
 from pendant.controller.types import MotionParams, MotionStatus, Point, Pose, RecoverResult, SignalLevel
 from pendant.sim import DEFAULT_BASE, DEFAULT_TOOL, HOME_POSE_DEG, FakeClock, Fault, SimController
-
-from .helpers import finish, position
+from tests.support.sim_sampling import finish, position
 
 JOINT_50 = MotionParams(speed=50)
 LINEAR = LinearMotionParameters(velocity=0.2, acceleration=1.0)
@@ -116,7 +115,7 @@ def test_power_on_is_idle_at_home(sim: SimController) -> None:
 def test_idle_running_idle(sim: SimController, clock: FakeClock) -> None:
     sim.set_pose(TARGET, JOINT_50)
     assert sim.get_motion_status() is MotionStatus.RUNNING
-    duration = sim._motions.queue[0].duration
+    duration = sim.motions.queue[0].duration
     clock.advance(duration * 0.999)
     assert sim.get_motion_status() is MotionStatus.RUNNING
     clock.advance(duration * 0.002)

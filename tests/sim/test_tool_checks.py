@@ -13,8 +13,7 @@ from pendant.controller.errors import MSG_COLLISION, Collision
 from pendant.controller.types import MotionParams, MotionStatus, MotionType, Point, Pose, Rotation, Tool
 from pendant.sim import FakeClock, SimController
 from pendant.sim.controller import DEFAULT_TOOL, HOME_POSE_DEG
-
-from .helpers import ANGLE_TOL_DEG, POS_TOL_M, finish
+from tests.support.sim_sampling import ANGLE_TOL_DEG, POS_TOL_M, finish
 
 JOINT_50 = MotionParams(speed=50)
 LINEAR_50 = MotionParams(speed=50, motion_type=MotionType.LINEAR)

@@ -5,10 +5,14 @@ from __future__ import annotations
 import asyncio
 import inspect
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal, cast
 
+import numpy as np
 import viser
+import viser.transforms as vtf
 from viser import _messages as viser_messages
+
+from pendant.ui.jog.panel import HOLD_CONFIRM_HZ
 
 OPERATOR, VIEWER = 1, 2  # client ids: on loopback the first browser to join is the operator
 
@@ -66,12 +70,21 @@ class FakeBrowser:
     def flush(self) -> None:
         pass
 
+    @property
+    def handle(self) -> viser.ClientHandle:
+        """This stand-in where the pendant takes a viser ClientHandle: it has what the pendant uses of one."""
+        return cast(viser.ClientHandle, self)
 
-def event(handle: Any, browser: FakeBrowser) -> viser.GuiEvent:
-    return viser.GuiEvent(client=browser, client_id=browser.client_id, target=handle)  # type: ignore[arg-type]  # a fake client for viser's
+
+def event(handle: Any, browser: FakeBrowser | None) -> viser.GuiEvent:
+    """viser's event for `handle` from `browser` (None: from the server's Python, as on_click's callers see
+    it when no browser is involved)."""
+    if browser is None:
+        return viser.GuiEvent(client=None, client_id=0, target=handle)
+    return viser.GuiEvent(client=browser.handle, client_id=browser.client_id, target=handle)
 
 
-def fire(handle: Any, browser: FakeBrowser, value: Any = None) -> None:
+def fire(handle: Any, browser: FakeBrowser | None, value: Any = None) -> None:
     """What viser does when a browser clicks or edits `handle`: set the value, call the callbacks once."""
     if value is not None:
         handle._impl.value = value  # not `handle.value = ...`: that calls back as from Python (client None)
@@ -79,3 +92,41 @@ def fire(handle: Any, browser: FakeBrowser, value: Any = None) -> None:
         called = callback(event(handle, browser))
         if inspect.iscoroutine(called):  # viser awaits it on its event loop (a stop button: kit/stop_path.py)
             asyncio.run(called)
+
+
+def confirm_hold(button: viser.GuiButtonHandle, browser: FakeBrowser) -> None:
+    """One of the calls viser makes, HOLD_CONFIRM_HZ times a second, while a browser holds `button` (viser
+    awaits an async callback on its event loop; the controller work it hands to a thread is waited for)."""
+    for callback in list(button._button_impl.hold_cbs_from_freq[HOLD_CONFIRM_HZ]):
+        result = callback(event(button, browser))
+        if inspect.iscoroutine(result):
+            asyncio.run(result)
+
+
+def drag(handle: viser.TransformControlsHandle, browser: FakeBrowser, path: list[np.ndarray]) -> None:
+    """What viser does for a browser's drag of a gizmo: the pose of every move (4x4 each), phases start,
+    update…, end."""
+
+    def send(phase: Literal["start", "update", "end"]) -> None:
+        event = viser.TransformControlsEvent(
+            client=browser.handle,
+            client_id=browser.client_id,
+            target=handle,
+            phase=phase,
+        )
+        for callback in list(handle._impl_aux.update_cb):
+            result = callback(event)
+            if inspect.iscoroutine(result):
+                asyncio.run(result)
+
+    send("start")
+    for T in path:
+        handle._impl.position = T[:3, 3].copy()
+        handle._impl.wxyz = vtf.SO3.from_matrix(T[:3, :3]).wxyz
+        send("update")
+    send("end")
+
+
+def upload_states(button: viser.GuiUploadButtonHandle) -> tuple[str, dict[str, Any]]:
+    """The upload button's id on the websocket, and viser's uploads in progress (what it keeps in memory)."""
+    return button._impl.uuid, button._impl.gui_api._current_file_upload_states

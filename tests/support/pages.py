@@ -5,7 +5,10 @@ from __future__ import annotations
 
 import contextlib
 from collections.abc import Iterator
+from concurrent.futures import Future
 from typing import Any
+
+import viser
 
 from pendant.controller import Controller
 from pendant.kinematics import ArmModel
@@ -50,6 +53,18 @@ def pendant_page(controller: Controller, arm: ArmModel, **options: Any) -> Itera
 def headless_session(page: PendantUI) -> ClientSession:
     """The panels one browser would get, built on the server's GUI and counted as the page's browser."""
     session = page.open_session(page.server)
-    with page._sessions_lock:
+    with page.browsers.lock:
         page.sessions[-1] = session
     return session
+
+
+def button(ui: ClientSession, label: str) -> viser.GuiButtonHandle:
+    """The Jog tab's button of that label (J1+, X-, ...)."""
+    (found,) = (b for b in ui.jog.buttons.values() if b.label == label)
+    return found
+
+
+def sent(future: Future[object] | None) -> Future[object]:
+    """The command a panel handed to the runner; None means the panel refused it (a failed test here)."""
+    assert future is not None, "the panel refused the command"
+    return future

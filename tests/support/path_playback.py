@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from starlette.types import Receive, Scope, Send
 
 from pendant.controller import Pose
 from pendant.kinematics.transforms import position_to_matrix
@@ -72,7 +73,7 @@ class WithoutRunOperations:
     def __init__(self, app: Any) -> None:
         self._app = app
 
-    async def __call__(self, scope: dict[str, Any], receive: Any, send: Any) -> None:
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] == "http" and scope.get("path", "").startswith("/run/"):
             await send(
                 {"type": "http.response.start", "status": 404, "headers": [(b"content-type", b"text/plain")]}

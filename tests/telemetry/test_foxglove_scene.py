@@ -17,8 +17,8 @@ from pendant.controller.types import Point, Position, Rotation
 from pendant.kinematics import ArmModel
 from pendant.sim import FakeClock, SimController
 from pendant.telemetry import ArmState, Telemetry, arm_drawing
-
-from .test_mcap import SAMPLE_PERIOD_S, WALL_START, read_mcap
+from tests.support.mcap_reading import read_mcap
+from tests.support.recordings import SAMPLE_PERIOD_S, WALL_START
 
 N_SAMPLES = 25
 FRAME_TOLERANCE_M = 1e-6

@@ -6,33 +6,21 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 from pathlib import Path
 from typing import Any
 
 import pytest
-from mcap.decoder import DecoderFactory as McapDecoderFactory
-from mcap.reader import make_reader
-from mcap.records import Schema
-from mcap_protobuf.decoder import DecoderFactory
 
 from pendant.controller import MotionParams, Pose, SignalLevel
 from pendant.eventlog import EventKind, EventLog
 from pendant.sim import FakeClock, SimController
 from pendant.telemetry import ArmState, Telemetry, csv_header
 from pendant.telemetry.recordings import MAX_KEPT
+from tests.support.mcap_reading import read_mcap
+from tests.support.recordings import SAMPLE_PERIOD_S, WALL_START
 
-SAMPLE_PERIOD_S = 0.1
-WALL_START = 1_800_000_000.0
 N_SAMPLES = 20
 TOPICS = {"/joints", "/tcp", "/motors", "/io", "/events"}  # those a recording without the arm drawn fills
-FOXGLOVE_SCHEMAS = {
-    "/tf": "foxglove.FrameTransforms",
-    "/arm": "foxglove.SceneUpdate",
-    "/cell": "foxglove.SceneUpdate",
-    "/tcp_path": "foxglove.SceneUpdate",
-    "/events": "foxglove.Log",
-}
 
 
 @pytest.fixture
@@ -40,36 +28,6 @@ def telemetry(sim: SimController, clock: FakeClock, tmp_path: Path) -> Telemetry
     return Telemetry(
         sim, now=clock.now, recordings_folder=tmp_path, wall_now=lambda: WALL_START + clock.now()
     )
-
-
-class JsonDecoder(McapDecoderFactory):
-    def decoder_for(self, message_encoding: str, schema: Schema | None) -> Any:
-        return json.loads if message_encoding == "json" else None
-
-
-def read_mcap(path: Path) -> tuple[dict[str, Any], list[tuple[str, int, Any]]]:
-    """Schemas by topic (JSON schemas parsed; protobuf ones by name), and (topic, log time ns, message) in
-    file order: JSON messages as dicts, Foxglove's protobuf messages decoded from the file's own schemas (Any:
-    each topic has its own kind)."""
-    decoder = DecoderFactory()
-    with path.open("rb") as stream:
-        reader = make_reader(stream, decoder_factories=[decoder, JsonDecoder()])
-        summary = reader.get_summary()
-        assert summary is not None
-        schemas: dict[str, Any] = {}
-        for channel in summary.channels.values():
-            schema = summary.schemas[channel.schema_id]
-            if channel.topic in FOXGLOVE_SCHEMAS:
-                assert (schema.encoding, channel.message_encoding) == ("protobuf", "protobuf")
-                assert schema.name == FOXGLOVE_SCHEMAS[channel.topic]
-                schemas[channel.topic] = schema.name
-            else:
-                assert (schema.encoding, channel.message_encoding) == ("jsonschema", "json")
-                schemas[channel.topic] = json.loads(schema.data)
-        messages: list[tuple[str, int, Any]] = []
-        for _, channel, message, decoded in reader.iter_decoded_messages(log_time_order=False):
-            messages.append((channel.topic, message.log_time, decoded))
-    return schemas, messages
 
 
 def test_a_recording_opens_in_an_mcap_reader(
@@ -107,6 +65,7 @@ def test_a_recording_opens_in_an_mcap_reader(
         )
     ):
         assert time_ns == pytest.approx((WALL_START + (i + 1) * SAMPLE_PERIOD_S) * 1e9, abs=1e3)
+        assert motors is not None
         assert joints["position_deg"] == [m.angle for m in motors]
         assert motor_msg["motors"] == [m.model_dump() for m in motors]
         assert tcp["x"] == position.point.x and tcp["yaw"] == position.rotation.yaw

@@ -41,6 +41,7 @@ def test_csv_round_trip_matches_get_motors_during_a_motion(
     assert len(rows) == 1 + 20
     for i, (row, motors) in enumerate(zip(rows[1:], expected, strict=True)):
         assert float(row[0]) == pytest.approx((i + 1) * SAMPLE_PERIOD_S)
+        assert motors is not None
         values = [getattr(m, field) for m in motors for field in CSV_FIELDS]
         np.testing.assert_allclose([float(v) for v in row[1:]], values, rtol=0, atol=VALUE_TOL)
     angles = np.array([[float(r[1 + j * len(CSV_FIELDS)]) for j in range(6)] for r in rows[1:]])

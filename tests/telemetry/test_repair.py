@@ -13,8 +13,8 @@ from pendant.sim import FakeClock, SimController
 from pendant.telemetry import ArmState, Telemetry, csv_header
 from pendant.telemetry.mcap_file import FLUSH_PERIOD_S
 from pendant.telemetry.repair import finished, repair_all
-
-from .test_mcap import SAMPLE_PERIOD_S, WALL_START, read_mcap
+from tests.support.mcap_reading import read_mcap
+from tests.support.recordings import SAMPLE_PERIOD_S, WALL_START
 
 RECORDED_S = 3.55
 

@@ -15,8 +15,7 @@ from pendant.kinematics import ArmModel
 from pendant.sim import FakeClock, SimController
 from pendant.telemetry import ArmState, Telemetry, arm_drawing
 from pendant.telemetry.replay import ReplayError, load_replay
-
-from .test_mcap import SAMPLE_PERIOD_S, WALL_START
+from tests.support.recordings import SAMPLE_PERIOD_S, WALL_START
 
 N_SAMPLES = 30
 STOP_AT = 12  # the sample after which a stop is logged

@@ -5,12 +5,11 @@ from __future__ import annotations
 import json
 import time
 from collections.abc import Callable
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from pendant.controller import MotionParams, MotionType, Point, Pose, Position, Rotation
+from pendant.controller import MotionParams, MotionType, Point, Pose, Position
 from pendant.controller.cell_types import (
     BoxObstacle,
     CapsuleObstacle,
@@ -24,6 +23,9 @@ from pendant.ui.app import PendantUI
 from pendant.ui.cell.panel import NEW
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.obstacles import box
+from tests.support.pages import sent
+from tests.support.sim_sampling import home_q
 
 WAIT_S = 10.0
 
@@ -35,23 +37,14 @@ def wait_for(condition: Callable[[], bool], what: str) -> None:
         time.sleep(0.02)
 
 
-def box(name: str, xyz: tuple[float, float, float], side: float = 0.1) -> BoxObstacle:
-    return BoxObstacle(
-        obstacleType="BOX",
-        name=name,
-        sides=Point(x=side, y=side, z=side),
-        centerPosition=Position(
-            point=Point(x=xyz[0], y=xyz[1], z=xyz[2]), rotation=Rotation(roll=0, pitch=0, yaw=0)
-        ),
-    )
+def box_x(sim: SimController, name: str) -> float:
+    obstacle = sim.get_obstacle(name)
+    assert isinstance(obstacle, BoxObstacle)
+    return obstacle.centerPosition.point.x
 
 
 def names(sim: SimController) -> list[str]:
     return [o.name for o in sim.get_obstacles()]
-
-
-def home_q(sim: SimController) -> np.ndarray:
-    return np.radians(sim.get_pose().angles)
 
 
 def test_an_obstacle_added_through_the_controller_is_drawn_and_listed(
@@ -90,7 +83,7 @@ def test_the_cell_tab_adds_renames_and_deletes_on_the_controller(
     assert ui.cell.selected.value == "table"  # the one just added is the one being edited
 
     fire(ui.cell.name, browser, "bench")  # rename: same obstacle, new name
-    ui.cell.submit(browser).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
+    sent(ui.cell.submit(browser.handle)).result(timeout=WAIT_S)
     assert names(sim) == ["bench"]
     pendant_ui.refresh_cell()
     assert ui.cell.selected.value == "bench"
@@ -110,12 +103,12 @@ def test_update_edits_the_selected_obstacle_and_add_never_replaces_one(
         fire(ui.cell.selected, browser, NEW)
         fire(ui.cell.name, browser, name)
         fire(ui.cell.at, browser, (x, 300.0, 100.0))
-        ui.cell.submit(browser, add=True).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
+        sent(ui.cell.submit(browser.handle, add=True)).result(timeout=WAIT_S)
         pendant_ui.refresh_cell()
     fire(ui.cell.selected, browser, "left")
     fire(ui.cell.at, browser, (450.0, 350.0, 100.0))  # moved, then Update: the same obstacle, moved
     fire(ui.cell.apply, browser)
-    wait_for(lambda: sim.get_obstacle("left").centerPosition.point.x == pytest.approx(0.45), "left moved")  # type: ignore[union-attr]
+    wait_for(lambda: box_x(sim, "left") == pytest.approx(0.45), "left moved")
     assert names(sim) == ["left", "right"]
 
     fire(ui.cell.add, browser)  # the selected one's name: Add would replace it, so it is refused
@@ -140,7 +133,7 @@ def test_a_capsule_from_the_form_keeps_its_ends_and_radius(ui: ClientSession, si
     fire(ui.cell.at, browser, (400.0, 300.0, 0.0))
     fire(ui.cell.end, browser, (400.0, 300.0, 600.0))
     fire(ui.cell.radius, browser, 40.0)
-    ui.cell.submit(browser, add=True).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
+    sent(ui.cell.submit(browser.handle, add=True)).result(timeout=WAIT_S)
     post = sim.get_obstacle("post")
     assert isinstance(post, CapsuleObstacle)
     assert post.radius == pytest.approx(0.04)
@@ -154,11 +147,11 @@ def test_bad_fields_and_viewers_are_refused_and_the_cell_is_unchanged(
     fire(ui.cell.kind, operator, "BOX")
     fire(ui.cell.name, operator, "flat")
     fire(ui.cell.size, operator, (100.0, 0.0, 100.0))
-    assert ui.cell.submit(operator, add=True) is None
+    assert ui.cell.submit(operator.handle, add=True) is None
     assert operator.notifications == ["Obstacle not added: a box's sides must be longer than 0 mm"]
 
     fire(ui.cell.size, operator, (100.0, 100.0, 100.0))
-    refused = ui.cell.submit(viewer, add=True)
+    refused = ui.cell.submit(viewer.handle, add=True)
     assert refused is not None and refused.exception(timeout=WAIT_S) is not None
     assert any("refused" in n for n in viewer.notifications)
     assert names(sim) == []
@@ -174,7 +167,7 @@ def test_an_obstacle_touching_the_arm_is_taken_shown_red_said_and_logged(
     fire(ui.cell.name, browser, "on the arm")
     beside = flange + np.array([-0.07, 0.0, 0.0])  # its +x face 2 cm into the wrist and the gripper
     fire(ui.cell.at, browser, tuple(float(v) for v in beside * 1000.0))
-    future = ui.cell.submit(browser, add=True)
+    future = ui.cell.submit(browser.handle, add=True)
     assert future is not None and future.result(timeout=WAIT_S) is not None  # taken, as a controller does
     assert names(sim) == ["on the arm"]
     pendant_ui.refresh_cell()
@@ -211,7 +204,7 @@ def test_an_obstacle_touching_the_moving_arm_is_refused_with_the_controllers_mes
     fire(ui.cell.kind, browser, "BOX")
     fire(ui.cell.name, browser, "on the arm")
     fire(ui.cell.at, browser, tuple(float(v) for v in flange))
-    future = ui.cell.submit(browser, add=True)
+    future = ui.cell.submit(browser.handle, add=True)
     assert future is not None and future.exception(timeout=WAIT_S) is not None
     assert any("Collision detected: the obstacle touches the arm" in n for n in browser.notifications)
     assert names(sim) == []
@@ -265,33 +258,33 @@ def test_the_tool_shape_is_drawn_on_the_flange_and_the_ghost_checks_it(
     pendant_ui.refresh_cell()
     pendant_ui.refresh()
     assert pendant_ui.tool_shape.capsules_shown == 1
-    np.testing.assert_allclose(pendant_ui.tool_shape._frame.position, flange[:3, 3], atol=1e-6)
+    np.testing.assert_allclose(pendant_ui.tool_shape.frame.position, flange[:3, 3], atol=1e-6)
     assert panel.check.reason == "Collision detected: the arm would touch 'below the tool'"
 
 
 def test_a_cell_file_is_saved_loaded_and_applied(
-    pendant_ui: PendantUI, ui: ClientSession, sim: SimController, tmp_path: Path
+    pendant_ui: PendantUI, ui: ClientSession, sim: SimController
 ) -> None:
-    ui.cell.files_section._folder = tmp_path
+    folder = ui.cell.files_section.folder  # a fresh one per test (tests/conftest.py)
     browser = FakeBrowser(OPERATOR)
     sim.add_obstacle(box("fixture", (0.4, 0.3, 0.2)))
     fire(ui.cell.file_name, browser, "line 3")
-    ui.cell.save_file(browser).result(timeout=WAIT_S)
-    saved = json.loads((tmp_path / "line 3.cell.json").read_text())
+    ui.cell.save_file(browser.handle).result(timeout=WAIT_S)
+    saved = json.loads((folder / "line 3.cell.json").read_text())
     assert saved["schema_version"] == 1
     assert [o["name"] for o in saved["obstacles"]] == ["fixture"]
     assert ui.cell.files.value == "line 3"
 
     sim.remove_obstacles()
     sim.add_obstacle(box("other", (-0.4, 0.3, 0.2)))
-    ui.cell.load_file("line 3", browser).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
+    sent(ui.cell.load_file("line 3", browser.handle)).result(timeout=WAIT_S)
     assert names(sim) == ["fixture"]  # exactly the saved cell
 
 
 def test_a_cell_file_the_controller_refuses_leaves_the_cell_as_it_was(
-    ui: ClientSession, sim: SimController, tmp_path: Path
+    ui: ClientSession, sim: SimController
 ) -> None:
-    ui.cell.files_section._folder = tmp_path
+    folder = ui.cell.files_section.folder  # a fresh one per test (tests/conftest.py)
     browser = FakeBrowser(OPERATOR)
     on_a_line = PlaneObstacle(
         obstacleType="PLANE",
@@ -299,15 +292,15 @@ def test_a_cell_file_the_controller_refuses_leaves_the_cell_as_it_was(
         points=[Point(x=0.0, y=0.0, z=0.0), Point(x=0.1, y=0.0, z=0.0), Point(x=0.2, y=0.0, z=0.0)],
     )
     bad = {"schema_version": 1, "obstacles": [json.loads(on_a_line.model_dump_json())]}
-    (tmp_path / "bad.cell.json").write_text(json.dumps(bad))
+    (folder / "bad.cell.json").write_text(json.dumps(bad))
     sim.add_obstacle(box("kept", (0.4, 0.3, 0.2)))
-    future = ui.cell.load_file("bad", browser)
+    future = ui.cell.load_file("bad", browser.handle)
     assert future is not None and future.exception(timeout=WAIT_S) is not None
     assert names(sim) == ["kept"]
     assert any("plane points must not lie on one line" in n for n in browser.notifications)
 
-    (tmp_path / "garbage.cell.json").write_text('{"schema_version": 7}')
-    assert ui.cell.load_file("garbage", browser) is None
+    (folder / "garbage.cell.json").write_text('{"schema_version": 7}')
+    assert ui.cell.load_file("garbage", browser.handle) is None
     assert "not a cell file" in browser.notifications[-1]
     assert names(sim) == ["kept"]
 
@@ -317,7 +310,7 @@ def test_the_robot_tab_sets_the_tool_shape_and_shows_the_controllers(
 ) -> None:
     browser = FakeBrowser(OPERATOR)
     fire(ui.tool_shape.capsules, browser, "30: 0 0 0 -> 0 0 150; 20: 0 0 150 -> 0 60 200")
-    ui.tool_shape.submit(browser).result(timeout=WAIT_S)  # type: ignore[union-attr]  # a valid form: a Future
+    sent(ui.tool_shape.submit(browser.handle)).result(timeout=WAIT_S)
     shape = sim.get_tool_shape().shape
     assert [c.radius for c in shape] == pytest.approx([0.03, 0.02])
     assert (shape[1].finish.y, shape[1].finish.z) == pytest.approx((0.06, 0.2))
@@ -326,7 +319,7 @@ def test_the_robot_tab_sets_the_tool_shape_and_shows_the_controllers(
     assert pendant_ui.tool_shape.capsules_shown == 2
 
     fire(ui.tool_shape.capsules, browser, "30: 0 0 -> 0 0 150")
-    assert ui.tool_shape.submit(browser) is None
+    assert ui.tool_shape.submit(browser.handle) is None
     assert browser.notifications == [
         "Tool shape not set: capsule 1: each end needs three coordinates (x y z, mm)"
     ]

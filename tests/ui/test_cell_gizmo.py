@@ -4,25 +4,20 @@ controller refuses puts the gizmo back and says why."""
 
 from __future__ import annotations
 
-import asyncio
-import inspect
 import time
 from collections.abc import Callable
 
 import numpy as np
 import pytest
-import viser
 import viser.transforms as vtf
 
 from pendant.controller.cell_types import BoxObstacle, CapsuleObstacle, Obstacle
 from pendant.controller.types import MotionParams, Point, Pose
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
-from pendant.ui.cell.gizmo import ObstacleGizmo
 from pendant.ui.page.session import ClientSession
-from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
-
-from .test_cell import box
+from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, drag, fire
+from tests.support.obstacles import box
 
 WAIT_S = 10.0
 MM_TOL = 1e-6
@@ -43,32 +38,14 @@ def pose(xyz: tuple[float, float, float], yaw_deg: float = 0.0) -> np.ndarray:
     return T
 
 
-def drag(gizmo: ObstacleGizmo, browser: FakeBrowser, path: list[np.ndarray]) -> None:
-    """What viser does for a browser's drag: the pose of every move, phases start, update…, end."""
-    handle = gizmo.handle
-
-    def send(phase: str) -> None:
-        event = viser.TransformControlsEvent(
-            client=browser,  # type: ignore[arg-type]
-            client_id=browser.client_id,
-            target=handle,
-            phase=phase,  # type: ignore[arg-type]
-        )
-        for callback in list(handle._impl_aux.update_cb):
-            result = callback(event)
-            if inspect.iscoroutine(result):
-                asyncio.run(result)
-
-    send("start")
-    for T in path:
-        handle._impl.position = T[:3, 3].copy()
-        handle._impl.wxyz = vtf.SO3.from_matrix(T[:3, :3]).wxyz
-        send("update")
-    send("end")
-
-
 def stored(sim: SimController, name: str) -> Obstacle:
     return sim.get_obstacle(name)
+
+
+def capsule_begin_y(sim: SimController, name: str) -> float:
+    capsule = stored(sim, name)
+    assert isinstance(capsule, CapsuleObstacle)
+    return capsule.begin.y
 
 
 def centre(obstacle: Obstacle) -> np.ndarray:
@@ -105,7 +82,7 @@ def test_a_dragged_obstacle_moves_its_fields_and_reaches_the_controller_on_relea
 
     start = pose((0.5, 0.3, 0.1))
     path = [pose((0.5 + 0.1 * f, 0.3, 0.1), 30.0 * f) for f in np.linspace(0, 1, DRAG_EVENTS)[1:]]
-    drag(gizmo, operator, path)
+    drag(gizmo.handle, operator, path)
     np.testing.assert_allclose(ui.cell.at.value, (600.0, 300.0, 100.0), atol=MM_TOL)  # the fields followed
     assert ui.cell.rpy.value[2] == pytest.approx(30.0)
     wait_for(lambda: abs(centre(stored(sim, "table"))[0] - 0.6) < MM_TOL, "the table on the controller")
@@ -132,7 +109,7 @@ def test_a_placement_the_controller_refuses_puts_the_gizmo_back_and_says_why(
     away = sim.get_pose().angles
     away[0] += 30.0
     sim.set_pose(Pose(angles=away), MotionParams(speed=10.0))  # the fake clock holds the arm in motion
-    drag(gizmo, operator, [pose((0.5, 0.3, 0.3)), pose(tuple(flange))])
+    drag(gizmo.handle, operator, [pose((0.5, 0.3, 0.3)), pose(tuple(flange))])
     wait_for(lambda: bool(operator.notifications), "the refusal")
     assert operator.notifications == [
         "Update obstacle 'table' refused: Collision detected: the obstacle touches the arm or its tool while "
@@ -160,8 +137,8 @@ def test_a_dragged_capsule_moves_both_ends(
     gizmo, operator = ui.cell.gizmo, FakeBrowser(OPERATOR)
     fire(ui.cell.selected, operator, "post")
     np.testing.assert_allclose(gizmo.handle.position, (0.4, 0.4, 0.3), atol=MM_TOL)  # its middle
-    drag(gizmo, operator, [pose((0.4, 0.6, 0.3))])
-    wait_for(lambda: abs(stored(sim, "post").begin.y - 0.6) < MM_TOL, "the post moved")  # type: ignore[union-attr]
+    drag(gizmo.handle, operator, [pose((0.4, 0.6, 0.3))])
+    wait_for(lambda: abs(capsule_begin_y(sim, "post") - 0.6) < MM_TOL, "the post moved")
     moved = stored(sim, "post")
     assert isinstance(moved, CapsuleObstacle)
     assert (moved.begin.x, moved.begin.y, moved.begin.z) == pytest.approx((0.4, 0.6, 0.0))

@@ -10,38 +10,25 @@ import re
 import numpy as np
 import pytest
 
-from pendant.controller import MotionParams, Pose
-from pendant.controller.types import MotorStatus
+from pendant.controller import MotionParams
 from pendant.eventlog import EventKind
 from pendant.sim import FakeClock, SimController
 from pendant.telemetry import CSV_FIELDS, csv_header
 from pendant.ui.app import PendantUI
 from pendant.ui.dashboard.panel import EVENTS_SHOWN, PLOTS
 from pendant.ui.page.session import ClientSession
+from tests.support.dashboard import MOVE, sample
 from tests.support.doubles import OPERATOR, FakeBrowser, fire
 from tests.support.waiting import wait_until
 
-SAMPLE_PERIOD_S = 0.1  # the refresh loop samples the motors at 10 Hz
 VALUE_TOL = 1e-9
 FUTURE_TIMEOUT_S = 5.0
-MOVE = Pose(angles=[40.0, -70.0, 30.0, -90.0, -90.0, 20.0])
 TABLE_ROWS = ("Angle °", "rpm", "I rms A", "U V", "Stator °C", "Servo °C", "Pos err °")
 
 
 @pytest.fixture
 def operator() -> FakeBrowser:
     return FakeBrowser(OPERATOR)
-
-
-def sample(pendant_ui: PendantUI, clock: FakeClock, count: int) -> list[list[MotorStatus]]:
-    """`count` ticks of the refresh loop's dashboard step, SAMPLE_PERIOD_S apart; the readings taken."""
-    readings = []
-    for _ in range(count):
-        clock.advance(SAMPLE_PERIOD_S)
-        pendant_ui.refresh_dashboard()
-        assert pendant_ui.telemetry.latest is not None
-        readings.append(pendant_ui.telemetry.latest)
-    return readings
 
 
 def shown_events(ui: ClientSession) -> list[tuple[str, str]]:

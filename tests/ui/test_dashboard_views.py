@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import viser
 from mcap.reader import make_reader
 
 from pendant.controller import MotionParams, Pose
@@ -51,12 +52,12 @@ def run_for(pendant_ui: PendantUI, clock: FakeClock, seconds: float) -> None:
     pendant_ui.refresh_dashboard(sample=False)
 
 
-def legend(plot: object) -> list[str]:
-    return [s["label"] for s in plot.series[1:]]  # type: ignore[attr-defined]
+def legend(plot: viser.GuiUplotHandle) -> list[str]:
+    return [str(s["label"]) for s in plot.series[1:]]
 
 
-def shown(plot: object) -> list[bool]:
-    return [s.get("show", True) for s in plot.series[1:]]  # type: ignore[attr-defined]
+def shown(plot: viser.GuiUplotHandle) -> list[bool]:
+    return [bool(s.get("show", True)) for s in plot.series[1:]]
 
 
 def test_plots_show_units_and_current_values(
@@ -68,12 +69,14 @@ def test_plots_show_units_and_current_values(
     assert motors is not None
     for key, plot in ui.dashboard.plots.items():
         unit, _ = UNITS[key]
+        assert plot.height is not None and plot.axes is not None and plot.legend is not None
         assert plot.height >= READABLE_HEIGHT_PX and PLOT_HEIGHT_PX >= READABLE_HEIGHT_PX
         assert plot.axes[1]["label"] == unit and plot.axes[0]["label"] == "s ago"
         assert plot.legend["live"] is False, "uPlot's live legend shows '--' until hovered"
         labels = legend(plot)
         assert all("--" not in label and label.endswith(unit) for label in labels)
-    values = [float(re.match(r"J\d (\S+) °", label)[1]) for label in legend(ui.dashboard.plots["angle"])]  # type: ignore[index]
+    values = [float(label.split()[1]) for label in legend(ui.dashboard.plots["angle"])]  # "J1 12.3 °"
+    assert all(re.match(r"J\d \S+ °", label) for label in legend(ui.dashboard.plots["angle"]))
     np.testing.assert_allclose(values, [m.angle for m in motors], atol=0.05)
 
 
@@ -99,6 +102,7 @@ def test_longer_windows_reach_back_an_hour_and_pause_holds_the_picture(
 
     fire(ui.dashboard.plot_view.window, viewer, "Last 5 minutes")
     t = angle.data[0]
+    assert angle.axes is not None and angle.scales is not None
     assert angle.axes[0]["label"] == "min ago" and angle.scales["x"]["range"] == (-5.0, 0.0)
     assert t[0] <= -3.9 and t[-1] == 0.0, "four minutes of history, in minutes"
     assert len(t) <= MAX_POINTS
@@ -111,7 +115,8 @@ def test_longer_windows_reach_back_an_hour_and_pause_holds_the_picture(
     assert angle.data[0][0] >= -60.0 and angle.axes[0]["label"] == "s ago"
     fire(ui.dashboard.plot_view.paused, viewer, False)
     run_for(pendant_ui, clock, 1.0)
-    assert angle.data[1][-1] == pendant_ui.telemetry.latest[0].angle  # type: ignore[index]
+    latest = pendant_ui.telemetry.latest
+    assert latest is not None and angle.data[1][-1] == latest[0].angle
 
 
 def lines(ui: ClientSession) -> list[str]:
@@ -196,7 +201,8 @@ def test_recordings_are_listed_and_download_as_mcap(
     fire(controls.record_stop, operator)
     pendant_ui.refresh_dashboard()
     (label,) = controls.saved.options
-    assert label.startswith(pendant_ui.telemetry.last_stem.removeprefix("pendant-"))  # type: ignore[union-attr]
+    stem = pendant_ui.telemetry.last_stem
+    assert stem is not None and label.startswith(stem.removeprefix("pendant-"))
     fire(controls.download_mcap, operator, label)
     wait_until(lambda: bool(operator.downloads), JOB_TIMEOUT_S, "the download")
     ((name, content),) = operator.downloads

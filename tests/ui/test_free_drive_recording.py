@@ -15,8 +15,7 @@ from pendant.sim import SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser
-
-from .test_cell import box
+from tests.support.obstacles import box
 
 WAIT_S = 10.0
 STEPS = 45
@@ -36,7 +35,7 @@ def pose(sim: SimController) -> np.ndarray:
 def pull_to(
     pendant_ui: PendantUI, ui: ClientSession, sim: SimController, q: np.ndarray, who: FakeBrowser
 ) -> None:
-    ui.target_panel.set_joint_target(q, who)
+    ui.target_panel.set_joint_target(q, who.handle)
     wait_for(lambda: np.allclose(pose(sim), q, atol=1e-9), "the arm to follow the hand")
     pendant_ui.refresh()
 
@@ -48,11 +47,11 @@ def test_in_free_drive_the_sliders_move_the_arm_but_not_into_an_obstacle(
     home = pose(sim)
     turned = home.copy()
     turned[0] += np.radians(20.0)
-    ui.target_panel.set_joint_target(turned, operator)  # not in free drive: only the ghost moves
+    ui.target_panel.set_joint_target(turned, operator.handle)  # not in free drive: only the ghost moves
     time.sleep(0.2)
     np.testing.assert_allclose(pose(sim), home)
 
-    ui.robot_safety.set_free_drive(True, operator).result(timeout=WAIT_S)
+    ui.robot_safety.set_free_drive(True, operator.handle).result(timeout=WAIT_S)
     pendant_ui.refresh_cell()
     pull_to(pendant_ui, ui, sim, turned, operator)
     assert ui.target_panel.ghost_shown is None  # no ghost: the arm is where the hand put it
@@ -61,7 +60,7 @@ def test_in_free_drive_the_sliders_move_the_arm_but_not_into_an_obstacle(
     further[0] += np.radians(30.0)
     sim.add_obstacle(box("in the way", tuple(sim.arm.fk(further)[:3, 3])))
     pendant_ui.refresh_cell()
-    check = ui.target_panel.set_joint_target(further, operator)
+    check = ui.target_panel.set_joint_target(further, operator.handle)
     assert not check.ok and "Collision detected" in (check.reason or "")
     time.sleep(0.2)
     np.testing.assert_allclose(pose(sim), turned)  # the arm stays short of the obstacle
@@ -71,16 +70,16 @@ def test_a_free_driven_path_is_recorded_simplified_into_the_program_and_download
     pendant_ui: PendantUI, ui: ClientSession, sim: SimController
 ) -> None:
     operator = FakeBrowser(OPERATOR)
-    ui.robot_safety.set_free_drive(True, operator).result(timeout=WAIT_S)
+    ui.robot_safety.set_free_drive(True, operator.handle).result(timeout=WAIT_S)
     pendant_ui.refresh_cell()
     home = pose(sim)
-    assert ui.record.begin(operator)
+    assert ui.record.begin(operator.handle)
     pendant_ui.refresh()
     for i in range(1, STEPS + 1):  # a curve: J1 sweeps while J2 and J3 bend and straighten
         s = i / STEPS
         q = home + np.radians([40.0 * s, 15.0 * np.sin(np.pi * s), -20.0 * np.sin(np.pi * s), 0.0, 0.0, 0.0])
         pull_to(pendant_ui, ui, sim, q, operator)
-    line = ui.record.end(operator)
+    line = ui.record.end(operator.handle)
 
     steps = pendant_ui.programs.program.steps
     assert line == 0 and len(steps) == 1  # one step, however many waypoints
@@ -96,7 +95,7 @@ def test_a_free_driven_path_is_recorded_simplified_into_the_program_and_download
     assert describe_step(path) in listed
     assert pendant_ui.programs.program.waypoints == ()  # its points are its own, not named waypoints
 
-    data = ui.record.send(operator)
+    data = ui.record.send(operator.handle)
     assert data is not None and operator.downloads[-1][1] == data
     folder = pendant_ui.recorder.folder  # kept in the data folder, named by the step
     assert folder is not None and path.recording is not None and path.recording.startswith("path-")

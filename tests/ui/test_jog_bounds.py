@@ -15,9 +15,9 @@ from pendant.jog import JogFrame, JogRefused, JogRequest
 from pendant.jog.targets import MAX_STEP_M, MAX_STEP_RAD
 from pendant.sim import FakeClock, SimController
 from pendant.ui.page.session import ClientSession
-from tests.support.doubles import OPERATOR, FakeBrowser, fire
-
-from .test_panels import button, confirm_hold, finish_motion, pose_deg
+from tests.support.doubles import OPERATOR, FakeBrowser, confirm_hold, fire
+from tests.support.pages import button
+from tests.support.sim_sampling import finish_motion, pose_deg
 
 FORGED_STEPS = ["500", "-10", "1e9", "nan", "inf", "0", "0.5", "", "Continuous "]
 FORGED_SPEEDS = [1e9, 0.0, -5.0, 100.5, math.nan, math.inf, "50"]

@@ -16,9 +16,9 @@ from pendant.program import RunState
 from pendant.sim import FakeClock, Fault, SimController
 from pendant.ui.app import PROGRAM_RUNNING, PendantUI
 from pendant.ui.page.session import ClientSession
-from tests.support.doubles import OPERATOR, FakeBrowser, fire
-
-from .test_panels import button, confirm_hold, pose_deg
+from tests.support.doubles import OPERATOR, FakeBrowser, confirm_hold, fire
+from tests.support.pages import button
+from tests.support.sim_sampling import pose_deg
 
 ANGLE_TOL_DEG = 1e-6
 WAIT_S = 5.0

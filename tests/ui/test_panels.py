@@ -3,8 +3,6 @@ fired as a browser's click, hold or edit would fire them, the simulator on a fak
 
 from __future__ import annotations
 
-import asyncio
-import inspect
 import math
 from concurrent.futures import Future, wait
 
@@ -24,7 +22,9 @@ from pendant.ui.app import PendantUI
 from pendant.ui.jog.panel import CONTINUOUS, DEFAULT_SPEED_PERCENT, HOLD_CONFIRM_HZ
 from pendant.ui.kit.commands import HOME_POSE_DEG
 from pendant.ui.page.session import ClientSession
-from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, event, fire
+from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, confirm_hold, fire
+from tests.support.pages import button
+from tests.support.sim_sampling import finish_motion, pose_deg
 
 ANGLE_TOL_DEG = 1e-6
 POS_TOL_M = 1e-6
@@ -37,15 +37,6 @@ SAMPLE_PERIOD_S = 0.01  # how finely the TCP speed is sampled on the fake clock
 SETTLE_S = 0.1  # beyond the end of everything queued
 JOINT_LABELS = [f"J{j}{s}" for j in range(1, 7) for s in "-+"]
 CARTESIAN_LABELS = [f"{a}{s}" for a in ("X", "Y", "Z", "Roll", "Pitch", "Yaw") for s in "-+"]
-
-
-def confirm_hold(button: viser.GuiButtonHandle, browser: FakeBrowser) -> None:
-    """One of the calls viser makes, HOLD_CONFIRM_HZ times a second, while a browser holds `button` (viser
-    awaits an async callback on its event loop; the controller work it hands to a thread is waited for)."""
-    for callback in list(button._impl.hold_cbs_from_freq[HOLD_CONFIRM_HZ]):
-        result = callback(event(button, browser))
-        if inspect.iscoroutine(result):
-            asyncio.run(result)
 
 
 class Commands:
@@ -90,10 +81,6 @@ def viewer() -> FakeBrowser:
     return FakeBrowser(VIEWER)
 
 
-def pose_deg(sim: SimController) -> np.ndarray:
-    return np.asarray(sim.get_pose().angles)
-
-
 def tcp_xyz(sim: SimController) -> np.ndarray:
     p = sim.get_position().point
     return np.array([p.x, p.y, p.z])
@@ -104,17 +91,8 @@ def tcp_rpy(sim: SimController) -> np.ndarray:
     return np.array([r.roll, r.pitch, r.yaw])
 
 
-def finish_motion(sim: SimController, clock: FakeClock) -> None:
-    clock.advance(sim.busy_until() - clock.now() + SETTLE_S)
-
-
 def labels(ui: ClientSession) -> list[str]:
     return [ui.jog.buttons[(axis, direction)].label for axis in range(6) for direction in (-1, +1)]
-
-
-def button(ui: ClientSession, label: str) -> viser.GuiButtonHandle:
-    (found,) = (b for b in ui.jog.buttons.values() if b.label == label)
-    return found
 
 
 # --- Jog ------------------------------------------------------------------------------------------------
@@ -334,11 +312,12 @@ def test_gripper_buttons_close_and_open_the_gripper_over_time(
 ) -> None:
     duration_s = DEFAULT_GRIPPER_TIMEOUT_MS / 1000.0
     assert pendant_ui.refresh().gripper_opening == pytest.approx(1.0, abs=OPENING_TOL)
-    for button, opening in ((ui.io.gripper_close, 0.0), (ui.io.gripper_open, 1.0)):
-        fire(button, operator)
+    for gripper_button, opening in ((ui.io.gripper_close, 0.0), (ui.io.gripper_open, 1.0)):
+        fire(gripper_button, operator)
         commands.wait()
         clock.advance(duration_s / 2)
-        assert 0.0 < pendant_ui.refresh().gripper_opening < 1.0  # on its way, over the timeout
+        halfway = pendant_ui.refresh().gripper_opening
+        assert halfway is not None and 0.0 < halfway < 1.0  # on its way, over the timeout
         clock.advance(duration_s)
         assert pendant_ui.refresh().gripper_opening == pytest.approx(opening, abs=OPENING_TOL)
 

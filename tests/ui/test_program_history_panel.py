@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import viser
 
 from pendant.program import MoveStep
 from pendant.ui.app import PendantUI
 from pendant.ui.page.session import ClientSession
 from pendant.ui.program.history_section import AFTER_RGB, BEFORE_RGB, UNSAVED
-from tests.program.history_support import cut_head_commit, git, pick_program, waypoint
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.program_history import cut_head_commit, git, pick_program, waypoint
 
 POSITION_TOL_M = 1e-9
 
@@ -38,7 +39,9 @@ def two_saves(pendant_ui: PendantUI, ui: ClientSession) -> bytes:
     return first
 
 
-def test_history_lists_who_saved_and_the_diff_of_the_last_save(pendant_ui, ui, two_saves) -> None:
+def test_history_lists_who_saved_and_the_diff_of_the_last_save(
+    pendant_ui: PendantUI, ui: ClientSession, two_saves: bytes
+) -> None:
     history = ui.program.history_section
     assert "Versions of `pick.json`: 2" in history.status.content
     assert history.table.content.count("browser #1") == 2
@@ -51,21 +54,25 @@ def test_history_lists_who_saved_and_the_diff_of_the_last_save(pendant_ui, ui, t
         "- P3 moved +12.0 mm in X",
         "- step 1 (Move J to P1 @ 40%): speed 20 -> 40 %",
     ]
+    assert history.shown is not None
     [moved] = history.shown.moved
-    spheres = {node.name: node for node in history._nodes if node.name.endswith(("_before", "_after"))}
+    spheres = {node.name: node for node in history.nodes if node.name.endswith(("_before", "_after"))}
     before, after = spheres["/program_history/0_before"], spheres["/program_history/0_after"]
+    assert isinstance(before, viser.IcosphereHandle) and isinstance(after, viser.IcosphereHandle)
     np.testing.assert_allclose(before.position, (0.5, 0.0, 0.3), atol=POSITION_TOL_M)
     np.testing.assert_allclose(after.position, (0.512, 0.0, 0.3), atol=POSITION_TOL_M)
     assert (tuple(before.color), tuple(after.color)) == (BEFORE_RGB, AFTER_RGB)
     assert moved.name == "P3"
 
 
-def test_picking_two_versions_and_the_unsaved_program(pendant_ui, ui, two_saves) -> None:
+def test_picking_two_versions_and_the_unsaved_program(
+    pendant_ui: PendantUI, ui: ClientSession, two_saves: bytes
+) -> None:
     operator = FakeBrowser(OPERATOR)
     history = ui.program.history_section
     newest, oldest = history.older.options
     fire(history.older, operator, newest)
-    assert history.diff_view.content == "_No changes._" and not history._nodes
+    assert history.diff_view.content == "_No changes._" and not history.nodes
     pendant_ui.programs.delete_step(1)  # an unsaved change shows at once against the picked version
     assert history.diff_view.content == "- step 2 (Move J to P2 @ 20%) removed"
     fire(history.newer, operator, newest)
@@ -73,7 +80,9 @@ def test_picking_two_versions_and_the_unsaved_program(pendant_ui, ui, two_saves)
     assert "- step 1 (Move J to P1 @ 40%): speed 20 -> 40 %" in history.diff_view.content
 
 
-def test_restore_is_for_the_operator_and_undo_brings_back_the_program(pendant_ui, ui, two_saves) -> None:
+def test_restore_is_for_the_operator_and_undo_brings_back_the_program(
+    pendant_ui: PendantUI, ui: ClientSession, two_saves: bytes
+) -> None:
     workspace = pendant_ui.programs
     history = ui.program.history_section
     folder = workspace.store.folder
@@ -100,7 +109,9 @@ def test_restore_is_for_the_operator_and_undo_brings_back_the_program(pendant_ui
     assert workspace.program == edited and workspace.dirty
 
 
-def test_a_save_the_history_cannot_record_is_kept_and_said_in_the_page(pendant_ui, ui, two_saves) -> None:
+def test_a_save_the_history_cannot_record_is_kept_and_said_in_the_page(
+    pendant_ui: PendantUI, ui: ClientSession, two_saves: bytes
+) -> None:
     operator = FakeBrowser(OPERATOR)
     workspace = pendant_ui.programs
     folder = workspace.store.folder
@@ -120,7 +131,7 @@ def test_a_save_the_history_cannot_record_is_kept_and_said_in_the_page(pendant_u
 
 
 def test_save_as_a_new_name_into_a_damaged_history_writes_the_file_and_says_so(
-    pendant_ui, ui, two_saves
+    pendant_ui: PendantUI, ui: ClientSession, two_saves: bytes
 ) -> None:
     operator = FakeBrowser(OPERATOR)
     folder = pendant_ui.programs.store.folder

@@ -108,7 +108,7 @@ def test_the_pendants_own_ticks_keep_the_shared_history_at_ten_samples_a_second(
 
     def pendant_tick(now: float, work: TickWork, woken: bool) -> None:
         clock.advance(started + now - clock.now())  # the telemetry stamps its samples with this clock
-        page._tick(work, woken)
+        page.tick(work, woken)
 
     with pendant_page(sim, sim.arm, clock=clock.now) as page:
         before = len(page.telemetry.window(HISTORY_S))

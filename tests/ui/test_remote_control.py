@@ -49,7 +49,7 @@ def api(page: PendantUI, sim: SimController) -> Iterator[httpx.Client]:
 def session(page: PendantUI, client_id: int) -> ClientSession:
     """The panels of browser `client_id`, registered as the page registers a connected browser's."""
     built = page.open_session(page.server, client_id=client_id)
-    with page._sessions_lock:
+    with page.browsers.lock:
         page.sessions[client_id] = built
     return built
 

@@ -18,13 +18,12 @@ from pendant.telemetry.repair import finished
 from pendant.ui.app import PendantUI
 from pendant.ui.dashboard.replay import JUMP_PROMPT
 from pendant.ui.page.session import ClientSession
+from tests.support.dashboard import MOVE, SAMPLE_PERIOD_S, sample
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
+from tests.support.mcap_reading import read_mcap
 from tests.support.pages import new_page
 from tests.support.recordings import damaged_inside, make_recording
 from tests.support.waiting import wait_until
-from tests.telemetry.test_mcap import read_mcap
-
-from .test_dashboard import MOVE, SAMPLE_PERIOD_S, sample
 
 N_SAMPLES = 20
 FAULT_AT = 8  # the sample after which an error is logged
@@ -75,7 +74,9 @@ def test_the_ghost_shows_the_recorded_arm_at_the_slider_time_and_nothing_moves(
     replay = ui.dashboard.replay
     viewer = FakeBrowser(VIEWER)
     fire(replay.start, viewer)  # a viewer may replay: it commands nothing
-    wait_until(lambda: replay.replay is not None or viewer.notifications, JOB_TIMEOUT_S, "the replay to load")
+    wait_until(
+        lambda: replay.replay is not None or bool(viewer.notifications), JOB_TIMEOUT_S, "the replay to load"
+    )
     assert replay.replay is not None and replay.ghost is not None, viewer.notifications
     assert replay.replay.duration_s == pytest.approx((N_SAMPLES - 1) * SAMPLE_PERIOD_S)
     for i in (2, 15):  # the slider's time is seconds since the first sample

@@ -63,7 +63,7 @@ def test_a_browser_whose_url_carries_the_token_can_take_control(exposed: tuple[P
             await with_token.send(CAMERA_HELLO)
             await without.send(CAMERA_HELLO)
             await _wait_for(lambda: len(page.sessions) == 2)
-            sessions = sorted(page.sessions.values(), key=lambda s: s.client_id)
+            sessions = sorted(page.sessions.values(), key=lambda s: s.client_id or 0)
             assert sessions[0].control.url_token == TOKEN and sessions[1].control.url_token is None
             assert "127.0.0.1" in page.desk.name(sessions[0].client_id)
             assert sessions[1].control.take() == MSG_NO_TOKEN

@@ -79,7 +79,7 @@ def test_the_robot_tab_binds_the_stop_to_an_input_level(ui: ClientSession, sim: 
     operator = FakeBrowser(OPERATOR)
     fire(ui.robot_safety.stop_port, operator, "DI1")
     fire(ui.robot_safety.stop_level, operator, "HIGH")
-    ui.robot_safety.bind_stop(operator).result(timeout=WAIT_S)
+    ui.robot_safety.bind_stop(operator.handle).result(timeout=WAIT_S)
     assert sim.get_motion_status() is MotionStatus.IDLE
     sim.set_input(1, SignalLevel.HIGH)
     assert sim.get_motion_status() is MotionStatus.ERROR
@@ -88,9 +88,9 @@ def test_the_robot_tab_binds_the_stop_to_an_input_level(ui: ClientSession, sim: 
 
 def test_the_free_drive_toggle_relaxes_the_arm(ui: ClientSession, sim: SimController) -> None:
     operator = FakeBrowser(OPERATOR)
-    ui.robot_safety.set_free_drive(True, operator).result(timeout=WAIT_S)
+    ui.robot_safety.set_free_drive(True, operator.handle).result(timeout=WAIT_S)
     assert sim.get_system_state() is SystemState.ZERO_GRAVITY
-    ui.robot_safety.set_free_drive(False, operator).result(timeout=WAIT_S)
+    ui.robot_safety.set_free_drive(False, operator.handle).result(timeout=WAIT_S)
     assert sim.get_system_state() is SystemState.ACTIVE
 
 

@@ -4,6 +4,7 @@ ones, never one that left, and a build that fails does not stop the next."""
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 
 from pendant.ui.page.session_builder import HOLD_BACK_MAX_S, SessionBuilder
 
@@ -34,7 +35,7 @@ def _blocked_builder(clock: FakeClock) -> tuple[SessionBuilder, threading.Event,
     return builder, release, built
 
 
-def _record(built: list[int], client_id: int, done: threading.Event | None = None):  # type: ignore[no-untyped-def]
+def _record(built: list[int], client_id: int, done: threading.Event | None = None) -> Callable[[], None]:
     def build() -> None:
         built.append(client_id)
         if done is not None:

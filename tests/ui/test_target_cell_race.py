@@ -14,8 +14,8 @@ from pendant.controller.cell_types import ToolShape
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.target.panel import TargetPanel
-
-from .test_cell import box, home_q
+from tests.support.obstacles import box
+from tests.support.sim_sampling import home_q
 
 SCRIPT_WAIT_S = 0.5  # how long the script's refresh gets to run while the operator's check is under way
 
@@ -30,7 +30,12 @@ def test_a_target_set_while_an_obstacle_arrives_is_checked_against_it(
     wall = box("wall", tuple(sim.arm.fk(halfway)[:3, 3]))
     cells = {"now": CellModel(sim.arm, [], ToolShape(shape=[]))}
     operator = threading.Thread(target=lambda: panel.set_joint_target(around), name="operator")
-    script = threading.Thread(target=lambda: (cells.update(now=with_wall), panel.recheck()), name="script")
+
+    def obstacle_arrives() -> None:
+        cells.update(now=with_wall)
+        panel.recheck()
+
+    script = threading.Thread(target=obstacle_arrives, name="script")
     with_wall = CellModel(sim.arm, [wall], ToolShape(shape=[]))
 
     def current_cell() -> CellModel:
@@ -47,5 +52,6 @@ def test_a_target_set_while_an_obstacle_arrives_is_checked_against_it(
     operator.join()
     script.join()
     assert panel.check.reason == "Collision detected: the path to the target passes through 'wall'"
+    assert panel.check.q is not None
     np.testing.assert_allclose(panel.check.q, around)  # the operator's target, not the arm's pose
     assert panel.move_j.disabled

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 import numpy as np
 import pytest
 import viser
@@ -11,7 +13,7 @@ from tests.support.ports import free_port
 
 
 @pytest.fixture
-def server():
+def server() -> Iterator[viser.ViserServer]:
     server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
     yield server
     server.stop()

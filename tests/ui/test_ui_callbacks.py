@@ -19,7 +19,7 @@ from pendant.ui.app import PendantUI
 from pendant.ui.kit.snapshot import Snapshot
 from pendant.ui.page.session import ClientSession
 from pendant.ui.page.status_panel import render_status
-from tests.support.pages import pendant_page
+from tests.support.pages import pendant_page, sent
 
 TOOL_LENGTH_M = 0.12
 ANGLE_TOL_DEG = 1e-6
@@ -34,6 +34,7 @@ def test_until_the_operator_sets_a_target_it_follows_the_arm_with_no_ghost_and_n
     ui: ClientSession, pendant_ui: PendantUI, sim: SimController, clock: FakeClock
 ) -> None:
     panel = ui.target_panel
+    assert panel.check.q is not None
     np.testing.assert_allclose(np.degrees(panel.check.q), pose_deg(sim), atol=ANGLE_TOL_DEG)
     assert panel.ghost_shown is None and panel.move_j.disabled and panel.move_l.disabled
 
@@ -43,6 +44,7 @@ def test_until_the_operator_sets_a_target_it_follows_the_arm_with_no_ghost_and_n
     assert not panel.gizmo_shown, "not chased while the arm moves"
     clock.advance(30.0)
     pendant_ui.refresh(with_io=True)
+    assert panel.check.q is not None
     np.testing.assert_allclose(np.degrees(panel.check.q), pose_deg(sim), atol=ANGLE_TOL_DEG)
     assert panel.gizmo_shown and panel.ghost_shown is None, "back at the TCP; no stale ghost"
 
@@ -84,7 +86,7 @@ def test_move_j_from_sliders_reaches_the_target(
 ) -> None:
     target_deg = np.array([30.0, -80.0, 60.0, -70.0, -90.0, 15.0])
     assert ui.target_panel.set_joint_target(np.radians(target_deg)).ok
-    ui.target_panel.run(MotionType.JOINT).result(timeout=FUTURE_TIMEOUT_S)
+    sent(ui.target_panel.run(MotionType.JOINT)).result(timeout=FUTURE_TIMEOUT_S)
     assert sim.get_motion_status() is MotionStatus.RUNNING
     clock.advance(30.0)
     np.testing.assert_allclose(pose_deg(sim), target_deg, atol=1e-6)
@@ -96,7 +98,7 @@ def test_move_l_from_a_dragged_gizmo_reaches_it(
     T = sim.arm.fk(np.radians(pose_deg(sim)))
     T[:3, 3] += (0.05, 0.05, -0.05)
     assert ui.target_panel.set_flange_target(T).ok
-    ui.target_panel.run(MotionType.LINEAR).result(timeout=FUTURE_TIMEOUT_S)
+    sent(ui.target_panel.run(MotionType.LINEAR)).result(timeout=FUTURE_TIMEOUT_S)
     clock.advance(30.0)
     np.testing.assert_allclose(sim.arm.fk(np.radians(pose_deg(sim)))[:3, 3], T[:3, 3], atol=1e-6)
 
@@ -120,7 +122,7 @@ def test_with_a_tool_the_gizmo_holds_its_tcp_and_a_drag_moves_the_tcp_there(
     T_base_tcp = position_to_matrix(sim.get_position())
     T_base_tcp[:3, 3] += (0.05, 0.0, -0.05)
     assert ui.target_panel.set_tcp_target(T_base_tcp).ok
-    ui.target_panel.run(MotionType.LINEAR).result(timeout=FUTURE_TIMEOUT_S)
+    sent(ui.target_panel.run(MotionType.LINEAR)).result(timeout=FUTURE_TIMEOUT_S)
     clock.advance(30.0)
     moved = sim.get_position().point
     np.testing.assert_allclose((moved.x, moved.y, moved.z), T_base_tcp[:3, 3], atol=1e-6)
@@ -177,17 +179,17 @@ def test_the_robot_id_appears_once_a_controller_that_was_down_at_start_answers(s
 
 def test_invalid_tool_form_is_refused_before_anything_is_sent(ui: ClientSession, sim: SimController) -> None:
     before = sim.get_tool()
-    ui.settings.tool_name.value = "   "
+    ui.settings.tool_name.value = "   "  # type: ignore[misc]  # viser 1.1.1: its setter is not beside the getter
     assert not ui.settings.submit_tool(None)
-    ui.settings.tool_name.value = "gripper"
-    ui.settings.tool_xyz.value = (0.0, 0.0, 5000.0)
+    ui.settings.tool_name.value = "gripper"  # type: ignore[misc]  # viser 1.1.1: its setter is not beside the getter
+    ui.settings.tool_xyz.value = (0.0, 0.0, 5000.0)  # type: ignore[misc]  # viser 1.1.1: its setter is not beside the getter
     assert not ui.settings.submit_tool(None)
     assert sim.get_tool() == before
 
 
 def test_valid_tool_form_sets_the_tool(ui: ClientSession, pendant_ui: PendantUI, sim: SimController) -> None:
-    ui.settings.tool_name.value = "gripper"
-    ui.settings.tool_xyz.value = (0.0, 0.0, 120.0)
+    ui.settings.tool_name.value = "gripper"  # type: ignore[misc]  # viser 1.1.1: its setter is not beside the getter
+    ui.settings.tool_xyz.value = (0.0, 0.0, 120.0)  # type: ignore[misc]  # viser 1.1.1: its setter is not beside the getter
     assert ui.settings.submit_tool(None)
     pendant_ui.runner.submit("sync", lambda c: None, None).result(FUTURE_TIMEOUT_S)
     tool = sim.get_tool()

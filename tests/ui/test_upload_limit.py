@@ -19,6 +19,7 @@ import websockets
 from pendant.sim import MonotonicClock, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.page.session import ClientSession
+from tests.support.doubles import upload_states
 from tests.support.headless_viewer import CAMERA_HELLO
 from tests.support.pages import new_page
 from tests.support.ports import free_port
@@ -82,8 +83,7 @@ def test_an_upload_larger_than_a_program_is_refused_before_it_is_kept(page: tupl
             await wait_for(lambda: len(ui.sessions) == 1)
             session: ClientSession = next(iter(ui.sessions.values()))
             button = session.program.file_section.upload
-            button_uuid = button._impl.uuid
-            states = button._impl.gui_api._current_file_upload_states
+            button_uuid, states = upload_states(button)
 
             # Declared too large: refused at the first message, none of its parts kept (all but the last
             # are sent, so without the limit they would wait in memory for it).

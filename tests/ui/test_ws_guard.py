@@ -14,6 +14,7 @@ import pytest
 import viser
 from websockets.exceptions import InvalidStatus
 from websockets.sync.client import connect
+from websockets.typing import Origin, Subprotocol
 
 from pendant.access.origin import OriginPolicy
 from pendant.sim import SimController
@@ -21,7 +22,7 @@ from pendant.ui.app import PendantUI
 from tests.support.headless_viewer import CAMERA_HELLO
 from tests.support.pages import new_page
 
-SUBPROTOCOL = f"viser-v{viser.__version__}"
+SUBPROTOCOL = Subprotocol(f"viser-v{viser.__version__}")
 
 
 @pytest.fixture
@@ -37,7 +38,9 @@ def ws_url(page: PendantUI) -> str:
 
 def test_a_websocket_from_another_origin_is_refused_and_nobody_gets_control(page: PendantUI) -> None:
     with pytest.raises(InvalidStatus) as refused:
-        connect(ws_url(page), origin="http://evil.example", subprotocols=[SUBPROTOCOL], open_timeout=5)
+        connect(
+            ws_url(page), origin=Origin("http://evil.example"), subprotocols=[SUBPROTOCOL], open_timeout=5
+        )
     assert refused.value.response.status_code == 403
     assert b"Cross-origin request refused" in refused.value.response.body
     assert page.desk.operator is None  # on main it became the operator and could jog
@@ -68,8 +71,8 @@ def test_the_pendants_own_page_and_clients_without_an_origin_connect(page: Penda
     served = httpx.get(f"http://localhost:{port}/")
     assert served.status_code == 200 and "text/html" in served.headers["content-type"]
     assert served.headers["content-security-policy"] == "frame-ancestors 'self'"
-    for origin in (f"http://127.0.0.1:{port}", f"http://localhost:{port}", None):
-        with connect(ws_url(page), origin=origin, subprotocols=[SUBPROTOCOL], open_timeout=5) as socket:  # type: ignore[arg-type]
+    for origin in (Origin(f"http://127.0.0.1:{port}"), Origin(f"http://localhost:{port}"), None):
+        with connect(ws_url(page), origin=origin, subprotocols=[SUBPROTOCOL], open_timeout=5) as socket:
             assert socket.recv(timeout=5)  # viser's first messages: it is a connected browser
 
 

@@ -29,6 +29,11 @@ class CellFilesSection:
         self.save.on_click(lambda e: self.save_file(e.client))
         self.load.on_click(lambda e: self.load_file(self.files.value, e.client))
 
+    @property
+    def folder(self) -> Path:
+        """Where the cell files are saved and listed."""
+        return self._folder
+
     def save_file(self, client: viser.ClientHandle | None = None) -> Future[object]:
         name = str(self.file_name.value)
 

@@ -15,8 +15,8 @@ from pendant.controller import Controller, ControllerError, MotionStatus, Precon
 from pendant.controller.stops import StopBus
 from pendant.eventlog import EventKind, EventLog
 from pendant.jog import Jogger, JogRequest
+from pendant.jog.arm import JogArm
 from pendant.jog.blocked import Touching
-from pendant.kinematics import ArmModel
 from pendant.monitoring import PendantMetrics
 from pendant.program import Change, ProgramWorkspace, RunState
 from pendant.ui.kit.commands import CommandRefused
@@ -36,7 +36,7 @@ class LoggedJogger(Jogger):
     def __init__(
         self,
         controller: Controller,
-        arm: ArmModel,
+        arm: JogArm,
         *,
         events: EventLog,
         desk: ControlDesk,

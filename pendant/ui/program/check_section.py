@@ -87,6 +87,11 @@ class CheckSection:
         self.playback.on_update(self._on_playback)
 
     # --- the check -------------------------------------------------------------------------------------
+    @property
+    def nodes(self) -> tuple[viser.SceneNodeHandle, ...]:
+        """The scene nodes it draws now."""
+        return tuple(self._nodes)
+
     def _start_check(self, client: viser.ClientHandle | None) -> None:
         self._host.with_controller("Check", client, self._check)  # off the UI thread; `pending` to wait on
 

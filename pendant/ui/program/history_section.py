@@ -56,6 +56,11 @@ class HistorySection:
         host.shared.on_change(self._listener)
         self.redraw()
 
+    @property
+    def nodes(self) -> tuple[viser.SceneNodeHandle, ...]:
+        """The scene nodes it draws now."""
+        return tuple(self._nodes)
+
     def close(self) -> None:
         self._host.shared.remove_listener(self._listener)
         self._clear_scene()

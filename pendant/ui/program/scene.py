@@ -59,6 +59,16 @@ class ProgramScene:
         self._markers: list[tuple[viser.IcosphereHandle, int]] = []  # (marker, step line)
         self._shown: tuple[Program, int | None, int | None] | None = None
 
+    @property
+    def nodes(self) -> tuple[viser.SceneNodeHandle, ...]:
+        """The scene nodes it draws now."""
+        return tuple(self._nodes)
+
+    @property
+    def markers(self) -> tuple[tuple[viser.IcosphereHandle, int], ...]:
+        """The waypoint markers drawn now, each with the step line it belongs to."""
+        return tuple(self._markers)
+
     def show(self, program: Program, selected: int | None = None, current: int | None = None) -> None:
         """Draw `program` (the moves of the `selected` and `current` lines highlighted) and its path."""
         if self._shown == (program, selected, current):

@@ -125,6 +125,11 @@ class ToolShapeDrawing:
         self._nodes: list[viser.SceneNodeHandle] = []
 
     @property
+    def frame(self) -> viser.FrameHandle:
+        """The frame on the flange that the capsules are drawn in."""
+        return self._frame
+
+    @property
     def capsules_shown(self) -> int:
         return len(self._shape.shape) if self._shape is not None else 0
 

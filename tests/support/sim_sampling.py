@@ -67,3 +67,20 @@ def position(
 
 def shifted(p: Position, dx: float = 0.0, dy: float = 0.0, dz: float = 0.0) -> Position:
     return Position(point=Point(x=p.point.x + dx, y=p.point.y + dy, z=p.point.z + dz), rotation=p.rotation)
+
+
+MOTION_SETTLE_S = 0.1  # beyond the end of everything queued
+
+
+def finish_motion(sim: SimController, clock: FakeClock) -> None:
+    clock.advance(sim.busy_until() - clock.now() + MOTION_SETTLE_S)
+
+
+def pose_deg(sim: SimController) -> np.ndarray:
+    """The joint angles, degrees."""
+    return np.asarray(sim.get_pose().angles)
+
+
+def home_q(sim: SimController) -> np.ndarray:
+    """The joint angles, radians (as the kinematics take them)."""
+    return np.radians(sim.get_pose().angles)

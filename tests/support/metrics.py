@@ -1,9 +1,13 @@
-"""Scrape /metrics and read it with prometheus_client's own parser."""
+"""Scrape /metrics and read it with prometheus_client's own parser; the Grafana dashboard's queries."""
 
 from __future__ import annotations
 
+import json
+
 import httpx
 from prometheus_client.parser import text_string_to_metric_families
+
+from pendant.paths import deploy_dir
 
 Samples = dict[str, list[tuple[dict[str, str], float]]]
 
@@ -21,3 +25,13 @@ def scrape(base_url: str) -> Samples:
 
 def values(samples: Samples, name: str) -> list[float]:
     return [value for _, value in samples.get(name, [])]
+
+
+def dashboard_queries() -> list[str]:
+    """Every PromQL query of the Grafana dashboard, with its arm variable set to all arms."""
+    dashboard = json.loads((deploy_dir() / "grafana" / "pulse-dashboard.json").read_text())
+    return [
+        target["expr"].replace("$instance", ".*")
+        for panel in dashboard["panels"]
+        for target in panel.get("targets", [])
+    ]
