@@ -155,6 +155,7 @@ class PendantUI:
         self.reader = ControllerReader(controller)
         self.desk.on_change(self._control_changed)
         self.remote.on_change(self.browsers.show_remote)
+        self.desk.on_ask(lambda asker, operator: self.browsers.tell_asked(operator, self.desk.name(asker)))
         # Arrivals and departures on a thread of their own, handed over from viser's event loop: viser would
         # run them on its callback pool, which any browser's clicks can fill, and a newcomer then waited
         # for its Freeze button for good.

@@ -11,6 +11,8 @@ import numpy as np
 from PIL import Image
 from playwright.sync_api import Page
 
+from tests.support.typed import typed_box
+
 from .conftest import ARTIFACTS, Pendant
 from .test_pendant_page import SETTLE_S, wait_idle
 
@@ -60,15 +62,12 @@ def sent(page: Page) -> None:
 
 
 def fill_after(page: Page, label: str, values: tuple[object, ...]) -> None:
-    """Type `values` into the inputs beside the visible field labelled `label` (a vector has three), each
-    sent to the pendant before the next is typed, as a person types them."""
-    for i, value in enumerate(values, start=1):
-        field = page.locator(
-            f"xpath=//label[normalize-space()='{label}']/following::input[{i}] >> visible=true"
-        )
-        field.first.fill(str(value))
-        field.first.press("Enter")
-        sent(page)
+    """Type `values` into the box beside the visible field labelled `label` (a vector's as "x, y, z") and
+    commit it with Enter, as a person types them."""
+    field = page.locator(f"xpath=//label[normalize-space()='{label}']/following::input[1] >> visible=true")
+    field.first.fill(", ".join(str(value) for value in values))
+    field.first.press("Enter")
+    sent(page)
 
 
 def test_an_obstacle_added_through_the_api_appears_in_the_scene(page, pendant: Pendant) -> None:
@@ -115,7 +114,7 @@ def test_an_obstacle_added_in_the_page_refuses_a_move_through_it(page, pendant: 
         target[0] += 90.0
         page.get_by_role("tab", name="Target").click()
         page.get_by_role("button", name="Move J").wait_for(timeout=SHOWN_WITHIN_S * 1000)  # the tab is shown
-        j1 = page.locator("input.mantine-NumberInput-input:visible").first
+        j1 = typed_box(page, "J1 °")
         j1.fill(f"{target[0]:.1f}")
         j1.press("Enter")
         page.get_by_text("the path to the target passes through 'wall'").wait_for(

@@ -29,6 +29,7 @@ from tests.support.deviation import (
     max_turn_deg,
     start_index,
 )
+from tests.support.typed import typed_box
 from tests.support.waiting import wait_until
 
 from .conftest import ARTIFACTS, Pendant, running_pendant
@@ -89,10 +90,9 @@ def toggle_free_drive(page: Page, pendant: Pendant, on: bool) -> None:
 
 
 def pull(page: Page, pendant: Pendant, joint: int, angle: float) -> None:
-    """Pull the relaxed arm by hand: type the joint's angle in its box beside the slider (Target tab). The
-    page refreshes the boxes to the arm's pose after each pull; one that lands between typing and Enter puts
-    the old value back, so a pull the arm did not follow is typed again."""
-    box = page.locator("input.mantine-NumberInput-input:visible").nth(joint)
+    """Pull the relaxed arm by hand: type the joint's angle in its box (Target tab), committed with Enter; a
+    pull the arm did not follow is typed again."""
+    box = typed_box(page, f"J{joint + 1} °")
     for _ in range(PULL_TRIES):
         box.fill(f"{angle:.1f}")
         box.press("Enter")

@@ -12,6 +12,7 @@ from playwright.sync_api import Page
 
 from pendant.planning.scenes import BOX
 from tests.support.jog_measure import ensure_operator, wait_idle
+from tests.support.typed import typed_box
 
 from .conftest import ARTIFACTS, Pendant
 
@@ -41,7 +42,7 @@ def test_plan_around_a_box_shows_the_path_and_move_runs_it_to_the_target(page, p
         page.get_by_role("tab", name="Target").click()
         page.get_by_role("button", name="Move J").wait_for(timeout=SHOWN_WITHIN_S * 1000)
         before = course_pixels(page)
-        j1 = page.locator("input.mantine-NumberInput-input:visible").first
+        j1 = typed_box(page, "J1 °")
         j1.fill(f"{BOX.target_deg[0]:.1f}")
         j1.press("Enter")
         page.get_by_text("the path to the target passes through 'box'").wait_for(
@@ -69,5 +70,12 @@ def test_plan_around_a_box_shows_the_path_and_move_runs_it_to_the_target(page, p
             assert pendant.status() not in ("ERROR", "MOTION_FAILED"), pendant.api.get("/status/failure").text
             time.sleep(0.2)
         assert page.get_by_text("refused").count() == 0  # no refusal notification (no 412)
+        # One truth on screen (issue 31): the target reached is not "cannot execute", and the plan is gone.
+        page.get_by_text("Target reached").wait_for(timeout=SHOWN_WITHIN_S * 1000)
+        assert (
+            page.get_by_text("Cannot execute").count() == 0
+            and page.get_by_text("No straight path").count() == 0
+        )
+        assert page.get_by_text("Path planned").count() == 0
     finally:
         pendant.api.delete("/environment").raise_for_status()

@@ -73,7 +73,7 @@ def test_run_waits_for_a_passing_check_and_check_marks_the_failing_step(
     assert report is not None and not report.ok
     rows = panel.steps_view.content.split("  \n")
     assert f"✘ the gripper would hit '{BOX_NAME}'" in rows[2]
-    assert "✔" in rows[0] and "✘ not checked" in rows[3]
+    assert "✔" in rows[0] and "○ not checked" in rows[3] and "✘ not checked" not in rows[3]
     assert section.summary.content.startswith("**✘ Step 3 (Move J to right")
     assert {node.name for node in section.nodes} == {"/program_check/swept", "/program_check/failure"}
     assert not section.playback.disabled and section.playback.max == pytest.approx(

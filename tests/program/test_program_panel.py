@@ -314,3 +314,25 @@ def test_save_of_an_unnamed_program_asks_for_its_name_then_saves(
     fire(files.file_name, browser, "second job")
     fire(files.files, browser, "Save")
     assert (folder / "second job.json").is_file() and workspace.file_name == "second job"
+
+
+def test_reteach_keeps_the_waypoint_chosen_and_says_how_far_it_moved(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, clock: FakeClock
+) -> None:
+    panel, workspace = setup
+    browser = FakeBrowser(OPERATOR)
+    for pose in (POSE_A_DEG, POSE_B_DEG):
+        teach(sim, clock, pose, "ignored")
+        record(panel, browser)
+    fire(panel.select, browser, "1. Move J to P1 @ 20%")  # a step to P1 selected, P2 chosen to re-teach
+    fire(panel.waypoints.chooser, browser, "P2")
+    before = workspace.program.waypoint("P2").position.point
+    teach(sim, clock, POSE_C_DEG, "ignored")
+    fire(panel.waypoints.reteach, browser)
+    assert panel.pending is not None
+    panel.pending.result(timeout=WAIT_S)
+    after = sim.get_position().point
+    moved_mm = 1000.0 * float(np.linalg.norm([after.x - before.x, after.y - before.y, after.z - before.z]))
+    assert moved_mm > 1.0
+    assert panel.waypoints.chooser.value == "P2"  # not the selected step's P1
+    assert browser.notifications[-1] == f"P2 re-taught: moved {moved_mm:.0f} mm"

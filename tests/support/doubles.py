@@ -13,6 +13,7 @@ import viser.transforms as vtf
 from viser import _messages as viser_messages
 
 from pendant.ui.jog.panel import HOLD_CONFIRM_HZ
+from pendant.ui.kit.typed_field import TypedField
 
 OPERATOR, VIEWER = 1, 2  # client ids: on loopback the first browser to join is the operator
 
@@ -76,6 +77,18 @@ class FakeBrowser:
         return cast(viser.ClientHandle, self)
 
 
+def committed(handle: Any, value: Any) -> tuple[Any, Any]:
+    """A typed field (pendant/ui/kit/typed_field.py) gets the text the page commits: its text box, and a
+    number as typed ("80.0"), a vector as "x, y, z", a string as it is."""
+    if not isinstance(handle, TypedField):
+        return handle, value
+    if isinstance(value, tuple | list):
+        value = ", ".join(repr(float(v)) for v in value)
+    elif value is not None and not isinstance(value, str):
+        value = repr(float(value))
+    return handle.handle, value
+
+
 def event(handle: Any, browser: FakeBrowser | None) -> viser.GuiEvent:
     """viser's event for `handle` from `browser` (None: from the server's Python, as on_click's callers see
     it when no browser is involved)."""
@@ -86,6 +99,7 @@ def event(handle: Any, browser: FakeBrowser | None) -> viser.GuiEvent:
 
 def fire(handle: Any, browser: FakeBrowser | None, value: Any = None) -> None:
     """What viser does when a browser clicks or edits `handle`: set the value, call the callbacks once."""
+    handle, value = committed(handle, value)
     if value is not None:
         handle._impl.value = value  # not `handle.value = ...`: that calls back as from Python (client None)
     for callback in list(handle._impl.update_cb):

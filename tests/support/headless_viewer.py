@@ -75,7 +75,7 @@ class JogPad:
 
 
 async def read_jog_pad(ws: websockets.ClientConnection, timeout_s: float) -> JogPad:
-    """Read the page's messages until its jog pad and speed slider have come."""
+    """Read the page's messages until its jog pad and speed box have come."""
     zstd = zstandard.ZstdDecompressor()
     hold = stop = speed = ""
     async with asyncio.timeout(timeout_s):
@@ -84,7 +84,7 @@ async def read_jog_pad(ws: websockets.ClientConnection, timeout_s: float) -> Jog
             assert isinstance(frame, bytes)
             for message in decode_window(frame, zstd):
                 props = message.get("props", {})
-                if message.get("type") == "GuiSliderMessage" and props.get("label") == "Speed %":
+                if message.get("type") == "GuiTextMessage" and props.get("label") == "Speed %" and not speed:
                     speed = message["uuid"]
                 content = str(props.get("content", ""))
                 if (pad := JOG_PAD_J1_PLUS.search(content)) and (pad_stop := JOG_STOP.search(content)):

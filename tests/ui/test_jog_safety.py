@@ -97,7 +97,7 @@ def test_the_pad_says_when_the_tcp_limit_slows_a_joint_jog(
 ) -> None:
     fire(ui.jog.speed, operator, 10.0)
     pendant_ui.refresh()
-    assert "250 mm/s" not in ui.jog.pad.content  # 12°/s of J1 moves the TCP well under the limit
+    assert "250 mm/s" not in ui.jog.note.content  # 12°/s of J1 moves the TCP well under the limit
     fire(ui.jog.speed, operator, 100.0)
     pendant_ui.refresh()
-    assert "The 250 mm/s TCP limit slows J1" in ui.jog.pad.content
+    assert "The 250 mm/s TCP limit slows J1" in ui.jog.note.content

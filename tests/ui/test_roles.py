@@ -116,7 +116,7 @@ def test_a_viewers_page_has_its_controls_disabled_except_freeze(local_ui: Pendan
         local_ui.sessions[2] = viewer
     assert viewer.control.take() is None  # no token on loopback
     assert not viewer.locked
-    assert not viewer.jog.buttons[(0, 1)].disabled and not viewer.target_panel.sliders[0].disabled
+    assert not viewer.jog.buttons[(0, 1)].disabled and not viewer.target_panel.joints[0].disabled
     assert viewer.target_panel.set_joint_target(np.radians(HOME_MOVE.angles)).ok
     assert not viewer.target_panel.move_j.disabled
     assert not viewer.dashboard.record_start.disabled
@@ -217,3 +217,15 @@ def test_a_viewer_cannot_record_or_run_a_program_and_the_log_says_who_did_what(
     assert len(local_ui.programs.program.steps) == 1
     commands = [(e.source, e.message) for e in local_ui.events.recent() if e.kind is EventKind.COMMAND]
     assert ("browser #1", "Record") in commands
+
+
+def test_the_operator_is_told_when_another_browser_asks_for_control(local_ui: PendantUI) -> None:
+    local_ui.desk.join(1)
+    local_ui.desk.join(2)
+    operator = local_ui.open_session(local_ui.server, client_id=1)
+    assert local_ui.browsers.add(1, operator)
+    assert "asks for control" not in operator.control.role.content
+    assert local_ui.desk.take(2) is not None  # refused: browser #1 has control
+    assert "browser #2 asks for control" in operator.control.role.content
+    assert local_ui.desk.release(1) and local_ui.desk.take(2) is None
+    assert "asks for control" not in operator.control.role.content  # answered: control changed hands

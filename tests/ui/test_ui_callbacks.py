@@ -182,14 +182,14 @@ def test_invalid_tool_form_is_refused_before_anything_is_sent(ui: ClientSession,
     ui.settings.tool_name.value = "   "  # type: ignore[misc]  # viser 1.1.1: its setter is not beside the getter
     assert not ui.settings.submit_tool(None)
     ui.settings.tool_name.value = "gripper"  # type: ignore[misc]  # viser 1.1.1: its setter is not beside the getter
-    ui.settings.tool_xyz.value = (0.0, 0.0, 5000.0)  # type: ignore[misc]  # viser 1.1.1: its setter is not beside the getter
+    ui.settings.tool_xyz.show((0.0, 0.0, 5000.0))
     assert not ui.settings.submit_tool(None)
     assert sim.get_tool() == before
 
 
 def test_valid_tool_form_sets_the_tool(ui: ClientSession, pendant_ui: PendantUI, sim: SimController) -> None:
     ui.settings.tool_name.value = "gripper"  # type: ignore[misc]  # viser 1.1.1: its setter is not beside the getter
-    ui.settings.tool_xyz.value = (0.0, 0.0, 120.0)  # type: ignore[misc]  # viser 1.1.1: its setter is not beside the getter
+    ui.settings.tool_xyz.show((0.0, 0.0, 120.0))
     assert ui.settings.submit_tool(None)
     pendant_ui.runner.submit("sync", lambda c: None, None).result(FUTURE_TIMEOUT_S)
     tool = sim.get_tool()

@@ -30,9 +30,3 @@ def edit_refusal(names: set[str], old: str | None, new: str) -> tuple[str, str] 
 
 def clear_cell(c: Controller) -> object:
     return c.remove_obstacles()
-
-
-def nudged(value: tuple[float, float, float]) -> tuple[float, float, float]:
-    """Another value, so that setting the real one after it reaches the browser (viser sends a value only
-    when it differs from the one it believes the browser shows)."""
-    return (value[0] + 1.0, value[1], value[2])

@@ -23,7 +23,7 @@ from pendant.cell.forms import KINDS, ObstacleForm, form_from_obstacle, obstacle
 from pendant.cell.placement import gizmo_pose, moved_form
 from pendant.controller import Controller
 from pendant.controller.cell_types import Obstacle
-from pendant.ui.cell.edits import DEFAULT_FORMS, NEW, clear_cell, edit_refusal, nudged
+from pendant.ui.cell.edits import DEFAULT_FORMS, NEW, clear_cell, edit_refusal
 from pendant.ui.cell.files_section import CellFilesSection
 from pendant.ui.cell.gizmo import ObstacleGizmo
 from pendant.ui.kit.cell_contact import contact_line
@@ -31,6 +31,7 @@ from pendant.ui.kit.cell_state import CellState
 from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.confirm import Confirmation
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.typed_field import NumberField, TypedField, VectorField
 
 
 class CellPanel:
@@ -52,11 +53,13 @@ class CellPanel:
         self.selected = gui.add_dropdown("Obstacle", options=[NEW], initial_value=NEW)
         self.kind = gui.add_dropdown("Kind", options=list(KINDS), initial_value="BOX")
         self.name = gui.add_text("Name", initial_value="box")
-        self.at = gui.add_vector3("Position mm", initial_value=(400.0, 0.0, 100.0), step=1.0)
-        self.rpy = gui.add_vector3("Rotation °", initial_value=(0.0, 0.0, 0.0), step=1.0)
-        self.size = gui.add_vector3("Size mm", initial_value=(200.0, 200.0, 200.0), step=1.0)
-        self.end = gui.add_vector3("End mm", initial_value=(0.0, 0.0, 100.0), step=1.0)
-        self.radius = gui.add_number("Radius mm", initial_value=50.0, min=0.0, step=1.0)
+        # Typed "x, y, z" boxes, committed on Enter or leaving the box (kit/typed_field.py): one left empty
+        # or with letters refuses Add / Update with the reason, never an old value used silently.
+        self.at = VectorField(gui, "Position mm", (400.0, 0.0, 100.0), hint="x, y, z in the base frame")
+        self.rpy = VectorField(gui, "Rotation °", (0.0, 0.0, 0.0), hint="roll, pitch, yaw")
+        self.size = VectorField(gui, "Size mm", (200.0, 200.0, 200.0), hint="x, y, z")
+        self.end = VectorField(gui, "End mm", (0.0, 0.0, 100.0), hint="x, y, z of the capsule's other end")
+        self.radius = NumberField(gui, "Radius mm", 50.0, low=0.0)
         self.apply = gui.add_button(
             "Update selected obstacle",
             icon=viser.Icon.DEVICE_FLOPPY,
@@ -84,7 +87,8 @@ class CellPanel:
     @property
     def controls(self) -> tuple[viser.GuiInputHandle, ...]:
         """The fields only the operator may use (the commands: see `set_locked`)."""
-        return (self.selected, self.kind, self.name, self.at, self.rpy, self.size, self.end, self.radius)
+        typed = (self.at, self.rpy, self.size, self.end, self.radius)
+        return (self.selected, self.kind, self.name, *(field.handle for field in typed))
 
     @property
     def commands(self) -> tuple[viser.GuiButtonHandle, ...]:
@@ -120,18 +124,14 @@ class CellPanel:
         try:
             self.kind.value = form.kind
             self.name.value = form.name
-            for handle, value in (
+            for field, value in (
                 (self.at, form.at_mm),
                 (self.rpy, form.rpy_deg),
                 (self.size, form.size_mm),
                 (self.end, form.end_mm),
             ):
-                if resend and handle.value == value:
-                    handle.value = nudged(value)
-                handle.value = value
-            if resend and self.radius.value == form.radius_mm:
-                self.radius.value = form.radius_mm + 1.0
-            self.radius.value = form.radius_mm
+                field.show(value, resend=resend)
+            self.radius.show(form.radius_mm, resend=resend)
         finally:
             self._syncing = False
         self._show_fields(form.kind)
@@ -139,7 +139,8 @@ class CellPanel:
     def _show_fields(self, kind: str) -> None:
         """Only the fields that kind uses."""
         used = {"BOX": (self.rpy, self.size), "CAPSULE": (self.end, self.radius), "PLANE": (self.rpy,)}[kind]
-        for handle in (self.rpy, self.size, self.end, self.radius):
+        fields: tuple[TypedField, ...] = (self.rpy, self.size, self.end, self.radius)
+        for handle in fields:
             visible = handle in used
             if handle.visible != visible:
                 handle.visible = visible

@@ -3,6 +3,10 @@ lay it out), and a line saying when the 250 mm/s TCP limit slows a joint jog.
 
 The buttons are plain HTML driven by the page's script (client_page.js): it reads `data-jog-uuid` (the hidden
 viser button whose hold and click messages it sends) and `data-jog-stop` (the hidden button that only stops).
+The pad's markup changes only with the frame or the role: its live values come in a small element of their
+own (`render_values`), which the script copies into the pad's labels in place. A pad rebuilt on every value
+would re-create its buttons several times a second while the arm moves, and the keyboard focus on one of
+them would fall to the page's body.
 """
 
 from __future__ import annotations
@@ -79,6 +83,19 @@ def cap_line(notes: list[CapNote]) -> str:
     return f"The 250 mm/s TCP limit slows {parts} here."
 
 
+VALUES_SEPARATOR = "|"
+
+
+def render_values(values: list[str]) -> str:
+    """The live values, for the script to put in the pad (hidden: the pad shows them)."""
+    joined = html.escape(VALUES_SEPARATOR.join(values))
+    return f'<div hidden data-jog-values="{joined}"></div>'
+
+
+def render_note(note: str) -> str:
+    return inset(f'<div style="font-size:0.8em;color:#b8420c" id="jog-cap-note">{html.escape(note)}</div>')
+
+
 def render_pad(
     frame: JogFrame,
     values: list[str],
@@ -86,8 +103,8 @@ def render_pad(
     stop_uuid: str,
     *,
     disabled: bool,
-    note: str,
 ) -> str:
+    """The pad; `values` are those it opens with (the script keeps them current: see `render_values`)."""
     # A viewer's pad: greyed out, and the tooltip says why (not buttons that look active and do nothing).
     off = ' disabled aria-disabled="true"' if disabled else ""
     look = BUTTON_STYLE + (";opacity:0.45;cursor:not-allowed" if disabled else "")
@@ -108,5 +125,4 @@ def render_pad(
             f'<span style="font-size:0.85em;color:#495057">{name}</span> '
             f'<b data-jog-value="{axis}">{html.escape(values[axis])}</b></div>{buttons[+1]}</div>'
         )
-    note_html = f'<div style="font-size:0.8em;color:#b8420c" id="jog-cap-note">{html.escape(note)}</div>'
-    return inset(f'<div data-jog-stop="{stop_uuid}" id="jog-pad">{"".join(rows)}{note_html}</div>')
+    return inset(f'<div data-jog-stop="{stop_uuid}" id="jog-pad">{"".join(rows)}</div>')

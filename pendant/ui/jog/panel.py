@@ -14,10 +14,19 @@ import viser
 from pendant.controller import ControllerError
 from pendant.jog import JogFrame, Jogger, JogRefused, JogRequest
 from pendant.kinematics import ArmModel
-from pendant.ui.jog.pad import axis_name, axis_values, cap_line, render_pad, tcp_capped_joint_speeds
+from pendant.ui.jog.pad import (
+    axis_name,
+    axis_values,
+    cap_line,
+    render_note,
+    render_pad,
+    render_values,
+    tcp_capped_joint_speeds,
+)
 from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.snapshot import Snapshot
+from pendant.ui.kit.typed_field import FieldInvalid, NumberField
 
 log = logging.getLogger(__name__)
 
@@ -59,19 +68,22 @@ class JogPanel:
         self.stop = target.gui.add_button("Stop jog", visible=False)
         self.stop.on_click(lambda _: self._cancelled())
         # The pad first, its settings under it: all six rows fit a 1024x768 screen with the status above.
-        self.pad = target.gui.add_html("")
+        self.pad = target.gui.add_html("")  # rebuilt only with the frame or the role (see pad.py)
+        self.values = target.gui.add_html("")  # the live values, put in the pad's labels in place
+        self.note = target.gui.add_html("")  # when the 250 mm/s TCP limit slows a joint jog
         self.frame = target.gui.add_dropdown("Frame", [f.value for f in JogFrame], initial_value="Joint")
         self.step = target.gui.add_dropdown("Step (mm / °)", STEP_CHOICES, initial_value=CONTINUOUS)
-        self.speed = target.gui.add_slider(
-            "Speed %", min=1.0, max=100.0, step=1.0, initial_value=DEFAULT_SPEED_PERCENT
+        self.speed = NumberField(
+            target.gui, "Speed %", DEFAULT_SPEED_PERCENT, low=1.0, high=100.0, decimals=0
         )
         self._snapshot = Snapshot(taken_at=0.0)
+        self._pad_key: tuple[JogFrame, bool] | None = None
         self._locked = False
         self._shown_at = -math.inf
         self._refused_at = -math.inf
         self._told_stop = False  # this press's stop was told to the page (once per press)
         self.frame.on_update(lambda _: self._relabel())
-        self.speed.on_update(lambda _: self._render())
+        self.speed.on_commit(lambda _: self._render())
         self._render()
 
     @property
@@ -96,10 +108,11 @@ class JogPanel:
         if self.step.value != CONTINUOUS:
             amount = float(self.step.value)
             step = amount / 1000.0 if frame is not JogFrame.JOINT and axis < 3 else math.radians(amount)
-        speed = self.speed.value
-        if isinstance(speed, bool) or not isinstance(speed, int | float):
-            raise JogRefused("Jog speed must be a number")
-        return JogRequest(frame, axis, direction, float(speed), step)
+        try:
+            speed = self.speed.value
+        except FieldInvalid as error:  # empty or letters: no jog at a speed the operator did not type
+            raise JogRefused(error.message) from None
+        return JogRequest(frame, axis, direction, speed, step)
 
     def show(self, snapshot: Snapshot) -> None:
         """The live values (at most every PAD_REFRESH_S)."""
@@ -111,14 +124,21 @@ class JogPanel:
         frame = JogFrame(self.frame.value)
         note = ""
         if frame is JogFrame.JOINT and self._snapshot.q is not None:
-            speed = float(self.speed.value)
+            speed = self.speed.parse() if self.speed.reason is None else DEFAULT_SPEED_PERCENT
             note = cap_line(tcp_capped_joint_speeds(self._arm, self._snapshot.q, self._current_tool(), speed))
         uuids = {key: button._impl.uuid for key, button in self.buttons.items()}
         values = axis_values(frame, self._snapshot)
-        content = render_pad(frame, values, uuids, self.stop._impl.uuid, disabled=self._locked, note=note)
         self._shown_at = time.monotonic()
-        if content != self.pad.content:
-            self.pad.content = content
+        shown = render_values(values)
+        if shown != self.values.content:
+            self.values.content = shown
+        note_html = render_note(note)
+        if note_html != self.note.content:
+            self.note.content = note_html
+        key = (frame, self._locked)
+        if key != self._pad_key:  # not on a value: the pad's buttons keep their focus (see pad.py)
+            self._pad_key = key
+            self.pad.content = render_pad(frame, values, uuids, self.stop._impl.uuid, disabled=self._locked)
 
     def _relabel(self) -> None:
         if self.frame.value not in {f.value for f in JogFrame}:

@@ -13,6 +13,7 @@ from pendant.teach.recording import PathRecorder
 from pendant.teach.simplify import DEFAULT_TOL_DEG, DEFAULT_TOL_MM, MAX_WAYPOINTS
 from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.typed_field import FieldInvalid, NumberField, read_all
 
 RECORD_LABEL = "Record path"
 
@@ -26,12 +27,8 @@ class RecordPanel:
         self._runner = runner
         with target.gui.add_folder("Path recording", expand_by_default=True):
             self.note = target.gui.add_markdown("Free-drive or jog the arm while recording.")
-            self.tol_mm = target.gui.add_number(
-                "Tolerance mm", initial_value=DEFAULT_TOL_MM, min=0.01, step=0.1
-            )
-            self.tol_deg = target.gui.add_number(
-                "Tolerance °", initial_value=DEFAULT_TOL_DEG, min=0.01, step=0.1
-            )
+            self.tol_mm = NumberField(target.gui, "Tolerance mm", DEFAULT_TOL_MM, low=0.01, decimals=2)
+            self.tol_deg = NumberField(target.gui, "Tolerance °", DEFAULT_TOL_DEG, low=0.01, decimals=2)
             self.start = target.gui.add_button(RECORD_LABEL, icon=viser.Icon.PLAYER_RECORD, color="red")
             self.finish = target.gui.add_button("Stop and add to program", icon=viser.Icon.PLAYER_STOP)
             self.download = target.gui.add_button("Download recording", icon=viser.Icon.DOWNLOAD)
@@ -41,7 +38,7 @@ class RecordPanel:
 
     @property
     def controls(self) -> tuple[viser.GuiInputHandle, ...]:
-        return (self.tol_mm, self.tol_deg, self.start, self.finish)
+        return (self.tol_mm.handle, self.tol_deg.handle, self.start, self.finish)
 
     def begin(self, client: viser.ClientHandle | None = None) -> bool:
         if self._runner.refusal(client, RECORD_LABEL) is not None:
@@ -55,13 +52,17 @@ class RecordPanel:
         """Stop; add the path to the program as one Path step. Returns its line (None: nothing added)."""
         if self._runner.refusal(client, "Stop recording") is not None:
             return None
+        try:
+            asked_mm, asked_deg = read_all((self.tol_mm, self.tol_deg))
+        except FieldInvalid as error:  # the recording is kept: fix the tolerance and Stop again
+            notify_refusal(client, "Path not added", error.message)
+            return None
         recording = self._recorder.stop()
         if recording is None:
             notify_refusal(client, "Nothing recorded", "press Record path first")
             return None
-        asked_mm = float(self.tol_mm.value)
         try:
-            step = path_step(recording, asked_mm, float(self.tol_deg.value), self._next_name())
+            step = path_step(recording, asked_mm, asked_deg, self._next_name())
             line = self._programs.insert_step(step)
         except (ValueError, EditError) as error:
             notify_refusal(client, "Path not added", str(error))

@@ -89,6 +89,45 @@
     freeze.focus();
   }
 
+  // Focus kept where the operator put it: a control disabled under the focus (Run, while its run goes) or
+  // drawn again (a redrawn row) drops the focus to the page's body, and a keyboard user would need a dozen
+  // Tabs to come back. Then the focus goes to the same control drawn again, or else to the next one that
+  // can take it. A click elsewhere (the 3D view) is the operator's own choice: left alone.
+  let lastFocused = null;
+  const FOCUSABLE = "button, input, select, textarea, a[href], [tabindex]:not([tabindex='-1'])";
+  function controlName(element) {
+    return (element.getAttribute("aria-label") || element.textContent || "").trim();
+  }
+  function canFocus(element) {
+    return !element.disabled && element.tabIndex >= 0 && element.offsetParent !== null;
+  }
+  function keepFocus() {
+    const lost = lastFocused;
+    const active = document.activeElement;
+    if (lost === null || (active !== null && active !== document.body && active !== document.documentElement)) return;
+    if (lost.isConnected && !lost.disabled) return;
+    const all = [...document.querySelectorAll(FOCUSABLE)].filter(canFocus);
+    const name = controlName(lost);
+    const next = lost.isConnected
+      ? all.find((element) => lost.compareDocumentPosition(element) & Node.DOCUMENT_POSITION_FOLLOWING)
+      : all.find((element) => name !== "" && controlName(element) === name);
+    if (next !== undefined) next.focus();
+  }
+  function watchFocus() {
+    document.addEventListener("focusin", (event) => {
+      if (event.target instanceof HTMLElement && event.target !== document.body) lastFocused = event.target;
+    }, true);
+    document.addEventListener("pointerdown", (event) => {
+      if (lastFocused !== null && !(event.target instanceof Node && lastFocused.contains(event.target))) {
+        lastFocused = null;
+      }
+    }, true);
+    document.addEventListener("focusout", () => setTimeout(keepFocus, 0), true);
+    new MutationObserver(keepFocus).observe(document.body, {
+      childList: true, subtree: true, attributes: true, attributeFilter: ["disabled"],
+    });
+  }
+
   let pending = null;
   function schedule() {
     if (pending === null) pending = setTimeout(() => ((pending = null), pass()), PASS_DELAY_MS);
@@ -101,6 +140,7 @@
     document.head.appendChild(style);
     new MutationObserver(schedule).observe(document.body, { childList: true, subtree: true });
     document.addEventListener("keydown", onTab, true);
+    watchFocus();
     schedule();
   }
 

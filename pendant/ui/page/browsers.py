@@ -57,6 +57,13 @@ class Browsers:
         for session in self.all():
             session.apply_role(operator)
 
+    def tell_asked(self, operator: int, asker_name: str) -> None:
+        """The operator's page says who asks for control."""
+        with self.lock:
+            session = self.sessions.get(operator)
+        if session is not None:
+            session.control.asked(asker_name)
+
     def show_remote(self, enabled: bool) -> None:
         for session in self.all():
             session.control.show_remote(enabled)

@@ -14,6 +14,8 @@
 //    handshake is where the pendant reads it, before viser's own script reads the page's URL.
 // 6. Focus on request: a question in the panel (pendant/ui/kit/focus_request.py) puts the cursor in the text box
 //    it names (Save of an unnamed program asks for the name there).
+// 7. The jog pad's live values written into its labels in place (the pad itself is not rebuilt on a value).
+// 8. An upload's outcome: viser's "File uploaded successfully." says "File received.", hidden by a refusal.
 (() => {
   "use strict";
   (function tokenIntoWebsocketUrl() {
@@ -293,6 +295,52 @@
   document.addEventListener("keyup", (event) => {
     if (event.key === " " || event.key === "Enter") finish("key", true);
   }, true);
+
+  // --- 7. The jog pad's live values, in place ----------------------------------------------------------
+  // The pad's markup is rebuilt only when its frame or role changes (pendant/ui/jog/pad.py): its values come
+  // in a hidden element of their own, copied here into the pad's labels, so its buttons (and the keyboard
+  // focus on one) stay while the arm moves.
+  (function jogValuesInPlace() {
+    let applied = null;
+    let pad = null;
+    function apply() {
+      const source = document.querySelector("[data-jog-values]");
+      const current = document.getElementById("jog-pad");
+      if (source === null || current === null) return;
+      const text = source.dataset.jogValues;
+      if (text === applied && current === pad) return;
+      applied = text;
+      pad = current;
+      text.split("|").forEach((value, axis) => {
+        const label = current.querySelector(`[data-jog-value="${axis}"]`);
+        if (label !== null && label.textContent !== value) label.textContent = value;
+      });
+    }
+    new MutationObserver(apply).observe(document.documentElement, { childList: true, subtree: true });
+  })();
+
+  // --- 8. An upload's outcome is the pendant's to say -------------------------------------------------
+  // viser says "File uploaded successfully." as soon as the bytes are in, before the pendant has read them:
+  // a refused file showed it beside "Upload refused". Here it says "File received.", and a refusal that
+  // comes after it hides it, so only the refusal is said.
+  (function uploadOutcome() {
+    const seen = new WeakMap(); // notification -> when it first appeared
+    const REFUSAL = /refused|not loaded|not uploaded/i;
+    let order = 0;
+    function pass() {
+      const notes = [...document.querySelectorAll(".mantine-Notification-root")];
+      for (const note of notes) if (!seen.has(note)) seen.set(note, ++order);
+      const title = (note) => (note.querySelector(".mantine-Notification-title") || {}).textContent || "";
+      const lastRefusal = Math.max(0, ...notes.filter((n) => REFUSAL.test(title(n))).map((n) => seen.get(n)));
+      for (const note of notes) {
+        if (!title(note).startsWith("Uploading ")) continue;
+        const text = note.querySelector(".mantine-Notification-description");
+        if (text !== null && text.textContent.trim() === "File uploaded successfully.") text.textContent = "File received.";
+        if (lastRefusal > seen.get(note) && note.style.display !== "none") note.style.display = "none";
+      }
+    }
+    new MutationObserver(pass).observe(document.documentElement, { childList: true, subtree: true });
+  })();
 
   // --- 6. Focus on request ----------------------------------------------------------------------------
   // Layout and focus only (nothing here sends anything). The panel's labels are not tied to their inputs:

@@ -29,6 +29,7 @@ SCRIPT_PATH = Path(__file__).with_name("client_page.js")
 BANNER_SCRIPT_PATH = Path(__file__).with_name("banner_pin.js")  # the banner stays in sight
 ACCESSIBILITY_PATH = Path(__file__).with_name("accessibility.js")  # labels and contrast: a script of its own
 PHONE_LAYOUT_PATH = Path(__file__).with_name("phone_layout.js")  # the bottom sheet on a phone
+TYPED_FIELDS_PATH = Path(__file__).with_name("typed_fields.js")  # a box's text is sent when committed
 VISER_PAGE = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
 
 ProcessRequest = Callable[[ServerConnection, Request], "Response | Awaitable[Response | None] | None"]
@@ -40,7 +41,13 @@ def page_html() -> bytes:
     page = VISER_PAGE.read_bytes()
     script = b"".join(
         b"<script>" + path.read_bytes() + b"</script>"
-        for path in (SCRIPT_PATH, BANNER_SCRIPT_PATH, ACCESSIBILITY_PATH, PHONE_LAYOUT_PATH)
+        for path in (
+            SCRIPT_PATH,
+            BANNER_SCRIPT_PATH,
+            ACCESSIBILITY_PATH,
+            PHONE_LAYOUT_PATH,
+            TYPED_FIELDS_PATH,
+        )
     )
     head = page.index(b"<head>") + len(b"<head>")
     return page[:head] + script + page[head:]

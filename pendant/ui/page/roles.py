@@ -35,6 +35,7 @@ MSG_WRONG_TOKEN = "Wrong access token"
 MSG_TOO_MANY = "Too many wrong access tokens from this address: wait a few seconds and try again"
 
 ControlListener = Callable[[int | None], None]
+AskListener = Callable[[int, int], None]  # (the browser asking for control, the operator asked)
 
 
 def browser_name(client_id: int, address: str | None = None) -> str:
@@ -64,6 +65,7 @@ class ControlDesk:
         self._names: dict[int, str] = {}  # in the order they joined
         self._trusted: set[int] = set()  # browsers that presented the token
         self._listeners: list[ControlListener] = []
+        self._ask_listeners: list[AskListener] = []
         self._lock = threading.RLock()
 
     @property
@@ -82,6 +84,10 @@ class ControlDesk:
     def on_change(self, listener: ControlListener) -> None:
         """`listener(operator)` after every change of operator (called outside the desk's lock)."""
         self._listeners.append(listener)
+
+    def on_ask(self, listener: AskListener) -> None:
+        """`listener(asker, operator)` when a browser asks for control that the operator holds."""
+        self._ask_listeners.append(listener)
 
     def is_operator(self, client_id: int | None) -> bool:
         return client_id is not None and client_id == self._operator
@@ -129,6 +135,7 @@ class ControlDesk:
             if self._operator == client_id:
                 return None
             reason: str | None = None
+            asked: int | None = None
             address = self._addresses.get(client_id, "unknown")
             if self._token is not None and not offered_token:
                 reason = MSG_NO_TOKEN
@@ -139,6 +146,7 @@ class ControlDesk:
                 self._attempts.failed(address)
             elif self._operator is not None:
                 reason = f"{self.name(self._operator)} has control: ask them to release it"
+                asked = self._operator
             if reason is None:
                 self._operator = client_id
                 if self._token is not None:
@@ -146,6 +154,8 @@ class ControlDesk:
                     self._attempts.succeeded(address)
         if reason is not None:
             self._events.record(EventKind.REFUSED, name, f"Take control refused: {reason}")
+            for listener in self._ask_listeners if asked is not None else ():
+                listener(client_id, asked)  # the operator is told: they may release it
             return reason
         self._changed(f"{name} took control")
         return None
@@ -210,6 +220,7 @@ class ControlPanel:
         self._remote = remote
         self._target = target
         self.client_id = client_id
+        self.asked_by: str | None = None  # a browser that asked this operator for control, said on the line
         self.url_token = url_token  # the token the page's URL carried, if any
         self.role = target.gui.add_html("")
         self.token: viser.GuiTextHandle | None = None
@@ -270,10 +281,29 @@ class ControlPanel:
         if self.remote is not None and self.remote.value != enabled:
             self.remote.value = enabled
 
+    def asked(self, name: str) -> None:
+        """`name` asked for the control this browser holds: said on its line, and in a notification."""
+        self.asked_by = name
+        self.show(self._desk.operator)
+        if isinstance(self._target, viser.ClientHandle):
+            self._target.add_notification(
+                title=f"{name} asks for control",
+                body="Release control to hand it over.",
+                color="yellow",
+                auto_close_seconds=15.0,
+            )
+
     def show(self, operator: int | None) -> None:
         """One line and one button (the one this browser can use): the room above the tabs is the pad's."""
         mine = operator is not None and operator == self.client_id
-        if mine:
+        if not mine:
+            self.asked_by = None  # control changed hands: the question is answered
+        if mine and self.asked_by is not None:
+            text = (
+                '<b style="color:#237032">You have control</b> · '
+                f"<b>{html.escape(self.asked_by)} asks for control</b>"
+            )
+        elif mine:
             text = '<b style="color:#237032">You have control</b> (operator)'
         elif operator is None:
             text = "<b>Viewing</b> · nobody has control"

@@ -153,9 +153,16 @@ class ClientSession:
         if self.control.remote is not None:
             yield self.control.remote
         jog = self.jog
-        yield from (self.status.recover, jog.frame, jog.step, jog.speed, *jog.buttons.values(), jog.stop)
+        yield from (
+            self.status.recover,
+            jog.frame,
+            jog.step,
+            jog.speed.handle,
+            *jog.buttons.values(),
+            jog.stop,
+        )
         target = self.target_panel
-        yield from (*target.sliders, target.speed, target.from_current)
+        yield from (*(field.handle for field in target.joints), target.speed.handle, target.from_current)
         yield from self.program.commanding_handles()
         yield from self.io.outputs.values()
         yield from (self.io.gripper_open, self.io.gripper_close)
@@ -165,12 +172,12 @@ class ClientSession:
         s = self.settings
         yield from (
             s.tool_name,
-            s.tool_xyz,
-            s.tool_rpy,
-            s.tool_radius,
+            s.tool_xyz.handle,
+            s.tool_rpy.handle,
+            s.tool_radius.handle,
             s.set_tool,
-            s.base_xyz,
-            s.base_rpy,
+            s.base_xyz.handle,
+            s.base_rpy.handle,
             s.set_base,
         )
         if self.sim_panel is not None:

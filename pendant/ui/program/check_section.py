@@ -118,13 +118,13 @@ class CheckSection:
             return self.shared.report if same else None
 
     def mark(self, index: int) -> str:
-        """The step list's mark for line `index` (0-based): "✔ 152 mm", "✘ why", or ""."""
+        """The step list's mark for line `index` (0-based): "✔ 152 mm", "✘ why", "○ not checked" or ""."""
         report = self.current()
         if report is None or index >= len(report.steps):
             return ""
         step = report.steps[index]
         if not step.checked:
-            return " · ✘ not checked" if not step.ok else ""
+            return " · ○ not checked" if not step.ok else ""  # not reached: not the failing ✘
         if not step.ok:
             return f" · ✘ {step.reason}"
         clearance = "" if step.min_clearance_mm is None else f" {step.min_clearance_mm:.0f} mm"

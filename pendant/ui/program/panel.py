@@ -120,9 +120,15 @@ class ProgramPanel:
         yield from (self.record, self.add, self.add_structure, self.order, self.history)
         w = self.waypoints
         yield from (w.name, w.rename, w.reteach, w.go_to, w.teach_new, w.delete)
-        yield from self.form.fields
+        yield from self.form.handles
         f = self.file_section
-        yield from (self.run_section.loops, f.file_name, f.files, f.upload, self.history_section.restore)
+        yield from (
+            self.run_section.loops.handle,
+            f.file_name,
+            f.files,
+            f.upload,
+            self.history_section.restore,
+        )
 
     def close(self) -> None:
         """Stop following the workspace (the browser left)."""

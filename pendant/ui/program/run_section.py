@@ -9,6 +9,7 @@ import viser
 from pendant.program import RunState
 from pendant.ui.kit.commands import client_id, notify_refusal
 from pendant.ui.kit.stop_path import on_stop_press
+from pendant.ui.kit.typed_field import FieldInvalid, NumberField
 from pendant.ui.program.host import ProgramHost
 from pendant.ui.program.refusals import USER_ERRORS
 
@@ -19,8 +20,8 @@ class RunSection:
         self.locked = False  # a viewer's panel: Run and Step stay disabled whatever the run state
         gui = host.target.gui
         with gui.add_folder("Run"):
-            self.loops = gui.add_number(
-                "Loops", initial_value=1, min=0, max=100_000, step=1, hint="0: until Stop"
+            self.loops = NumberField(
+                gui, "Loops", 1, low=0, high=100_000, decimals=0, integer=True, hint="0: until Stop"
             )
             self.run = gui.add_button("Run", color="green", icon=viser.Icon.PLAYER_PLAY)
             self.run_from = gui.add_button(
@@ -62,16 +63,19 @@ class RunSection:
         state = shared.progress.state
         supervisor = client_id(client)  # this browser watches the run: it pauses if the page goes away
         try:
+            loops = int(self.loops.value) if label != "Step" else 1
+        except FieldInvalid as error:  # empty or letters: no run of a count the operator did not type
+            notify_refusal(client, f"{label} refused", error.message)
+            return
+        try:
             if label == "Step":
                 shared.start_step(supervisor)
             elif label == "Run" and state is RunState.PAUSED:
                 shared.start_resume(supervisor)
             elif label == "Run from":
-                shared.start_run(
-                    loops=int(self.loops.value), start_line=host.need_selection(), supervisor=supervisor
-                )
+                shared.start_run(loops=loops, start_line=host.need_selection(), supervisor=supervisor)
             else:
-                shared.start_run(loops=int(self.loops.value), supervisor=supervisor)
+                shared.start_run(loops=loops, supervisor=supervisor)
         except USER_ERRORS as error:
             notify_refusal(client, f"{label} refused", str(error))
         else:

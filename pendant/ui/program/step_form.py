@@ -33,8 +33,11 @@ from pendant.program.limits import (
     PROGRAM_SPEED_MIN,
 )
 from pendant.teach.path_step import resimplified
+from pendant.ui.kit.typed_field import NumberField, TypedField, VectorField
 from pendant.ui.program.arrival import ARRIVAL_OPTIONS, arrival_actions, arrival_option
 from pendant.ui.program.host import ProgramHost
+
+Field = viser.GuiInputHandle | TypedField  # a dropdown, a checkbox or a typed box
 
 
 class StepForm:
@@ -45,14 +48,12 @@ class StepForm:
             # Moves
             self.goes_to = gui.add_dropdown("Goes to", options=["-"], hint="The waypoint this move goes to")
             self.motion = gui.add_dropdown("Motion", options=[m.value for m in MotionType])
-            self.speed = gui.add_slider(
-                "Speed %", min=PROGRAM_SPEED_MIN, max=SPEED_MAX, step=1.0, initial_value=20.0
-            )
+            self.speed = NumberField(gui, "Speed %", 20.0, low=PROGRAM_SPEED_MIN, high=SPEED_MAX, decimals=1)
             self.relative = gui.add_checkbox("Relative move", initial_value=False)
-            self.offset_mm = gui.add_vector3("Offset mm", initial_value=(0.0, 0.0, 0.0), step=1.0)
-            self.offset_deg = gui.add_vector3("Turn deg", initial_value=(0.0, 0.0, 0.0), step=1.0)
+            self.offset_mm = VectorField(gui, "Offset mm", (0.0, 0.0, 0.0), hint="x, y, z")
+            self.offset_deg = VectorField(gui, "Turn deg", (0.0, 0.0, 0.0), hint="about x, y, z")
             self.frame = gui.add_dropdown("Offset frame", options=[f.value for f in Frame])
-            self.blend = gui.add_number("Blend mm", initial_value=0.0, min=0.0, max=500.0, step=1.0)
+            self.blend = NumberField(gui, "Blend mm", 0.0, low=0.0, high=500.0)
             self.arrival = gui.add_dropdown("At arrival", options=list(ARRIVAL_OPTIONS))
             self.planned = gui.add_checkbox(
                 "Plan around obstacles",
@@ -64,37 +65,41 @@ class StepForm:
             self.do_port = gui.add_dropdown("Output", options=[f"DO{p}" for p in OUTPUT_PORTS])
             self.di_port = gui.add_dropdown("Input", options=[f"DI{p}" for p in INPUT_PORTS])
             self.level = gui.add_dropdown("Level", options=[level.value for level in SignalLevel])
-            self.timeout = gui.add_number("Timeout ms", initial_value=500, min=0, max=MAX_WAIT_MS, step=100)
-            self.wait_ms = gui.add_number("Wait ms", initial_value=500, min=0, max=MAX_WAIT_MS, step=100)
+            self.timeout = NumberField(
+                gui, "Timeout ms", 500, low=0, high=MAX_WAIT_MS, decimals=0, integer=True
+            )
+            self.wait_ms = NumberField(gui, "Wait ms", 500, low=0, high=MAX_WAIT_MS, decimals=0, integer=True)
             self.comment = gui.add_text("Comment", initial_value="")
             # Structure
             self.loop_mode = gui.add_dropdown("Repeat", options=[m.value for m in LoopMode])
-            self.times = gui.add_number("Times", initial_value=2, min=0, max=MAX_LOOP_TIMES, step=1)
+            self.times = NumberField(gui, "Times", 2, low=0, high=MAX_LOOP_TIMES, decimals=0, integer=True)
             self.call = gui.add_dropdown("Program", options=["-"])
             self.pallet_name = gui.add_text("Pallet name", initial_value="Pallet")
             self.corners = [gui.add_dropdown(f"Corner {k}", options=["-"]) for k in (1, 2, 3)]
-            self.rows = gui.add_number("Rows", initial_value=2, min=1, max=MAX_GRID, step=1)
-            self.columns = gui.add_number("Columns", initial_value=2, min=1, max=MAX_GRID, step=1)
-            self.layers = gui.add_number("Layers", initial_value=1, min=1, max=MAX_GRID, step=1)
-            self.layer_height = gui.add_number("Layer height mm", initial_value=0.0, min=0.0, step=1.0)
-            self.approach = gui.add_number("Approach mm", initial_value=50.0, min=0.0, step=1.0)
+            grid = {"low": 1, "high": MAX_GRID, "decimals": 0, "integer": True}
+            self.rows = NumberField(gui, "Rows", 2, **grid)  # type: ignore[arg-type]  # the same bounds
+            self.columns = NumberField(gui, "Columns", 2, **grid)  # type: ignore[arg-type]
+            self.layers = NumberField(gui, "Layers", 1, **grid)  # type: ignore[arg-type]
+            self.layer_height = NumberField(gui, "Layer height mm", 0.0, low=0.0)
+            self.approach = NumberField(gui, "Approach mm", 50.0, low=0.0)
             # Recorded path (its speed % is the approach to its start)
-            self.path_speed = gui.add_number(
+            self.path_speed = NumberField(
+                gui,
                 "Path mm/s",
-                initial_value=100.0,
-                min=1.0,
-                max=PATH_SPEED_MAX_MM_S,
-                step=10.0,
+                100.0,
+                low=1.0,
+                high=PATH_SPEED_MAX_MM_S,
                 hint="TCP speed along the recorded path (Speed %: the move to its start)",
             )
-            self.path_tol = gui.add_vector2(
+            self.path_tol = VectorField(
+                gui,
                 "Path tol mm, °",
-                initial_value=(1.0, 1.0),
-                min=(0.01, 0.01),
-                step=0.1,
+                (1.0, 1.0),
+                low=0.01,
+                decimals=2,
                 hint="Changing it simplifies the path again from its kept recording",
             )
-        self._groups: dict[type, tuple[viser.GuiInputHandle, ...]] = {
+        self._groups: dict[type, tuple[Field, ...]] = {
             MoveStep: (
                 self.goes_to,
                 self.motion,
@@ -130,7 +135,15 @@ class StepForm:
         # Handles are not hashable: unique by identity, in form order.
         self.fields = list({id(h): h for group in self._groups.values() for h in group}.values())
         for handle in self.fields:
-            handle.on_update(self._on_field)
+            if isinstance(handle, TypedField):
+                handle.on_commit(self._on_field)  # typed: when committed (Enter, leaving the box)
+            else:
+                handle.on_update(self._on_field)
+
+    @property
+    def handles(self) -> list[viser.GuiInputHandle]:
+        """The form's controls as viser's handles (a typed field's text box)."""
+        return [f.handle if isinstance(f, TypedField) else f for f in self.fields]
 
     def _on_field(self, event: viser.GuiEvent) -> None:
         host = self._host
@@ -159,32 +172,32 @@ class StepForm:
             case MoveStep():
                 self.goes_to.value = step.waypoint
                 self.motion.value = step.motion.value
-                self.speed.value = step.speed
+                self.speed.show(step.speed)
                 self.relative.value = step.offset is not None
                 o = step.offset or Offset()
-                self.offset_mm.value = (o.x, o.y, o.z)
-                self.offset_deg.value = (o.rx, o.ry, o.rz)
+                self.offset_mm.show((o.x, o.y, o.z))
+                self.offset_deg.show((o.rx, o.ry, o.rz))
                 self.frame.value = o.frame.value
-                self.blend.value = step.blend_mm
+                self.blend.show(step.blend_mm)
                 self.arrival.value = arrival_option(step.actions[0] if step.actions else None)
                 self.planned.value = step.planned
             case GripperStep():
                 self.gripper.value = step.action.value
-                self.timeout.value = step.timeout_ms
+                self.timeout.show(step.timeout_ms)
             case OutputStep():
                 self.do_port.value = f"DO{step.port}"
                 self.level.value = step.level.value
             case WaitInputStep():
                 self.di_port.value = f"DI{step.port}"
                 self.level.value = step.level.value
-                self.timeout.value = step.timeout_ms
+                self.timeout.show(step.timeout_ms)
             case WaitStep():
-                self.wait_ms.value = step.ms
+                self.wait_ms.show(step.ms)
             case CommentStep():
                 self.comment.value = step.text
             case LoopStep():
                 self.loop_mode.value = step.mode.value
-                self.times.value = step.times
+                self.times.show(step.times)
                 self.times.visible = step.mode is LoopMode.TIMES
                 self.di_port.visible = self.level.visible = step.mode is not LoopMode.TIMES
                 self.di_port.value = f"DI{step.port}"
@@ -202,14 +215,16 @@ class StepForm:
                 self.pallet_name.value = step.name
                 for dropdown, corner in zip(self.corners, step.corners, strict=True):
                     dropdown.value = corner
-                self.rows.value, self.columns.value, self.layers.value = step.rows, step.columns, step.layers
-                self.layer_height.value = step.layer_height_mm
-                self.approach.value = step.approach_mm
-                self.speed.value = step.speed
+                self.rows.show(step.rows)
+                self.columns.show(step.columns)
+                self.layers.show(step.layers)
+                self.layer_height.show(step.layer_height_mm)
+                self.approach.show(step.approach_mm)
+                self.speed.show(step.speed)
             case PathStep():
-                self.speed.value = step.speed
-                self.path_speed.value = step.velocity_mm_s
-                self.path_tol.value = (step.tol_mm, step.tol_deg)
+                self.speed.show(step.speed)
+                self.path_speed.show(step.velocity_mm_s)
+                self.path_tol.show((step.tol_mm, step.tol_deg))
 
     # --- applying -----------------------------------------------------------------------------------
     def _apply(self, index: int) -> None:
@@ -228,9 +243,9 @@ class StepForm:
                 updated = MoveStep(
                     waypoint=str(self.goes_to.value),
                     motion=MotionType(self.motion.value),
-                    speed=float(self.speed.value),
+                    speed=self.speed.value,
                     offset=offset,
-                    blend_mm=float(self.blend.value),
+                    blend_mm=self.blend.value,
                     actions=arrival_actions(str(self.arrival.value)),
                     planned=bool(self.planned.value) and self.motion.value == MotionType.JOINT.value,
                 )
@@ -266,15 +281,15 @@ class StepForm:
                     rows=int(self.rows.value),
                     columns=int(self.columns.value),
                     layers=int(self.layers.value),
-                    layer_height_mm=float(self.layer_height.value),
-                    approach_mm=float(self.approach.value),
-                    speed=float(self.speed.value),
+                    layer_height_mm=self.layer_height.value,
+                    approach_mm=self.approach.value,
+                    speed=self.speed.value,
                 )
             case PathStep():  # validated; another tolerance simplifies the kept recording again
-                tol_mm, tol_deg = (float(v) for v in self.path_tol.value)
+                tol_mm, tol_deg = self.path_tol.value
                 if (tol_mm, tol_deg) != (step.tol_mm, step.tol_deg):
                     step = resimplified(step, self._host.shared.path_recordings, tol_mm, tol_deg)
-                fields = {"speed": float(self.speed.value), "velocity_mm_s": float(self.path_speed.value)}
+                fields = {"speed": self.speed.value, "velocity_mm_s": self.path_speed.value}
                 updated = PathStep.model_validate({**dict(step), **fields})
             case _:
                 return

@@ -4,6 +4,8 @@ a move step is selected or the operator picked a waypoint (no ghost of something
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import viser
 from viser.extras import ViserUrdf
@@ -44,6 +46,7 @@ class WaypointSection:
             )
             self.preview = gui.add_checkbox("Preview (ghost)", initial_value=True)
         self._picked = False  # the operator chose a waypoint in the table (or taught one) to look at
+        self._selected: Step | None = None  # the step the last redraw showed the waypoint of
         self._ghost = (
             ViserUrdf(
                 host.target, arm.urdf_path, root_node_name="/program_ghost", mesh_color_override=GHOST_RGBA
@@ -58,7 +61,9 @@ class WaypointSection:
         )
         self.chooser.on_update(self._on_choose)
         self.rename.on_click(lambda e: host.edit("Rename", e.client, self._rename))
-        self.reteach.on_click(lambda e: host.with_controller("Re-teach", e.client, self._reteach))
+        self.reteach.on_click(
+            lambda e: host.with_controller("Re-teach", e.client, lambda c: self.reteach_here(c, e.client))
+        )
         self.teach_new.on_click(lambda e: host.with_controller("Add waypoint", e.client, self._teach_new))
         self.delete.on_click(lambda e: host.edit("Delete waypoint", e.client, self._delete))
         self.go_to.on_click(lambda e: self._go_to(e.client))
@@ -84,9 +89,23 @@ class WaypointSection:
     def _rename(self) -> None:
         self._host.shared.rename_waypoint(self._waypoint().name, str(self.name.value))
 
-    def _reteach(self, controller: Controller) -> None:
-        name = self._waypoint().name
-        self._host.shared.reteach_waypoint(name, controller.get_pose(), controller.get_position())
+    def reteach_here(self, controller: Controller, client: viser.ClientHandle | None = None) -> float:
+        """The chosen waypoint where the arm is; it stays chosen, and the page says how far it moved (mm)."""
+        old = self._waypoint()
+        pose, position = controller.get_pose(), controller.get_position()
+        self._host.shared.reteach_waypoint(old.name, pose, position)
+        a, b = old.position.point, position.point
+        moved_mm = 1000.0 * math.dist((a.x, a.y, a.z), (b.x, b.y, b.z))
+        self._picked = True
+        self._show(old.name)
+        if client is not None:
+            client.add_notification(
+                title=f"{old.name} re-taught",
+                body=f"moved {moved_mm:.0f} mm",
+                color="green",
+                auto_close_seconds=6.0,
+            )
+        return moved_mm
 
     def _teach_new(self, controller: Controller) -> None:
         name = self._host.shared.add_waypoint(controller.get_pose(), controller.get_position())
@@ -143,9 +162,11 @@ class WaypointSection:
         names = program.waypoint_names() or [NO_WAYPOINT]
         if list(self.chooser.options) != names:
             self.chooser.options = names
-        if selected is not None:
+        chose = selected != self._selected  # another step chosen (not a redraw after an edit elsewhere)
+        self._selected = selected
+        if selected is not None and chose:
             self._picked = False  # a step chosen: its move (if any) is what the ghost shows
-        if isinstance(selected, MoveStep):
+        if isinstance(selected, MoveStep) and (chose or not self._picked):
             self._show(selected.waypoint)
         elif self.chooser.value not in names:
             self._show(names[0])

@@ -1,4 +1,4 @@
-"""Drag to target: a gizmo at the TCP and joint sliders pose a ghost arm; Move J / Move L run it."""
+"""Drag to target: a gizmo at the TCP and typed joint angles pose a ghost arm; Move J / Move L run it."""
 
 from __future__ import annotations
 
@@ -16,24 +16,27 @@ from pendant.cell.geometry import CellModel
 from pendant.controller import Controller, MotionParams, MotionType, Pose, Position
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import inverse, matrix_to_position, position_to_matrix
-from pendant.ui.kit.commands import CommandRunner
+from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.typed_field import FieldInvalid, NumberField, read_all
 from pendant.ui.scene.cell import ObstacleDrawing
 from pendant.ui.target.check import TargetCheck, check_flange_target, check_joint_target
 from pendant.ui.target.hand_guide import HandGuide
-from pendant.ui.target.plan_section import PlanSection
+from pendant.ui.target.plan_section import PlanSection, needs_plan
 
 GHOST_OK_RGBA = (0.25, 0.55, 1.0, 0.35)
 GHOST_BAD_RGBA = (0.95, 0.15, 0.15, 0.45)
 GIZMO_SCALE = 0.18
 DEFAULT_MOVE_SPEED_PERCENT = 20.0
+REACHED_TOL_RAD = 1e-3  # the arm at rest this close to the target has reached it (0.06°)
+REST_TOL_RAD = 1e-6  # the arm at rest where the target was last checked from: nothing to check again
 
 
 class TargetPanel:
     """The target the operator is preparing; never moves the arm until Move J or Move L is pressed.
 
-    Until the operator sets a target (drags the gizmo, moves a slider), the target follows the arm: no ghost,
-    nothing to run, and no stale target left behind where the arm was when the page opened.
+    Until the operator sets a target (drags the gizmo, types a joint angle), the target follows the arm: no
+    ghost, nothing to run, and no stale target left behind where the arm was when the page opened.
     """
 
     def __init__(
@@ -71,24 +74,31 @@ class TargetPanel:
         self.following = True  # the target is where the arm is (see the class doc)
         self._ghost_q: np.ndarray | None = None  # where the ghost stands: the last target IK could solve
         self.ghost_shown: bool | None = None  # True: the blue (executable) ghost, False: the red one
+        self._checked_from: np.ndarray | None = None  # where the arm was when the target was last checked
 
-        self.reason = target.gui.add_markdown("Drag the gizmo or the sliders to set a target.")
-        self.sliders = [
-            target.gui.add_slider(
+        self.reason = target.gui.add_markdown("Drag the gizmo or type joint angles to set a target.")
+        # Typed, committed on Enter or leaving the box (kit/typed_field.py): the ghost and Move J use the
+        # number typed, and a box left empty or with letters refuses Move J with the reason.
+        self.joints = [
+            NumberField(
+                target.gui,
                 f"J{i + 1} °",
-                min=math.degrees(arm.lower[i]),
-                max=math.degrees(arm.upper[i]),
-                step=0.1,
-                initial_value=0.0,
+                0.0,
+                low=math.floor(math.degrees(arm.lower[i]) * 10) / 10,
+                high=math.ceil(math.degrees(arm.upper[i]) * 10) / 10,
+                name=f"J{i + 1}",
             )
             for i in range(6)
         ]
-        self.speed = target.gui.add_slider(
-            "Move speed %", min=1.0, max=100.0, step=1.0, initial_value=DEFAULT_MOVE_SPEED_PERCENT
+        self.speed = NumberField(
+            target.gui, "Move speed %", DEFAULT_MOVE_SPEED_PERCENT, low=1.0, high=100.0, decimals=0
         )
         self.from_current = target.gui.add_button("Target = current", icon=viser.Icon.TARGET)
         self.move_j = target.gui.add_button("Move J", disabled=True)
         self.move_l = target.gui.add_button("Move L", disabled=True)
+        # The boxes' text when the target was last set from them or shown in them: other text at Move J is a
+        # commit whose check has not run yet (viser runs callbacks on a pool, the click's may come first).
+        self._shown_texts = self._typed_texts()
         self.plan = PlanSection(target, arm, runner, self, current_tool)
         self._show_ghost(self.check)
 
@@ -101,10 +111,8 @@ class TargetPanel:
             ).as_matrix()
             self.set_tcp_target(T_base_tcp, event.client)
 
-        for slider in self.sliders:
-            slider.on_update(
-                lambda event: None if self._syncing else self.set_joint_target(self._slider_q(), event.client)
-            )
+        for field in self.joints:
+            field.on_commit(lambda event: self._joints_typed(event.client))
         self.from_current.on_click(lambda _: self.reset_to_current())
         self.move_j.on_click(lambda event: self.run(MotionType.JOINT, event.client))
         self.move_l.on_click(lambda event: self.run(MotionType.LINEAR, event.client))
@@ -125,9 +133,13 @@ class TargetPanel:
 
     def follow(self, q: np.ndarray | None, *, moving: bool) -> None:
         """The arm is at `q` now: the target moves with it unless the operator has set one. While the arm
-        moves the gizmo is hidden rather than chased (six sliders and a gizmo to every browser, 5 times a
+        moves the gizmo is hidden rather than chased (six boxes and a gizmo to every browser, 5 times a
         second); it comes back at the TCP when the arm stops."""
-        if not self.following or q is None:
+        if q is None:
+            return
+        if not self.following:
+            if not moving:
+                self._arrived(q)
             return
         if moving:
             if self._gizmo.visible:
@@ -136,6 +148,21 @@ class TargetPanel:
             with self._checking:
                 if self.following:  # still: the operator may have set a target meanwhile
                     self._target_joints(q)
+
+    def _arrived(self, q: np.ndarray) -> None:
+        """The arm came to rest somewhere new: the verdict is made again from here (a target reached by a
+        planned move is not "cannot execute"), and a plan from elsewhere (run, or stale: a program, a jog
+        moved the arm) is cleared with its drawn path."""
+        checked_from = self._checked_from
+        if checked_from is not None and np.allclose(checked_from, q, atol=REST_TOL_RAD):
+            return
+        with self._checking:
+            if self.following or self.check.q is None:
+                return
+            path = self.plan.path
+            if path is not None and not np.allclose(path.waypoints[0], q, atol=REACHED_TOL_RAD):
+                self.plan.forget()  # run (the arm is at its end) or stale (the arm left its start)
+            self._target_joints(self.check.q)
 
     def set_flange_target(
         self, T_base_flange: np.ndarray, client: viser.ClientHandle | None = None
@@ -162,6 +189,17 @@ class TargetPanel:
             self._guide(client)
             return check
 
+    def _joints_typed(self, client: viser.ClientHandle | None) -> None:
+        """The operator committed a joint box: the target is the six numbers typed (none while one is not)."""
+        try:
+            q = self._joint_q()
+        except FieldInvalid as error:
+            with self._checking:
+                self.reason.content = f"**Cannot set the target:** {error.message}"
+                self.move_j.disabled = self.move_l.disabled = True
+            return
+        self.set_joint_target(q, client)
+
     def _guide(self, client: viser.ClientHandle | None) -> None:
         """In free drive the target is where the hand pulls the arm: an executable one moves it there, and
         the target follows the arm again (no ghost, nothing to run)."""
@@ -173,7 +211,8 @@ class TargetPanel:
 
     def _target_joints(self, q: np.ndarray) -> TargetCheck:
         cell = None if self.following else self._current_cell()  # the arm where it is: nothing to check
-        self.check = check_joint_target(self._arm, np.asarray(q, dtype=float), cell, self._current_q())
+        self._checked_from = self._current_q()
+        self.check = check_joint_target(self._arm, np.asarray(q, dtype=float), cell, self._checked_from)
         self._show(move_gizmo=True)
         return self.check
 
@@ -192,10 +231,21 @@ class TargetPanel:
     # --- running it ---------------------------------------------------------------------------------
     def run(self, motion: MotionType, client: viser.ClientHandle | None = None) -> Future[object] | None:
         """Send the target as a Move J or Move L; None when the target cannot be executed."""
+        label = "Move J" if motion is MotionType.JOINT else "Move L"
+        try:
+            speed = self.speed.value
+            if not self.following:
+                with self._checking:  # a box committed just before the click: its check may not have run yet
+                    q_typed = self._joint_q()
+                    if self._typed_texts() != self._shown_texts:
+                        self.set_joint_target(q_typed, client)
+        except FieldInvalid as error:
+            notify_refusal(client, f"{label} refused", error.message)
+            return None
         check = self.check
         if not self.executable or check.q is None:
             return None
-        params = MotionParams(speed=float(self.speed.value), motion_type=motion)
+        params = MotionParams(speed=speed, motion_type=motion)
         q_target = check.q.copy()
         if motion is MotionType.JOINT:
             pose = Pose(angles=[float(v) for v in np.degrees(q_target)])
@@ -228,9 +278,13 @@ class TargetPanel:
         self.plan.refresh(check)  # first: a plan to the former target stops playing before the ghost moves
         self._show_ghost(check)
         if self.following:
-            text = "Drag the gizmo or move a slider to set a target."
+            text = "Drag the gizmo or type joint angles to set a target."
+        elif check.ok and self._at_target(check.q):
+            text = "**Target reached** — the arm is there."
         elif check.ok:
             text = "**Target ready** — Move J or Move L runs it."
+        elif needs_plan(check):  # the target is fine, the straight way to it is not: Plan around
+            text = f"**No straight path:** {check.reason}"
         else:
             text = f"**Cannot execute:** {check.reason}"
         if self.reason.content != text:
@@ -241,8 +295,9 @@ class TargetPanel:
             return
         self._syncing = True
         try:
-            for slider, value in zip(self.sliders, np.degrees(check.q), strict=True):
-                slider.value = float(np.clip(value, slider.min, slider.max))
+            for field, value in zip(self.joints, np.degrees(check.q), strict=True):
+                field.show(float(value))
+            self._shown_texts = self._typed_texts()
             if move_gizmo:
                 T = self._arm.fk(check.q) @ self._current_tool()
                 self._gizmo.position = T[:3, 3]
@@ -280,6 +335,10 @@ class TargetPanel:
                 cfg[:6] = q
                 ghost.update_cfg(cfg)
 
+    def _at_target(self, q: np.ndarray | None) -> bool:
+        here = self._current_q()
+        return q is not None and here is not None and bool(np.allclose(here, q, atol=REACHED_TOL_RAD))
+
     @property
     def gizmo_shown(self) -> bool:
         return bool(self._gizmo.visible)
@@ -289,5 +348,9 @@ class TargetPanel:
         """Where the gizmo stands (base frame, metres): the target's TCP."""
         return np.asarray(self._gizmo.position, dtype=float)
 
-    def _slider_q(self) -> np.ndarray:
-        return np.radians([float(s.value) for s in self.sliders])
+    def _typed_texts(self) -> tuple[str, ...]:
+        return tuple(field.text for field in self.joints)
+
+    def _joint_q(self) -> np.ndarray:
+        """The six typed angles (FieldInvalid naming each box that holds no usable number)."""
+        return np.radians(read_all(self.joints))

@@ -28,8 +28,9 @@ from pendant.kinematics.cell_check import joint_samples
 from pendant.planning.joint_planner import DEFAULT_BUDGET_S, PlannedPath
 from pendant.planning.live import as_poses, plan_on
 from pendant.planning.request import PlanTarget
-from pendant.ui.kit.commands import CommandRunner
+from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.typed_field import FieldInvalid, NumberField
 from pendant.ui.scene.course import CourseLine
 from pendant.ui.target.check import TargetCheck
 
@@ -48,7 +49,7 @@ class PlanHost(Protocol):
     """What the section needs of the Target panel."""
 
     check: TargetCheck
-    speed: viser.GuiSliderHandle
+    speed: NumberField
     locked: bool
 
     def show_planned_ghost(self, q: np.ndarray) -> None: ...
@@ -163,7 +164,11 @@ class PlanSection:
         path = self.path
         if path is None:
             return None
-        speed = float(self._host.speed.value)
+        try:
+            speed = self._host.speed.value
+        except FieldInvalid as error:
+            notify_refusal(client, "Move (planned) refused", error.message)
+            return None
         params = MotionParams(
             speed=speed, motion_type=MotionType.JOINT, tcp_max_velocity=JOG_TCP_MAX_VELOCITY_M_S
         )
