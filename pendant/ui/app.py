@@ -7,9 +7,11 @@ changes and errors to the event log.
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import time
 from collections.abc import Callable
+from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 from typing import cast
 
@@ -37,6 +39,7 @@ from pendant.ui.kit.cell_state import CellState
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.kit.controller_reader import ControllerReader
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.jobs import PageJobs
 from pendant.ui.kit.motion_gate import PROGRAM_RUNNING
 from pendant.ui.kit.snapshot import Snapshot, carry_last_known
 from pendant.ui.page.activity import ActivityLog, LoggedJogger
@@ -153,8 +156,13 @@ class PendantUI:
         self.desk.on_change(self._control_changed)
         self.remote.on_change(self.browsers.show_remote)
         self.desk.on_ask(lambda asker, operator: self.browsers.tell_asked(operator, self.desk.name(asker)))
-        self.server.on_client_connect(self._connect)
-        self.server.on_client_disconnect(self.disconnect)
+        # Arrivals and departures on a thread of their own, handed over from viser's event loop: viser would
+        # run them on its callback pool, which any browser's clicks can fill, and a newcomer then waited
+        # for its Freeze button for good.
+        self._arrivals = ThreadPoolExecutor(max_workers=1, thread_name_prefix="pendant-arrivals")
+        self.server.on_client_connect(self._on_connect)
+        self.server.on_client_disconnect(self._on_disconnect)
+        self.jobs = PageJobs(is_operator=lambda client: self.desk.gate(client) is None)
         if metrics is not None:
             metrics.viewers.set_function(lambda: len(self.browsers.all()))
 
@@ -191,6 +199,7 @@ class PendantUI:
             join_urls=self.join_urls,
             on_recording=self.activity.recording,
             freeze=freeze,
+            jobs=self.jobs,
         )
 
     def start(self) -> PendantUI:
@@ -209,6 +218,8 @@ class PendantUI:
         self.loop.stop()
         self.jogger.stop_watchdog()
         self.runner.shutdown()
+        self.jobs.shutdown()
+        self._arrivals.shutdown(wait=False, cancel_futures=True)
         self.browsers.builder.stop()
         self.telemetry.stop_recording()  # SIGTERM or Ctrl-C: a running recording's file is finished
         self.server.stop()
@@ -273,6 +284,16 @@ class PendantUI:
         )
 
     # --- browsers -----------------------------------------------------------------------------------
+    async def _on_connect(self, client: viser.ClientHandle) -> None:
+        self._hand_over(self._connect, client)
+
+    async def _on_disconnect(self, client: viser.ClientHandle) -> None:
+        self._hand_over(self.disconnect, client)
+
+    def _hand_over(self, work: Callable[[viser.ClientHandle], None], client: viser.ClientHandle) -> None:
+        with contextlib.suppress(RuntimeError):  # shut down: the page is closing
+            self._arrivals.submit(work, client).add_done_callback(_log_arrival_failure)
+
     def _connect(self, client: viser.ClientHandle) -> None:
         address, token = read_handshake(self.server, client.client_id)
         self.desk.join(client.client_id, address)  # now: the first browser to connect gets control
@@ -320,3 +341,9 @@ class PendantUI:
                 self.refresh_dashboard(table=work.table, plots=work.plots)
         except Exception:  # a broken browser connection must not stop the live view for the others
             log.exception("refresh failed")
+
+
+def _log_arrival_failure(done: Future[None]) -> None:
+    error = None if done.cancelled() else done.exception()
+    if error is not None:
+        log.error("a browser's arrival or departure failed", exc_info=error)

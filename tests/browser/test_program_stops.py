@@ -17,7 +17,7 @@ import pytest
 from playwright.sync_api import Browser, Page
 
 from tests.support.jog_measure import open_as_operator
-from tests.support.launchers import Pendant
+from tests.support.launchers import Pendant, running_pendant_ui
 
 HOME_DEG = [0.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 A_DEG = [30.0, -90.0, 90.0, -90.0, -90.0, 0.0]
@@ -46,6 +46,15 @@ def program() -> dict[str, object]:
             {"kind": "move", "waypoint": "B", "motion": "JOINT", "speed": 100.0},
         ],
     }
+
+
+@pytest.fixture(scope="module")
+def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
+    """A pendant of this module's own, with an empty programs folder: no program autosaved by another
+    test stands in the way of the upload."""
+    programs = tmp_path_factory.mktemp("programs")
+    with running_pendant_ui("--programs", str(programs)) as served:
+        yield served
 
 
 @pytest.fixture(scope="module")
@@ -151,6 +160,7 @@ def test_closing_the_operators_tab_mid_run_pauses_it_and_the_other_tab_is_told(
 ) -> None:
     start_at_home(pendant, operator)
     operator.get_by_role("button", name="Release control").click(timeout=UI_TIMEOUT_MS)
+    operator.get_by_role("button", name="Take control").wait_for(timeout=UI_TIMEOUT_MS)  # released
     context = browser.new_context(viewport={"width": 1400, "height": 900})
     runner_tab = context.new_page()
     open_as_operator(runner_tab, pendant.ui_url)  # takes the control the module's operator released

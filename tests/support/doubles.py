@@ -10,11 +10,45 @@ from typing import Any, Literal, cast
 import numpy as np
 import viser
 import viser.transforms as vtf
+from viser import _messages as viser_messages
 
 from pendant.ui.jog.panel import HOLD_CONFIRM_HZ
 from pendant.ui.kit.typed_field import TypedField
 
 OPERATOR, VIEWER = 1, 2  # client ids: on loopback the first browser to join is the operator
+
+
+class _SentAtOnce:
+    """A browser's message queue as pendant.ui.kit.download sees it, every message taken at once."""
+
+    def __init__(self) -> None:
+        self.generator_cursors: dict[int, int] = {}
+        self.message_counter = 0
+        self.done = False
+
+
+class _Connection:
+    """A browser's websocket as pendant.ui.kit.download writes to it: the parts of a download put together."""
+
+    def __init__(self, browser: FakeBrowser) -> None:
+        self._browser = browser
+        self._queue = _SentAtOnce()
+        self._files: dict[str, tuple[str, int, list[bytes]]] = {}
+
+    def get_message_buffer(self) -> _SentAtOnce:
+        return self._queue
+
+    def queue_message(self, message: object) -> None:
+        self._queue.message_counter += 1
+        self._queue.generator_cursors[self._browser.client_id] = self._queue.message_counter - 1
+        if isinstance(message, viser_messages.FileTransferStartDownload):
+            self._files[message.transfer_uuid] = (message.filename, message.part_count, [])
+        elif isinstance(message, viser_messages.FileTransferPart):
+            name, count, parts = self._files[message.transfer_uuid]
+            assert message.part_index == len(parts), "parts in order"
+            parts.append(message.content)
+            if len(parts) == count:
+                self._browser.downloads.append((name, b"".join(parts)))
 
 
 @dataclass
@@ -25,11 +59,17 @@ class FakeBrowser:
     notifications: list[str] = field(default_factory=list)
     downloads: list[tuple[str, bytes]] = field(default_factory=list)
 
+    def __post_init__(self) -> None:
+        self._websock_connection = _Connection(self)
+
     def add_notification(self, *, title: str, body: str, **_: object) -> None:
         self.notifications.append(f"{title}: {body}")
 
     def send_file_download(self, filename: str, content: bytes, **_: object) -> None:
         self.downloads.append((filename, content))
+
+    def flush(self) -> None:
+        pass
 
     @property
     def handle(self) -> viser.ClientHandle:
@@ -63,7 +103,9 @@ def fire(handle: Any, browser: FakeBrowser | None, value: Any = None) -> None:
     if value is not None:
         handle._impl.value = value  # not `handle.value = ...`: that calls back as from Python (client None)
     for callback in list(handle._impl.update_cb):
-        callback(event(handle, browser))
+        called = callback(event(handle, browser))
+        if inspect.iscoroutine(called):  # viser awaits it on its event loop (a stop button: kit/stop_path.py)
+            asyncio.run(called)
 
 
 def confirm_hold(button: viser.GuiButtonHandle, browser: FakeBrowser) -> None:

@@ -90,3 +90,34 @@ async def read_jog_pad(ws: websockets.ClientConnection, timeout_s: float) -> Jog
                 if (pad := JOG_PAD_J1_PLUS.search(content)) and (pad_stop := JOG_STOP.search(content)):
                     hold, stop = pad.group(1), pad_stop.group(1)
     return JogPad(hold, stop, speed)
+
+
+def click_message(uuid: str) -> bytes:
+    """What the page sends when a button is clicked."""
+    return gui_update(uuid, True)
+
+
+async def next_messages(
+    ws: websockets.ClientConnection, zstd: zstandard.ZstdDecompressor
+) -> list[dict[str, Any]]:
+    """The messages of the next frame viser sends."""
+    frame = await ws.recv()
+    assert isinstance(frame, bytes)
+    return decode_window(frame, zstd)
+
+
+async def find_button(ws: websockets.ClientConnection, label: str, timeout_s: float) -> str:
+    """Read the page's messages until a button labelled `label` comes; its uuid."""
+    zstd = zstandard.ZstdDecompressor()
+    async with asyncio.timeout(timeout_s):
+        while True:
+            for message in await next_messages(ws, zstd):
+                if message.get("type") == "GuiButtonMessage" and message["props"].get("label") == label:
+                    return str(message["uuid"])
+
+
+def notification(message: dict[str, Any]) -> str | None:
+    """ "Title: body" of a notification the page shows, or None for any other message."""
+    if message.get("type") != "NotificationShowMessage":
+        return None
+    return f"{message['props']['title']}: {message['props']['body']}"

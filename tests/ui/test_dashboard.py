@@ -19,6 +19,7 @@ from pendant.ui.dashboard.panel import EVENTS_SHOWN, PLOTS
 from pendant.ui.page.session import ClientSession
 from tests.support.dashboard import MOVE, sample
 from tests.support.doubles import OPERATOR, FakeBrowser, fire
+from tests.support.waiting import wait_until
 
 VALUE_TOL = 1e-9
 FUTURE_TIMEOUT_S = 5.0
@@ -117,6 +118,7 @@ def test_recording_start_stop_and_download_give_a_csv_of_the_samples(
     assert not dashboard.download.disabled
 
     fire(dashboard.download, operator)
+    wait_until(lambda: bool(operator.downloads), FUTURE_TIMEOUT_S, "the download")  # a job (kit/jobs.py)
     ((name, content),) = operator.downloads
     assert name.startswith("pendant-telemetry-") and name.endswith(".csv")
     rows = list(csv.reader(io.StringIO(content.decode())))

@@ -25,10 +25,12 @@ from pendant.ui.dashboard.plots import MAX_POINTS, PLOT_HEIGHT_PX, UNITS
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 from tests.support.pages import headless_session, new_page
+from tests.support.waiting import wait_until
 
 SAMPLE_PERIOD_S = 0.1
 MOVE = Pose(angles=[40.0, -70.0, 30.0, -90.0, -90.0, 20.0])
 READABLE_HEIGHT_PX = 200
+JOB_TIMEOUT_S = 10.0  # downloads run on a job thread (kit/jobs.py)
 
 
 @pytest.fixture
@@ -157,6 +159,7 @@ def test_a_looping_program_does_not_drown_commands_and_filters_find_them(
 
     fire(view.kind, operator, "Commands")
     fire(view.download, operator)
+    wait_until(lambda: bool(operator.downloads), JOB_TIMEOUT_S, "the download")  # a job (kit/jobs.py)
     ((name, content),) = operator.downloads
     rows = list(csv.reader(io.StringIO(content.decode())))
     assert name.startswith("pendant-events-") and name.endswith(".csv")
@@ -201,6 +204,7 @@ def test_recordings_are_listed_and_download_as_mcap(
     stem = pendant_ui.telemetry.last_stem
     assert stem is not None and label.startswith(stem.removeprefix("pendant-"))
     fire(controls.download_mcap, operator, label)
+    wait_until(lambda: bool(operator.downloads), JOB_TIMEOUT_S, "the download")
     ((name, content),) = operator.downloads
     assert name.endswith(".mcap")
     reader = make_reader(io.BytesIO(content))

@@ -29,6 +29,7 @@ N_SAMPLES = 20
 FAULT_AT = 8  # the sample after which an error is logged
 ANGLE_TOL_DEG = 1e-9
 PLAY_TIMEOUT_S = 10.0
+JOB_TIMEOUT_S = 10.0  # a replay loads on a job thread (kit/jobs.py)
 
 
 @pytest.fixture
@@ -73,6 +74,9 @@ def test_the_ghost_shows_the_recorded_arm_at_the_slider_time_and_nothing_moves(
     replay = ui.dashboard.replay
     viewer = FakeBrowser(VIEWER)
     fire(replay.start, viewer)  # a viewer may replay: it commands nothing
+    wait_until(
+        lambda: replay.replay is not None or bool(viewer.notifications), JOB_TIMEOUT_S, "the replay to load"
+    )
     assert replay.replay is not None and replay.ghost is not None, viewer.notifications
     assert replay.replay.duration_s == pytest.approx((N_SAMPLES - 1) * SAMPLE_PERIOD_S)
     for i in (2, 15):  # the slider's time is seconds since the first sample
@@ -107,6 +111,7 @@ def test_a_recording_still_being_written_is_not_replayed(
     fire(ui.dashboard.record_start, operator)
     sample(pendant_ui, clock, 3)
     fire(ui.dashboard.replay.start, operator)
+    wait_until(lambda: bool(operator.notifications), JOB_TIMEOUT_S, "the refusal")
     assert ui.dashboard.replay.replay is None
     assert any("still being recorded: stop the recording first" in n for n in operator.notifications)
 
@@ -136,6 +141,7 @@ def test_a_damaged_recording_chosen_for_replay_is_refused_with_its_name_and_why(
     (folder / "pendant-20270101-000000.mcap").write_bytes(damaged_inside(real, how))
     viewer = FakeBrowser(VIEWER)
     fire(ui.dashboard.replay.start, viewer)
+    wait_until(lambda: bool(viewer.notifications), JOB_TIMEOUT_S, "the refusal")  # loading is a job
     assert ui.dashboard.replay.replay is None
     assert any(
         "pendant-20270101-000000.mcap cannot be read as a recording" in n for n in viewer.notifications

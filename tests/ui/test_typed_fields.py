@@ -16,9 +16,8 @@ from pendant.ui.app import PendantUI
 from pendant.ui.kit.typed_field import format_number, parse_number
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser, fire
+from tests.support.sim_sampling import finish_motion, pose_deg
 from tests.support.waiting import wait_until
-
-from .test_panels import finish_motion, pose_deg
 
 
 @pytest.fixture

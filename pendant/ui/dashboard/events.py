@@ -14,7 +14,9 @@ import viser
 
 from pendant.eventlog import EventKind, EventLog
 from pendant.eventquery import EventQuery, StoredEvent
+from pendant.ui.kit.download import send_bytes
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.jobs import PageJobs
 
 EVENTS_SHOWN = 40
 EXPORT_MAX_ROWS = 100_000
@@ -76,8 +78,9 @@ def events_csv(rows: Sequence[StoredEvent]) -> bytes:
 class EventLogView:
     """One browser's view of the log: its filter, the lines it shows, its download."""
 
-    def __init__(self, target: GuiTarget, events: EventLog) -> None:
+    def __init__(self, target: GuiTarget, events: EventLog, *, jobs: PageJobs | None = None) -> None:
         self._target = target
+        self._jobs = jobs if jobs is not None else PageJobs()
         self._events = events
         self.kind = target.gui.add_dropdown("Show", tuple(KIND_FILTERS), initial_value="Everything")
         self.who = target.gui.add_text("Who", "", hint="Part of the sender: 'browser #2', an address")
@@ -87,7 +90,9 @@ class EventLogView:
         self.download = target.gui.add_button("Download log (CSV)", icon=viser.Icon.DOWNLOAD)
         for handle in (self.kind, self.who, self.text, self.fold):
             handle.on_update(lambda _: self.refresh())
-        self.download.on_click(lambda event: self.send_csv(event.client))
+        self.download.on_click(  # the browser's one job at a time (kit/jobs.py), off viser's callback pool
+            lambda event: self._jobs.start("Download log", event.client, lambda: self.send_csv(event.client))
+        )
         self._html = ""
 
     def query(self, limit: int = EVENTS_SHOWN) -> EventQuery:
@@ -124,7 +129,8 @@ class EventLogView:
             self._events.store.flush(timeout=1.0)
         content = events_csv(self._events.search(query, cap=EXPORT_MAX_ROWS))
         name = f"pendant-events-{dt.datetime.now():%Y%m%d-%H%M%S}.csv"
-        (client if client is not None else self._target).send_file_download(
-            name, content, save_immediately=True
-        )
+        if client is None:
+            self._target.send_file_download(name, content, save_immediately=True)
+        else:
+            send_bytes(client, name, content)
         return content

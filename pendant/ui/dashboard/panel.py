@@ -22,6 +22,7 @@ from pendant.ui.dashboard.recording import RecordingControls, RecordingListener
 from pendant.ui.dashboard.replay import ReplayPanel
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.html import inset
+from pendant.ui.kit.jobs import PageJobs
 
 # (row label, what it means, how a reading shows): one row per quantity, one column per joint, so the table
 # is seven narrow columns whatever the panel's width (joints as rows made nine columns, too wide for a phone).
@@ -69,12 +70,14 @@ class DashboardPanel:
         may_record: Callable[[viser.ClientHandle | None], str | None],
         on_recording: RecordingListener,
         arm_urdf: Path | None = None,
+        jobs: PageJobs | None = None,
     ) -> None:
+        jobs = jobs if jobs is not None else PageJobs()  # replays and downloads: bounded, off viser's pool
         self.motor_table = target.gui.add_html(render_motor_table(None))
         self.plot_view = PlotView(target)
         with target.gui.add_folder("Recording (MCAP and CSV)"):
             self.recording = RecordingControls(
-                target, telemetry, may_record=may_record, on_recording=on_recording
+                target, telemetry, may_record=may_record, on_recording=on_recording, jobs=jobs
             )
         with target.gui.add_folder("Replay"):
             self.replay = ReplayPanel(
@@ -82,9 +85,10 @@ class DashboardPanel:
                 arm_urdf,
                 chosen=self.recording.chosen_file,
                 recording_now=lambda: telemetry.mcap.path if telemetry.mcap is not None else None,
+                jobs=jobs,
             )
         with target.gui.add_folder("Event log"):
-            self.events = EventLogView(target, events)
+            self.events = EventLogView(target, events, jobs=jobs)
         self._table_html = ""
         # The handles tests and the page's role switch reach for.
         self.plots = self.plot_view.plots

@@ -12,9 +12,12 @@ import viser
 from pendant.telemetry import Telemetry
 from pendant.telemetry.recordings import RecordingError
 from pendant.ui.kit.commands import notify_refusal
+from pendant.ui.kit.download import send_bytes, send_file
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.jobs import PageJobs
 
 NO_RECORDINGS = "(none yet)"
+Client = viser.ClientHandle | None
 RecordingListener = Callable[[viser.ClientHandle | None, str], None]
 
 
@@ -26,8 +29,10 @@ class RecordingControls:
         *,
         may_record: Callable[[viser.ClientHandle | None], str | None],
         on_recording: RecordingListener,
+        jobs: PageJobs | None = None,
     ) -> None:
         self._target = target
+        self._jobs = jobs if jobs is not None else PageJobs()
         self._telemetry = telemetry
         self._may_record = may_record
         self._on_recording = on_recording
@@ -44,11 +49,19 @@ class RecordingControls:
         self.download_saved_csv = target.gui.add_button("Download its CSV", icon=viser.Icon.DOWNLOAD)
         self.record_start.on_click(lambda event: self.start_recording(event.client))
         self.record_stop.on_click(lambda event: self.stop_recording(event.client))
-        self.download.on_click(lambda event: self.send_csv(event.client))
-        self.download_mcap.on_click(lambda event: self.send_saved(event.client, ".mcap"))
-        self.download_saved_csv.on_click(lambda event: self.send_saved(event.client, ".csv"))
+        # Downloads run as the browser's one job at a time (kit/jobs.py), never on viser's callback pool.
+        self.download.on_click(lambda event: self._job("Download CSV", event.client, self.send_csv))
+        self.download_mcap.on_click(
+            lambda event: self._job("Download MCAP", event.client, lambda c: self.send_saved(c, ".mcap"))
+        )
+        self.download_saved_csv.on_click(
+            lambda event: self._job("Download its CSV", event.client, lambda c: self.send_saved(c, ".csv"))
+        )
         self._text = ""
         self._was_recording = False
+
+    def _job(self, label: str, client: viser.ClientHandle | None, send: Callable[[Client], object]) -> None:
+        self._jobs.start(label, client, lambda: send(client))
 
     def _choices(self) -> tuple[str, ...]:
         labels = tuple(recording.label for recording in self._telemetry.recordings())
@@ -119,13 +132,17 @@ class RecordingControls:
                     title="Nothing to download", body="No recording is kept yet.", auto_close_seconds=5.0
                 )
             return None
-        self._send(client, path.name, path.read_bytes())
+        if client is None:  # the server's own page (headless tests): viser's whole-file download
+            self._target.send_file_download(path.name, path.read_bytes(), save_immediately=True)
+        else:
+            send_file(client, path)  # read a part at a time as the browser takes them
         return path
 
     def _send(self, client: viser.ClientHandle | None, name: str, content: bytes) -> None:
-        (client if client is not None else self._target).send_file_download(
-            name, content, save_immediately=True
-        )
+        if client is None:
+            self._target.send_file_download(name, content, save_immediately=True)
+        else:
+            send_bytes(client, name, content)
 
     def _refused(self, client: viser.ClientHandle | None, label: str) -> bool:
         reason = self._may_record(client)

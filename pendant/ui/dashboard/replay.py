@@ -17,6 +17,7 @@ import viser
 
 from pendant.telemetry.replay import Replay, ReplayError, ReplayEvent, load_replay
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.jobs import PageJobs
 from pendant.ui.scene.ghost import GhostArm
 
 GHOST_RGBA = (0.55, 0.35, 0.85, 0.35)  # violet: neither the target's blue nor the waypoints' green
@@ -61,8 +62,10 @@ class ReplayPanel:
         urdf_path: Path | None,
         chosen: ChosenRecording,
         recording_now: ChosenRecording,
+        jobs: PageJobs | None = None,
     ) -> None:
         self._target = target
+        self._jobs = jobs if jobs is not None else PageJobs()
         self._chosen = chosen
         self._recording_now = recording_now
         self._urdf_path = urdf_path
@@ -88,7 +91,10 @@ class ReplayPanel:
         self._playing = threading.Event()
         self._closed = threading.Event()
         self._player: threading.Thread | None = None
-        self.start.on_click(lambda event: self.open(event.client))
+        # Loading is this browser's one job at a time (kit/jobs.py), never on viser's callback pool.
+        self.start.on_click(
+            lambda event: self._jobs.start("Replay", event.client, lambda: self.open(event.client))
+        )
         self.time.on_update(lambda _: self.show_at(float(self.time.value)))
         self.play.on_click(lambda _: self.resume())
         self.pause.on_click(lambda _: self.hold())
@@ -105,9 +111,12 @@ class ReplayPanel:
         if path == self._recording_now():
             self._notify(client, f"{path.stem} is still being recorded: stop the recording first.")
             return None
+        shown = self.status.content
+        self.status.content = f"Loading **{path.stem}**…"
         try:
             replay = load_replay(path)
         except ReplayError as error:
+            self.status.content = shown
             self._notify(client, str(error))
             return None
         self.hold()

@@ -10,6 +10,7 @@ import viser
 
 from pendant.controller import Controller, ControllerError, MotionParams, Pose
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.stop_path import on_stop_press
 
 log = logging.getLogger(__name__)
 
@@ -59,6 +60,9 @@ class CommandRunner:
         self.explain: Callable[[str], str] = lambda message: message
         self._pool = ThreadPoolExecutor(max_workers=2, thread_name_prefix="pendant-command")
         self._urgent = ThreadPoolExecutor(max_workers=1, thread_name_prefix="pendant-freeze")
+        # A stop button's press, handed over from viser's event loop (stop_path.py): never viser's shared
+        # callback pool, which any browser's clicks can fill.
+        self._presses = ThreadPoolExecutor(max_workers=1, thread_name_prefix="pendant-stop-press")
 
     @property
     def controller(self) -> Controller:
@@ -116,9 +120,26 @@ class CommandRunner:
             self.on_submit(label, client, None, future)
         return future
 
+    def press(self, pressed: Callable[[], object]) -> Future[object] | None:
+        """Run a stop button's press on the stop thread (see stop_path.py); a failure is logged."""
+        try:
+            future = self._presses.submit(pressed)
+        except RuntimeError:  # shut down: the page is closing
+            log.warning("a stop pressed while the page closes was not sent")
+            return None
+        future.add_done_callback(_log_press_failure)
+        return future
+
     def shutdown(self) -> None:
         self._pool.shutdown(wait=False, cancel_futures=True)
         self._urgent.shutdown(wait=False, cancel_futures=True)
+        self._presses.shutdown(wait=False, cancel_futures=True)
+
+
+def _log_press_failure(done: Future[object]) -> None:
+    error = None if done.cancelled() else done.exception()
+    if error is not None:
+        log.error("a stop button's press failed", exc_info=error)
 
 
 def client_id(client: viser.ClientHandle | None) -> int | None:
@@ -136,11 +157,13 @@ def add_freeze_button(target: GuiTarget, runner: CommandRunner) -> viser.GuiButt
         order=-1000.0,
         hint=f"Stop the arm where it is ({FREEZE_HOTKEY_LABEL} anywhere on the page)",
     )
-    button.on_click(lambda event: freeze(runner, event.client))
+    button.on_click(on_stop_press(runner, lambda client: freeze(runner, client)))
     hotkey = target.gui.add_command(
         "Freeze", description="Stop the arm where it is", hotkey=FREEZE_HOTKEY, icon=viser.Icon.HAND_STOP
     )
-    hotkey.on_trigger(lambda event: freeze(runner, event.client, f"Freeze ({FREEZE_HOTKEY_LABEL})"))
+    hotkey.on_trigger(
+        on_stop_press(runner, lambda client: freeze(runner, client, f"Freeze ({FREEZE_HOTKEY_LABEL})"))
+    )
     return button
 
 

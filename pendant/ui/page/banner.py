@@ -8,10 +8,13 @@ operator's choice, and a viewer is refused as for any command)."""
 
 from __future__ import annotations
 
+import asyncio
 import html
+import logging
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Coroutine
 from pathlib import Path
+from typing import Any
 
 import viser
 
@@ -23,6 +26,8 @@ from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.page.recovery import Action, BannerView, Recovery
 from pendant.ui.program.refusals import USER_ERRORS
 from pendant.ui.scene.refused import RefusedPose
+
+log = logging.getLogger(__name__)
 
 BANNER_ORDER = -999.0  # right under Freeze (-1000), above the status
 MAX_BUTTONS = 3
@@ -66,7 +71,7 @@ class Banner:
         self.buttons: list[viser.GuiButtonHandle] = []
         for k in range(MAX_BUTTONS):
             button = gui.add_button("", order=BANNER_ORDER + 0.1 * (k + 1), visible=False)
-            button.on_click(lambda event, k=k: self._clicked(k, event.client))
+            button.on_click(self._on_click(k))
             self.buttons.append(button)
         self.refused = RefusedPose(target, urdf_path, "/banner_refused")
         self.view: BannerView | None = None  # what this browser shows now
@@ -96,11 +101,28 @@ class Banner:
         else:
             self.refused.show(q, self._cell_state().obstacles, self._recovery.refused_obstacles)
 
-    def _clicked(self, index: int, client: viser.ClientHandle | None) -> None:
-        view = self.view
-        if view is None or index >= len(view.actions):
-            return
-        self.act(view.actions[index], view.labels[index], client)
+    def _on_click(self, index: int) -> Callable[[viser.GuiEvent], Coroutine[Any, Any, None]]:
+        """Read on viser's event loop, with the button as it showed when pressed: Stop program goes the way
+        Freeze goes (the stop thread, kit/stop_path.py), the rest to a worker thread; neither waits for
+        viser's callback pool, which other browsers' clicks can fill."""
+
+        async def clicked(event: viser.GuiEvent) -> None:
+            view = self.view
+            if view is None or index >= len(view.actions):
+                return
+            action, label, client = view.actions[index], view.labels[index], event.client
+            if action is Action.STOP_PROGRAM:
+                handed = self._runner.press(lambda: self.act(action, label, client))
+                done = asyncio.wrap_future(handed) if handed is not None else None
+            else:
+                done = asyncio.get_running_loop().run_in_executor(None, self.act, action, label, client)
+            try:  # this click's own task waits; the loop goes on
+                if done is not None:
+                    await done
+            except Exception:
+                log.exception("the banner's %s failed", label)
+
+        return clicked
 
     def act(self, action: Action, label: str, client: viser.ClientHandle | None) -> None:
         """Do what a banner button says (tests call it directly with client None)."""

@@ -28,6 +28,7 @@ from pendant.ui.jog.record_panel import RecordPanel
 from pendant.ui.kit.cell_state import CellState
 from pendant.ui.kit.commands import CommandRunner, add_freeze_button, add_robot_commands
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.jobs import PageJobs
 from pendant.ui.kit.snapshot import Snapshot
 from pendant.ui.kit.view_only import ViewOnly
 from pendant.ui.page.banner import Banner
@@ -89,6 +90,7 @@ class ClientSession:
         recorder: PathRecorder | None = None,
         recovery: Recovery | None = None,
         freeze: viser.GuiButtonHandle | None = None,
+        jobs: PageJobs | None = None,
     ) -> None:
         self.target = target
         self.client_id = client_id
@@ -135,6 +137,7 @@ class ClientSession:
                 may_record=desk.gate,
                 on_recording=on_recording if on_recording is not None else (lambda client, message: None),
                 arm_urdf=arm.urdf_path,
+                jobs=jobs if jobs is not None else PageJobs(),
             )
             self.join = add_join_button(target, join_urls) if join_urls else None
             self.failures = target.gui.add_html(render_failures((), None))

@@ -15,6 +15,7 @@ from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.html import inset
 from pendant.ui.kit.snapshot import Snapshot
+from pendant.ui.kit.stop_path import on_stop_press
 from pendant.ui.robot.safety_panel import PROTECTIVE_STOP_HINT, render_system_state
 
 STATE_COLOURS: dict[MotionStatus | None, str] = {
@@ -146,9 +147,11 @@ class StatusPanel:
         self.recover = target.gui.add_button(
             "Recover", color="red", icon=viser.Icon.REFRESH, visible=False, hint="Clear the error and go on"
         )
-        self.stop.on_click(
-            lambda event: runner.submit("Protective stop", lambda c: c.stop(), event.client, urgent=True)
-        )
+
+        def stop(client: viser.ClientHandle | None) -> object:
+            return runner.submit("Protective stop", lambda c: c.stop(), client, urgent=True)
+
+        self.stop.on_click(on_stop_press(runner, stop))  # read on viser's event loop, like Freeze
         self.recover.on_click(lambda event: runner.submit("Recover", lambda c: c.recover(), event.client))
         self._snapshot = Snapshot(taken_at=0.0)
         self._system = render_system_state(CellState())

@@ -8,6 +8,7 @@ import viser
 
 from pendant.program import RunState
 from pendant.ui.kit.commands import client_id, notify_refusal
+from pendant.ui.kit.stop_path import on_stop_press
 from pendant.ui.kit.typed_field import FieldInvalid, NumberField
 from pendant.ui.program.host import ProgramHost
 from pendant.ui.program.refusals import USER_ERRORS
@@ -37,15 +38,19 @@ class RunSection:
         self.run.on_click(lambda e: self._start("Run", e.client))
         self.run_from.on_click(lambda e: self._start("Run from", e.client))
         self.step.on_click(lambda e: self._start("Step", e.client))
-        self.pause.on_click(
-            lambda e: commands.submit(
-                "Pause", lambda _: host.shared.pause(), e.client, urgent=True, announce=False
+
+        # Stopping (and pausing) is always allowed (no gate) and goes the way Freeze goes: read on viser's
+        # event loop, sent on the urgent thread (kit/stop_path.py).
+        def pause(client: viser.ClientHandle | None) -> object:
+            return commands.submit(
+                "Pause", lambda _: host.shared.pause(), client, urgent=True, announce=False
             )
-        )
-        # Stopping is always allowed (no gate) and runs on the urgent thread, like Freeze.
-        self.stop.on_click(
-            lambda e: commands.submit("Stop", lambda _: host.shared.stop(), e.client, urgent=True)
-        )
+
+        def stop(client: viser.ClientHandle | None) -> object:
+            return commands.submit("Stop", lambda _: host.shared.stop(), client, urgent=True)
+
+        self.pause.on_click(on_stop_press(commands, pause))
+        self.stop.on_click(on_stop_press(commands, stop))
 
     def start(self, label: str, client: viser.ClientHandle | None) -> None:
         self._start(label, client)
