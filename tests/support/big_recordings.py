@@ -7,6 +7,7 @@ import os
 from pathlib import Path
 
 from pendant.telemetry.mcap_file import McapFile
+from pendant.telemetry.messages import Joints
 
 SAMPLE_PERIOD_NS = 100_000_000  # 10 Hz, as the pendant samples
 TWO_HOURS = 72_000  # samples: the longest recording the pendant makes (telemetry.recorder.MAX_ROWS)
@@ -21,7 +22,8 @@ def write_long_recording(path: Path, samples: int = TWO_HOURS) -> Path:
         for i in range(samples):
             time_ns = i * SAMPLE_PERIOD_NS
             angles = [(i * 0.01 + 10.0 * j) % 180.0 for j in range(6)]
-            mcap.write("/joints", time_ns, {"name": [f"J{j + 1}" for j in range(6)], "position_deg": angles})
+            joints = Joints(name=[f"J{j + 1}" for j in range(6)], position_deg=angles, velocity_rpm=[0.0] * 6)
+            mcap.write("/joints", time_ns, joints)
             if i % STEP_EVERY == 0:
                 line = i // STEP_EVERY % 5 + 1
                 mcap.write_program(time_ns, line, f"Move J to P{line}", "running")
