@@ -156,19 +156,13 @@ def test_a_stop_during_a_still_step_ends_the_run_and_the_banner_offers_retry(
 
 
 def test_closing_the_operators_tab_mid_run_pauses_it_and_the_other_tab_is_told(
-    browser: Browser, pendant: Pendant, operator: Page, bystander: Page
+    pendant: Pendant, operator: Page, bystander: Page
 ) -> None:
+    """The last test of the module: it closes the module's operator."""
     start_at_home(pendant, operator)
-    operator.get_by_role("button", name="Release control").click(timeout=UI_TIMEOUT_MS)
-    operator.get_by_role("button", name="Take control").wait_for(timeout=UI_TIMEOUT_MS)  # released
-    context = browser.new_context(viewport={"width": 1400, "height": 900})
-    runner_tab = context.new_page()
-    open_as_operator(runner_tab, pendant.ui_url)  # takes the control the module's operator released
-    runner_tab.get_by_role("tab", name="Program").click()
-    runner_tab.get_by_text("still_steps").first.wait_for(timeout=UI_TIMEOUT_MS)
-    run_until_step(runner_tab, STEP_LINES["wait"])
+    run_until_step(operator, STEP_LINES["wait"])
 
-    context.close()
+    operator.context.close()
 
     banner = bystander.locator("#recovery-banner")
     banner.get_by_text("Program paused at step").wait_for(timeout=UI_TIMEOUT_MS)
@@ -177,5 +171,6 @@ def test_closing_the_operators_tab_mid_run_pauses_it_and_the_other_tab_is_told(
     time.sleep(HELD_S)
     np.testing.assert_allclose(pendant.pose(), held, atol=STILL_TOL_DEG)
     np.testing.assert_allclose(held, A_DEG, atol=0.05)  # it never went on to B
-    open_as_operator(operator, pendant.ui_url)  # control back for the next module's tests
-    operator.get_by_role("button", name="Stop program").click(timeout=UI_TIMEOUT_MS)
+    bystander.get_by_role("button", name="Stop program").click(
+        timeout=UI_TIMEOUT_MS
+    )  # stopping needs no control
