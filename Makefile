@@ -10,14 +10,15 @@ SDK_STAMP := $(SDK_VENV)/.installed
 
 .PHONY: run test typecheck layers lint format bench models fleet clean
 
+# --no-compile: Python compiles what is imported when it is first imported, not all of every package up front.
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	@$(BIN)/python -m pip install -q --disable-pip-version-check -e '.[test]'
+	@$(BIN)/python -m pip install -q --disable-pip-version-check --no-compile -e '.[test]'
 	@touch $(STAMP)
 
 $(SDK_STAMP):
 	@test -x $(SDK_VENV)/bin/python || $(PYTHON) -m venv $(SDK_VENV)
-	@$(SDK_VENV)/bin/python -m pip install -q --disable-pip-version-check "pulse-api==1.5.0" "pdhttp==1.5.0"
+	@$(SDK_VENV)/bin/python -m pip install -q --disable-pip-version-check --no-compile "pulse-api==1.5.0" "pdhttp==1.5.0"
 	@touch $(SDK_STAMP)
 
 run: $(STAMP)
