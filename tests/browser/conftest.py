@@ -34,10 +34,12 @@ def pendant() -> Iterator[Pendant]:
         yield served
 
 
-@pytest.fixture(scope="session")
+# Module-scoped, not session-scoped: sync Playwright keeps an asyncio loop running in the test thread while
+# it is open, and a later non-browser test on the same xdist worker calling asyncio.run() then fails.
+@pytest.fixture(scope="module")
 def playwright() -> Iterator[Playwright]:
-    """Playwright's driver, once per session (per xdist worker): its sync API allows one at a time in a
-    thread, so a module that needs a Chromium of its own launches it from this one."""
+    """Playwright's driver, once per module: its sync API allows one at a time in a thread, so a module
+    that needs a Chromium of its own launches it from this one."""
     from playwright.sync_api import sync_playwright
 
     if not Path(CHROMIUM).exists():
@@ -46,10 +48,9 @@ def playwright() -> Iterator[Playwright]:
         yield driver
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def browser(playwright: Playwright) -> Iterator[Browser]:
-    """One Chromium for the session (for each xdist worker): every test opens its own page or context in
-    it, so nothing but the process is shared; a launch costs seconds on a loaded machine."""
+    """One Chromium for the module: every test opens its own page or context in it."""
     browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
     yield browser
     browser.close()
