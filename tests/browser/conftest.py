@@ -23,9 +23,6 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     for item in items:
         if HERE in Path(item.path).parents:
             item.add_marker(pytest.mark.browser)
-            # Under `pytest -n N --dist loadgroup` a module's tests stay on one worker, so its pendant (a
-            # module fixture) starts once, not once per worker.
-            item.add_marker(pytest.mark.xdist_group(f"browser-{Path(item.path).stem}"))
 
 
 @pytest.fixture(scope="module")
