@@ -12,27 +12,30 @@ SDK_STAMP := $(SDK_VENV)/.installed
 
 .PHONY: run test typecheck layers lint format bench models fleet clean
 
+# --no-compile: Python compiles what is imported when it is first imported, not all of every package up front.
 $(RUN_STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	@$(BIN)/python -m pip install -q --disable-pip-version-check -e .
+	@$(BIN)/python -m pip install -q --disable-pip-version-check --no-compile -e .
 	@touch $(RUN_STAMP)
 
 # The test extras include everything `make run` needs, so its stamp is touched too.
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	@$(BIN)/python -m pip install -q --disable-pip-version-check -e '.[test]'
+	@$(BIN)/python -m pip install -q --disable-pip-version-check --no-compile -e '.[test]'
 	@touch $(STAMP) $(RUN_STAMP)
 
 $(SDK_STAMP):
 	@test -x $(SDK_VENV)/bin/python || $(PYTHON) -m venv $(SDK_VENV)
-	@$(SDK_VENV)/bin/python -m pip install -q --disable-pip-version-check "pulse-api==1.5.0" "pdhttp==1.5.0"
+	@$(SDK_VENV)/bin/python -m pip install -q --disable-pip-version-check --no-compile "pulse-api==1.5.0" "pdhttp==1.5.0"
 	@touch $(SDK_STAMP)
 
 run: $(RUN_STAMP)
 	@$(BIN)/pendant $(ARGS)
 
-# Two workers for everything but the browser tests (a 2-core machine); those measure what a user feels
-# (jog stop times, degrees per second), so they run after, on their own.
+# Two workers (a 2-core machine) for every test but the browser tests, which drive Chromium in software
+# WebGL and measure what a user feels on a real clock (jog shares, stop times): they run after, one at a
+# time (run in parallel, two of them failed on a loaded machine). Each pass prints its count; `measures`
+# marks the browser tests that assert a real-time figure.
 test: $(STAMP) $(SDK_STAMP) layers typecheck
 	@$(BIN)/pytest -q -n 2 --ignore=tests/browser $(PYTEST_ARGS)
 	@$(BIN)/pytest -q tests/browser $(PYTEST_ARGS)

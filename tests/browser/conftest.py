@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from playwright.sync_api import Browser, Page
+from playwright.sync_api import Browser, Page, Playwright
 
 from tests.support.chromium import CHROMIUM, CHROMIUM_ARGS
 from tests.support.launchers import Pendant
@@ -31,16 +31,26 @@ def pendant() -> Iterator[Pendant]:
         yield served
 
 
+# Module-scoped, not session-scoped: sync Playwright keeps an asyncio loop running in the test thread while
+# it is open, and a later non-browser test on the same xdist worker calling asyncio.run() then fails.
 @pytest.fixture(scope="module")
-def browser() -> Iterator[Browser]:
+def playwright() -> Iterator[Playwright]:
+    """Playwright's driver, once per module: its sync API allows one at a time in a thread, so a module
+    that needs a Chromium of its own launches it from this one."""
     from playwright.sync_api import sync_playwright
 
     if not Path(CHROMIUM).exists():
         pytest.fail(f"Chromium not found at {CHROMIUM}: install Debian's chromium (apt-get install chromium)")
-    with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
-        yield browser
-        browser.close()
+    with sync_playwright() as driver:
+        yield driver
+
+
+@pytest.fixture(scope="module")
+def browser(playwright: Playwright) -> Iterator[Browser]:
+    """One Chromium for the module: every test opens its own page or context in it."""
+    browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+    yield browser
+    browser.close()
 
 
 @pytest.fixture

@@ -48,6 +48,7 @@ def test_without_the_token_a_page_cannot_take_control_or_move_the_arm(page, pend
     assert refused.status_code == 401  # and the API without the header
 
 
+@pytest.mark.measures  # degrees turned in a 1 s hold
 def test_the_url_with_the_token_takes_control_and_jogs(browser: Browser, pendant: Pendant) -> None:
     page = browser.new_page(viewport={"width": 1400, "height": 900})
     try:

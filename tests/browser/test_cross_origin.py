@@ -16,7 +16,7 @@ from typing import Any
 import httpx
 import pytest
 import viser
-from playwright.sync_api import Browser
+from playwright.sync_api import Browser, Playwright
 
 from .conftest import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, Pendant
 
@@ -85,18 +85,13 @@ def attack_site(root: Path, api_port: int, ui_port: int) -> Iterator[str]:
 
 
 @pytest.fixture(scope="module")
-def browser() -> Iterator[Browser]:
+def browser(playwright: Playwright) -> Iterator[Browser]:
     """Chromium that resolves evil.example to 127.0.0.1, as a rebinding attacker's DNS would make it."""
-    from playwright.sync_api import sync_playwright
-
-    if not Path(CHROMIUM).exists():
-        pytest.fail(f"Chromium not found at {CHROMIUM}: install Debian's chromium (apt-get install chromium)")
-    with sync_playwright() as playwright:
-        chromium = playwright.chromium.launch(
-            executable_path=CHROMIUM, args=[*CHROMIUM_ARGS, f"--host-resolver-rules=MAP {REBOUND} 127.0.0.1"]
-        )
-        yield chromium
-        chromium.close()
+    chromium = playwright.chromium.launch(
+        executable_path=CHROMIUM, args=[*CHROMIUM_ARGS, f"--host-resolver-rules=MAP {REBOUND} 127.0.0.1"]
+    )
+    yield chromium
+    chromium.close()
 
 
 def state(pendant: Pendant) -> tuple[object, ...]:

@@ -61,6 +61,7 @@ def still_after(pendant: Pendant) -> None:
     assert max(abs(a - b) for a, b in zip(pendant.pose(), first, strict=True)) < STILL_TOL_DEG
 
 
+@pytest.mark.measures  # a share of the API's motion, a stop time
 def test_holding_j1_by_mouse_moves_it_as_far_as_the_api_and_stops_on_release(page, pendant: Pendant) -> None:
     ensure_operator(page)
     api = [api_hold(pendant.api, HOLD_S, +1 if i % 2 == 0 else -1).moved_deg for i in range(PRESSES)]
@@ -78,6 +79,7 @@ def test_holding_j1_by_mouse_moves_it_as_far_as_the_api_and_stops_on_release(pag
     assert stalls < PRESSES, f"the arm stopped {stalls} times in {PRESSES} presses while held"
 
 
+@pytest.mark.measures  # a share of the API's motion, a stop time
 def test_a_finger_held_on_j1_jogs_it_and_lifting_the_finger_stops_it(touch_page, pendant: Pendant) -> None:
     api = [api_hold(pendant.api, HOLD_S, +1 if i % 2 == 0 else -1).moved_deg for i in range(PRESSES)]
     held = []
@@ -90,6 +92,7 @@ def test_a_finger_held_on_j1_jogs_it_and_lifting_the_finger_stops_it(touch_page,
     assert statistics.median(held) >= MIN_SHARE * statistics.median(api), (held, api)
 
 
+@pytest.mark.measures  # a share of the API's motion, a stop time
 def test_space_or_enter_held_on_a_focused_jog_button_jogs_and_release_stops(page, pendant: Pendant) -> None:
     ensure_operator(page)
     api = [api_hold(pendant.api, HOLD_S, +1 if i % 2 == 0 else -1).moved_deg for i in range(2)]
@@ -108,6 +111,7 @@ HANG_S = 2.0
 STILL_AFTER_HANG_S = 1.0
 
 
+@pytest.mark.measures  # stop times around a hang
 def test_a_page_that_hangs_while_a_jog_is_held_stops_the_arm_until_the_button_is_pressed_again(
     page: Page, pendant: Pendant
 ) -> None:
@@ -160,6 +164,7 @@ PAGE_STOPS = {"Jog J1+ stopped: released", "Jog J1+ stopped: page closed"}
 DEADMAN_S = 0.2
 
 
+@pytest.mark.measures  # a stop time, the deadman's 200 ms
 def test_closing_the_tab_while_a_jog_button_is_held_stops_the_arm(browser: Browser, pendant: Pendant) -> None:
     # The closing page stops the arm itself (its worker's release or its keepalive fetch, whichever comes
     # first), not the deadman once it went quiet. A try whose hold the deadman had already cut before the

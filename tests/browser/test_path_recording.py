@@ -34,6 +34,10 @@ from tests.support.waiting import wait_until
 
 from .conftest import ARTIFACTS, Pendant, running_pendant
 
+# Real-time figures (the played path is read over the API, between readings a loaded machine spaces out):
+# run alone, after the rest.
+pytestmark = pytest.mark.measures
+
 UI_TIMEOUT_MS = 15_000
 CONTROL_TIMEOUT_S = 60.0
 HAND_TIMEOUT_S = 10.0

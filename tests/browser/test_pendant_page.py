@@ -6,6 +6,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
+import pytest
 
 from .conftest import ARTIFACTS, Pendant
 
@@ -25,6 +26,7 @@ def wait_idle(pendant: Pendant, timeout_s: float = MOVE_TIMEOUT_S) -> None:
         time.sleep(0.1)
 
 
+@pytest.mark.measures  # degrees turned in a 1.2 s hold
 def test_hold_j1_plus_moves_the_arm_and_release_stops_it(page, pendant: Pendant) -> None:
     wait_idle(pendant)
     before = np.array(pendant.pose())
@@ -49,6 +51,7 @@ def test_hold_j1_plus_moves_the_arm_and_release_stops_it(page, pendant: Pendant)
     assert pendant.status() == "IDLE"
 
 
+@pytest.mark.measures  # a freeze within 5 s, before a move at 5 % ends
 def test_escape_anywhere_on_the_page_freezes_a_moving_arm(page, pendant: Pendant) -> None:
     wait_idle(pendant)
     start = np.array(pendant.pose())

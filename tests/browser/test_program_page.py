@@ -44,6 +44,7 @@ def output(pendant: Pendant, port: int) -> str:
     return pendant.api.get(f"/signal/output/{port}").text.strip('"')
 
 
+@pytest.mark.measures  # where the arm is between two API reads
 def test_record_two_waypoints_and_play_them_back(page, pendant: Pendant) -> None:
     pendant.api.put("/signal/output/1/low").raise_for_status()
     take_control = page.get_by_role("button", name="Take control")

@@ -19,7 +19,8 @@ from tests.telemetry.test_mcap import read_mcap
 
 from .conftest import ARTIFACTS, Pendant, running_pendant
 
-pytestmark = pytest.mark.slow
+# A recording's samples a second on a real clock: run alone, after the rest.
+pytestmark = [pytest.mark.slow, pytest.mark.measures]
 
 RECORD_S = 10.0
 SIGTERM_EXIT = 128 + signal.SIGTERM  # the shell's convention for "ended by SIGTERM"

@@ -66,23 +66,28 @@ def pendant_process(
     # $PENDANT_DATA_DIR is set, and the checkout's pendant-data/ would carry its kept cell to the next run.
     data = tempfile.TemporaryDirectory(prefix="pendant-data-")
     env = {**os.environ, DATA_DIR_ENV: os.environ.get(DATA_DIR_ENV) or data.name}
+    # Its output goes to a file, never a pipe: a pipe nobody reads fills up and blocks a chatty pendant.
+    # `process.stdout` reads that file (what it printed so far), as it read the pipe before.
+    log = tempfile.NamedTemporaryFile("w+", prefix="pendant-", suffix=".log", delete=False)  # noqa: SIM115
     process = subprocess.Popen(
         command,
         cwd=REPO_ROOT,
         env=env,
-        stdout=subprocess.PIPE,
+        stdout=log,
         stderr=subprocess.STDOUT,
         text=True,
         preexec_fn=None if max_open_files is None else lambda: _limit_open_files(max_open_files),
     )
+    log.close()
+    process.stdout = open(log.name)  # noqa: SIM115  # closed below
     base_url = f"http://{LOOPBACK}:{port}"
     try:
         _wait_until_serving(process, base_url)
         yield process, base_url
     finally:
         stop(process)
-        if process.stdout is not None:
-            process.stdout.close()
+        process.stdout.close()
+        os.unlink(log.name)
         data.cleanup()
 
 
@@ -95,11 +100,7 @@ ANNOUNCE_MAX_LINES = 200  # the lines of a repair running beside the start-up ma
 
 def _wait_until_serving(process: subprocess.Popen[str], base_url: str) -> None:
     deadline = time.monotonic() + START_TIMEOUT_S
-    said = []  # start-up notes (a stale file removed, a recording repaired) may come before the URL
-    for _ in range(ANNOUNCE_MAX_LINES):
-        said.append(process.stdout.readline() if process.stdout else "")
-        if base_url in said[-1] or not said[-1]:
-            break
+    said = _read_announcement(process, base_url, deadline)
     if base_url not in said[-1]:
         raise RuntimeError(f"pendant did not announce {base_url}, it said: {''.join(said)!r}")
     while time.monotonic() < deadline:
@@ -113,6 +114,27 @@ def _wait_until_serving(process: subprocess.Popen[str], base_url: str) -> None:
             pass
         time.sleep(0.05)  # polling a real process starting up: no fake clock can stand in for this wait
     raise RuntimeError(f"pendant did not answer on {base_url} within {START_TIMEOUT_S} s")
+
+
+def _read_announcement(process: subprocess.Popen[str], base_url: str, deadline: float) -> list[str]:
+    """The lines the pendant printed up to the one announcing `base_url` (at most ANNOUNCE_MAX_LINES), read
+    from its log file as it writes them; fewer if it exits or the deadline passes first."""
+    assert process.stdout is not None
+    said: list[str] = []
+    partial = ""
+    while len(said) < ANNOUNCE_MAX_LINES and time.monotonic() < deadline:
+        partial += process.stdout.readline()
+        if partial.endswith("\n"):
+            said.append(partial)
+            partial = ""
+            if base_url in said[-1]:
+                return said
+        elif process.poll() is not None:
+            partial += process.stdout.read()
+            break
+        else:
+            time.sleep(0.02)  # the file has no more yet: a real process writing on a real clock
+    return [*said, partial]
 
 
 class Pendant:
@@ -142,19 +164,26 @@ def running_pendant_ui(*flags: str, env: dict[str, str] | None = None) -> Iterat
     log and recordings in a temporary data folder (`env={"PENDANT_DATA_DIR": ...}` names another)."""
     ui_port, api_port = free_port(), free_port()
     data = tempfile.TemporaryDirectory(prefix="pendant-data-")
-    process = subprocess.Popen(
-        pendant_command("--ui-port", str(ui_port), "--api-port", str(api_port), *flags),
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        env={**os.environ, "PYTHONUNBUFFERED": "1", "PENDANT_DATA_DIR": data.name, **(env or {})},
-    )
-    try:
-        wait_until(lambda: answers(f"http://{LOOPBACK}:{api_port}/pose"), START_TIMEOUT_S, "the API")
-        wait_until(lambda: answers(f"http://{LOOPBACK}:{ui_port}/"), START_TIMEOUT_S, "the page")
-        yield Pendant(ui_port, api_port, process)
-    finally:
-        stop(process)
-        data.cleanup()
+    # Its output goes to a file (a pipe nobody reads fills up and blocks a chatty pendant); a start-up
+    # failure quotes it.
+    with tempfile.TemporaryFile("w+") as log:
+        process = subprocess.Popen(
+            pendant_command("--ui-port", str(ui_port), "--api-port", str(api_port), *flags),
+            stdout=log,
+            stderr=subprocess.STDOUT,
+            env={**os.environ, "PYTHONUNBUFFERED": "1", "PENDANT_DATA_DIR": data.name, **(env or {})},
+        )
+        try:
+            try:
+                wait_until(lambda: answers(f"http://{LOOPBACK}:{api_port}/pose"), START_TIMEOUT_S, "the API")
+                wait_until(lambda: answers(f"http://{LOOPBACK}:{ui_port}/"), START_TIMEOUT_S, "the page")
+            except TimeoutError as late:
+                log.seek(0)
+                raise TimeoutError(f"{late}; the pendant said: {log.read()[-2000:]!r}") from late
+            yield Pendant(ui_port, api_port, process)
+        finally:
+            stop(process)
+            data.cleanup()
 
 
 class Launcher:
