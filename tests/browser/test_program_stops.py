@@ -18,6 +18,7 @@ from playwright.sync_api import Browser, Page
 
 from tests.support.jog_measure import open_as_operator
 from tests.support.launchers import Pendant, running_pendant_ui
+from tests.support.programs import a_to_b_file
 
 HOME_DEG = [0.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 A_DEG = [30.0, -90.0, 90.0, -90.0, -90.0, 0.0]
@@ -31,21 +32,8 @@ STEP_LINES = {"gripper": 2, "wait": 3}  # 1-based, as the page counts them
 
 def program() -> dict[str, object]:
     """Move J to A, close the gripper (20 s), wait 20 s, Move J to B."""
-    zero = {"point": {"x": 0, "y": 0, "z": 0}, "rotation": {"roll": 0, "pitch": 0, "yaw": 0}}
-    return {
-        "schema_version": 2,
-        "name": "still_steps",
-        "waypoints": [
-            {"name": "A", "pose": {"angles": A_DEG}, "position": zero},
-            {"name": "B", "pose": {"angles": B_DEG}, "position": zero},
-        ],
-        "steps": [
-            {"kind": "move", "waypoint": "A", "motion": "JOINT", "speed": 100.0},
-            {"kind": "gripper", "action": "close", "timeout_ms": 20_000},
-            {"kind": "wait", "ms": 20_000},
-            {"kind": "move", "waypoint": "B", "motion": "JOINT", "speed": 100.0},
-        ],
-    }
+    gripper = {"kind": "gripper", "action": "close", "timeout_ms": 20_000}
+    return a_to_b_file("still_steps", A_DEG, B_DEG, gripper, {"kind": "wait", "ms": 20_000})
 
 
 @pytest.fixture(scope="module")

@@ -29,7 +29,7 @@ from pendant.program import (
     Waypoint,
 )
 from pendant.sim import FakeClock, SimController
-from tests.support.programs import POLL_S, Taught, move, program_of
+from tests.support.programs import POLL_S, Taught, move, program_of, runner_doing_at_step
 
 CAUSE = "Freeze from the API (127.0.0.1)"
 ANGLE_TOL_DEG = 1e-6
@@ -190,15 +190,7 @@ def test_a_paused_run_that_hears_a_stop_is_stopped_not_resumed_by_run(
     sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
 ) -> None:
     program = program_of(move(waypoints["A"]), WaitStep(ms=2500), move(waypoints["B"]))
-    holder: list[ProgramRunner] = []
-
-    def sleep(dt: float) -> None:
-        clock.advance(dt)
-        if holder[0].progress.step_index == 1:
-            holder[0].pause()
-
-    runner = ProgramRunner(sim, now=clock.now, sleep=sleep, poll_s=POLL_S)
-    holder.append(runner)
+    runner = runner_doing_at_step(sim, clock, 1, lambda runner: runner.pause())
     assert runner.run(program).state is RunState.PAUSED
 
     runner.stop_heard(CAUSE)
@@ -224,16 +216,12 @@ def test_the_programs_own_stop_ends_the_run_for_good(
 ) -> None:
     """The program's Stop (and the banner's Stop program) end the run: no Retry is left to press."""
     program = program_of(move(waypoints["A"]), WaitStep(ms=2500), move(waypoints["B"]))
-    holder: list[ProgramRunner] = []
 
-    def sleep(dt: float) -> None:
-        clock.advance(dt)
-        if holder[0].progress.step_index == 1:
-            holder[0].stop_heard("Stop by Tab 1")  # the page announces the Stop, then calls stop()
-            holder[0].stop()
+    def press_stop(runner: ProgramRunner) -> None:
+        runner.stop_heard("Stop by Tab 1")  # the page announces the Stop, then calls stop()
+        runner.stop()
 
-    runner = ProgramRunner(sim, now=clock.now, sleep=sleep, poll_s=POLL_S)
-    holder.append(runner)
+    runner = runner_doing_at_step(sim, clock, 1, press_stop)
 
     result = runner.run(program)
 

@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 from tests.support.launchers import REPO_ROOT, child_env, running_pendant
+from tests.support.programs import a_to_b_file
 
 pytestmark = pytest.mark.slow
 
@@ -34,23 +35,6 @@ STEPS = {
     "wait": {"kind": "wait", "ms": 20_000},
     "gripper": {"kind": "gripper", "action": "close", "timeout_ms": 20_000},
 }
-
-
-def program(middle: dict[str, object]) -> dict[str, object]:
-    origin = {"point": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": {"roll": 0.0, "pitch": 0.0, "yaw": 0.0}}
-    return {
-        "schema_version": 2,
-        "name": "stopped",
-        "waypoints": [
-            {"name": "A", "pose": {"angles": A_DEG}, "position": origin},
-            {"name": "B", "pose": {"angles": B_DEG}, "position": origin},
-        ],
-        "steps": [
-            {"kind": "move", "waypoint": "A", "motion": "JOINT", "speed": 100.0},
-            middle,
-            {"kind": "move", "waypoint": "B", "motion": "JOINT", "speed": 100.0},
-        ],
-    }
 
 
 def freeze_by_curl(url: str) -> None:
@@ -89,7 +73,7 @@ def test_a_stop_sent_to_the_pendant_during_a_still_step_ends_pendant_run(
     api.put("/recover")  # the last case's protective stop
     api.put("/pose", json={"angles": HOME_DEG}).raise_for_status()
     saved = tmp_path / "stopped.json"
-    saved.write_text(json.dumps(program(STEPS[step])))
+    saved.write_text(json.dumps(a_to_b_file("stopped", A_DEG, B_DEG, STEPS[step])))
     runner = subprocess.Popen(
         [sys.executable, "-m", "pendant", "run", str(saved), "--robot", api_url],
         cwd=REPO_ROOT,

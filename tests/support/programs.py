@@ -10,7 +10,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from pendant.controller import MotionParams, MotionType, Pose
-from pendant.program import MoveStep, Program, Step, Waypoint
+from pendant.program import MoveStep, Program, ProgramRunner, Step, Waypoint
 from pendant.program.limits import WAYPOINT_NAME_MAX
 from pendant.sim import FakeClock, SimController
 
@@ -120,3 +120,36 @@ def sleeping(clock: FakeClock, at: float, action: Callable[[], None]) -> Callabl
 
 def angles(sim: SimController) -> np.ndarray:
     return np.array(sim.get_pose().angles)
+
+
+def a_to_b_file(
+    name: str, a_deg: list[float], b_deg: list[float], *middle: dict[str, object]
+) -> dict[str, object]:
+    """A program file's JSON as the pendant saves it: Move J to A, the `middle` steps, Move J to B (100 %)."""
+    origin = {"point": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": {"roll": 0.0, "pitch": 0.0, "yaw": 0.0}}
+    move_to = [{"kind": "move", "waypoint": w, "motion": "JOINT", "speed": 100.0} for w in ("A", "B")]
+    return {
+        "schema_version": 2,
+        "name": name,
+        "waypoints": [
+            {"name": "A", "pose": {"angles": a_deg}, "position": origin},
+            {"name": "B", "pose": {"angles": b_deg}, "position": origin},
+        ],
+        "steps": [move_to[0], *middle, move_to[1]],
+    }
+
+
+def runner_doing_at_step(
+    sim: SimController, clock: FakeClock, line: int, act: Callable[[ProgramRunner], None]
+) -> ProgramRunner:
+    """A runner on the fake clock that calls `act(runner)` at each of its sleeps while at step `line`."""
+    holder: list[ProgramRunner] = []
+
+    def sleep(dt: float) -> None:
+        clock.advance(dt)
+        if holder[0].progress.step_index == line:
+            act(holder[0])
+
+    runner = ProgramRunner(sim, now=clock.now, sleep=sleep, poll_s=POLL_S)
+    holder.append(runner)
+    return runner
