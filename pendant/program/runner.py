@@ -49,7 +49,7 @@ class RunProgress:
     message: str = "Ready"
     failed_step: int | None = None  # 0-based line of the step that failed
     notice: str = ""  # how the controller plays what it cannot do as asked (e.g. paths stop-and-go)
-    paused_because: str = ""  # a pause the operator did not ask for ("Tab 1's page closed")
+    paused_because: str = ""  # a pause the operator did not ask for ("browser #1's page closed ...")
 
     @property
     def active(self) -> bool:
