@@ -21,7 +21,7 @@ from pendant.controller.system_types import (
     PositionWaypoint,
 )
 from pendant.controller.system_types import OutputAction as ApiOutputAction
-from pendant.controller.types import SPEED_MAX, MotionType
+from pendant.controller.types import SPEED_MAX, MotionParams, MotionType, Pose
 from pendant.program.geometry import MM
 from pendant.program.models import GripperAction, OutputAction
 from pendant.program.plan import MoveGroup, Target
@@ -34,6 +34,11 @@ LINEAR_M_S_AT_FULL_SPEED = 1.0
 # A joint run's blend is degrees of joint travel; a move's blend is millimetres at the TCP. One degree of
 # joint travel moves the TCP about this far at the PULSE's reach (0.5 m lever).
 MM_PER_JOINT_DEGREE = 8.7
+
+# A planned path's corners are rounded within this (degrees of joint travel): a thousandth of a degree, so
+# the arm follows the straight joint segments the planner checked against the cell (a SPLINE through the
+# same waypoints bulges off them, into what the planner went around).
+PLANNED_CORNER_BLEND_DEG = 0.001
 
 FALLBACK_NOTE = (
     "This controller has no /run/* operations (HTTP 404: firmware older than SDK 1.8): recorded paths "
@@ -99,6 +104,20 @@ class BlendedRun:
             velocity=velocity,
             acceleration=PATH_ACCELERATION_M_S2,
         )
+
+
+def run_planned_path(controller: Controller, poses: list[Pose], speed: float) -> None:
+    """A path from the planner, as it was checked: straight joint segments with near-exact corners, in one
+    `PUT /run/joint/poses` (BLEND). A controller without the /run/* operations (firmware older than SDK 1.8)
+    gets `PUT /poses/run`, whose interpolation between the waypoints is the controller's own."""
+    waypoints = [PoseWaypoint(angles=list(pose.angles), blend=PLANNED_CORNER_BLEND_DEG) for pose in poses]
+    params = JointMotionParameters(
+        interpolation_type=InterpolationType.BLEND, velocity=speed, acceleration=speed
+    )
+    try:
+        controller.run_joint_poses(waypoints, params)
+    except Unsupported:
+        controller.run_poses(poses, MotionParams(speed=speed, motion_type=MotionType.JOINT))
 
 
 def _joint(group: MoveGroup, interpolation: InterpolationType) -> JointMotionParameters:

@@ -31,7 +31,7 @@ import numpy as np
 from pendant.controller import Controller, ControllerError, MotionStatus
 from pendant.controller.errors import Unsupported
 from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS, Pose, Position, SignalLevel
-from pendant.program.blended import FALLBACK_NOTE, BlendedRun
+from pendant.program.blended import FALLBACK_NOTE, BlendedRun, run_planned_path
 from pendant.program.models import (
     GripperAction,
     GripperAtWaypoint,
@@ -246,7 +246,7 @@ class NodeExecutor:
             raise StepFailed(f"no path around the obstacles to {target.name}: {error.message}") from error
         controller = self._controller
         try:
-            self._move(group, (target,), 0, heading, lambda _: controller.run_poses(via, group.params))
+            self._move(group, (target,), 0, heading, lambda _: run_planned_path(controller, via, group.speed))
             for action in target.actions:
                 self._action(action, 0)
         except ControllerError as error:

@@ -16,6 +16,7 @@ from pendant.planning.joint_planner import MSG_CANCELLED, PlanCancelled
 from pendant.planning.live import ControllerPlanner
 from pendant.planning.scenes import BOX
 from pendant.program import MoveStep, ProgramRunner, RunState, Waypoint
+from pendant.program.blended import run_planned_path
 from pendant.program.files import dump_program, parse_program
 from pendant.program.motion import MSG_NO_PLANNER
 from pendant.sim import FakeClock, SimController
@@ -51,6 +52,49 @@ def test_a_planned_move_j_goes_around_the_box_where_the_unplanned_one_is_refused
     done = _runner(sim, clock).run(program_of(move(beyond, speed=100.0, planned=True)))
     assert done.state is RunState.FINISHED, done.message
     assert np.allclose(sim.get_pose().angles, BOX.target_deg, atol=ANGLE_TOL_DEG)
+
+
+CORNER_PATH_DEG = (
+    (0.0, -90.0, 90.0, -90.0, -90.0, 0.0),
+    (40.0, -90.0, 90.0, -90.0, -90.0, 0.0),
+    (40.0, -60.0, 60.0, -90.0, -90.0, 0.0),
+)  # a right-angle corner in joint space
+ON_SEGMENTS_TOL_DEG = 0.05
+
+
+def _farthest_off_the_segments(sim: SimController, clock: FakeClock, send: Callable[[], None]) -> float:
+    """Runs `send` on the simulator at CORNER_PATH_DEG[0] and follows the arm on the fake clock: the largest
+    distance (degrees, per joint) of any configuration it passes from the polyline through CORNER_PATH_DEG."""
+    sim.set_pose(Pose(angles=list(CORNER_PATH_DEG[0])), MotionParams(speed=100.0))
+    settle(sim, clock)
+    send()
+    dense = np.concatenate(
+        [np.linspace(a, b, 2001) for a, b in zip(CORNER_PATH_DEG, CORNER_PATH_DEG[1:], strict=False)]
+    )
+    farthest = 0.0
+    while clock.now() < sim.busy_until():
+        clock.advance(0.01)
+        here = np.array(sim.get_pose().angles)
+        farthest = max(farthest, float(np.min(np.max(np.abs(dense - here), axis=1))))
+    assert np.allclose(sim.get_pose().angles, CORNER_PATH_DEG[-1], atol=ANGLE_TOL_DEG)
+    return farthest
+
+
+def test_a_planned_path_is_run_along_the_segments_the_planner_checked_not_a_spline_that_bulges_off(
+    sim: SimController, clock: FakeClock
+) -> None:
+    """The planner checks straight joint segments against the cell; a SPLINE through the same waypoints
+    (what /poses/run gives) cuts the corner by degrees, into what the path went around (a CI failure:
+    the simulator refused a planned path with "Collision detected")."""
+    poses = [Pose(angles=list(angles)) for angles in CORNER_PATH_DEG[1:]]
+    planned = _farthest_off_the_segments(sim, clock, lambda: run_planned_path(sim, poses, 50.0))
+    spline = _farthest_off_the_segments(
+        sim, clock, lambda: sim.run_poses(poses, MotionParams(speed=50.0, motion_type=MotionType.JOINT))
+    )
+    assert planned <= ON_SEGMENTS_TOL_DEG, f"{planned:.3f} deg off the checked segments"
+    assert spline > 10 * ON_SEGMENTS_TOL_DEG, (
+        f"the spline stayed within {spline:.3f} deg: the measure is blind"
+    )
 
 
 def test_a_planned_move_to_a_waypoint_inside_the_box_fails_saying_so_and_nothing_moves(

@@ -20,14 +20,14 @@ from typing import Protocol
 import numpy as np
 import viser
 
-from pendant.controller import Controller, MotionParams, MotionType
+from pendant.controller import Controller
 from pendant.controller.errors import MSG_COLLISION, PreconditionFailed
-from pendant.jog.targets import JOG_TCP_MAX_VELOCITY_M_S
 from pendant.kinematics import ArmModel
 from pendant.kinematics.cell_check import joint_samples
 from pendant.planning.joint_planner import DEFAULT_BUDGET_S, PlannedPath
 from pendant.planning.live import as_poses, plan_on
 from pendant.planning.request import PlanTarget
+from pendant.program.blended import run_planned_path
 from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.typed_field import FieldInvalid, NumberField
@@ -169,9 +169,6 @@ class PlanSection:
         except FieldInvalid as error:
             notify_refusal(client, "Move (planned) refused", error.message)
             return None
-        params = MotionParams(
-            speed=speed, motion_type=MotionType.JOINT, tcp_max_velocity=JOG_TCP_MAX_VELOCITY_M_S
-        )
         poses = as_poses(path)
         start = path.waypoints[0]
 
@@ -179,7 +176,7 @@ class PlanSection:
             here = np.radians(controller.get_pose().angles)
             if float(np.max(np.abs(here - start))) > START_TOL_RAD:
                 raise PreconditionFailed(MSG_MOVED)
-            controller.run_poses(poses, params)
+            run_planned_path(controller, poses, speed)
 
         return self._runner.submit("Move (planned)", send, client, motion=True)
 
