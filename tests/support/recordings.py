@@ -23,12 +23,9 @@ WALL_START = 1_800_000_000.0
 HEADER = bytes([0x01]) + struct.pack("<Q", 8) + struct.pack("<I", 0) + struct.pack("<I", 0)
 
 
-def make_recording(folder: Path, seconds: float, unfinished_copy: Path | None = None) -> Path:
-    """Record `seconds` of a moving arm (the arm drawn, an event, a program step) into `folder`; the
-    finished .mcap. With `unfinished_copy`, the file's bytes just before it was finished are copied there
-    (what kill -9 leaves)."""
-    clock = FakeClock()
-    sim = SimController("pulse75", clock)
+def recording_arm(sim: SimController, clock: FakeClock, folder: Path) -> tuple[Telemetry, EventLog]:
+    """The pendant's recorder on `sim` (times from `clock`), recording into `folder`, its event log wired to
+    it, and the arm sent on a move: sample it with `telemetry.sample` as the clock advances."""
     events = EventLog(now=lambda: WALL_START + clock.now())
     telemetry = Telemetry(
         sim,
@@ -40,6 +37,16 @@ def make_recording(folder: Path, seconds: float, unfinished_copy: Path | None = 
     events.on_record(telemetry.log_event)
     telemetry.start_recording()
     sim.set_pose(Pose(angles=[40.0, -70.0, 30.0, -90.0, -90.0, 20.0]), MotionParams(speed=30.0))
+    return telemetry, events
+
+
+def make_recording(folder: Path, seconds: float, unfinished_copy: Path | None = None) -> Path:
+    """Record `seconds` of a moving arm (the arm drawn, an event, a program step) into `folder`; the
+    finished .mcap. With `unfinished_copy`, the file's bytes just before it was finished are copied there
+    (what kill -9 leaves)."""
+    clock = FakeClock()
+    sim = SimController("pulse75", clock)
+    telemetry, events = recording_arm(sim, clock, folder)
     for i in range(round(seconds / SAMPLE_PERIOD_S)):
         clock.advance(SAMPLE_PERIOD_S)
         if i == 5:

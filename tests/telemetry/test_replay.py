@@ -9,13 +9,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pendant.controller import MotionParams, Pose
-from pendant.eventlog import EventKind, EventLog
-from pendant.kinematics import ArmModel
+from pendant.eventlog import EventKind
 from pendant.sim import FakeClock, SimController
-from pendant.telemetry import ArmState, Telemetry, arm_drawing
+from pendant.telemetry import ArmState
 from pendant.telemetry.replay import ReplayError, load_replay
-from tests.support.recordings import SAMPLE_PERIOD_S, WALL_START
+from tests.support.recordings import SAMPLE_PERIOD_S, recording_arm
 
 N_SAMPLES = 30
 STOP_AT = 12  # the sample after which a stop is logged
@@ -24,17 +22,7 @@ ANGLE_TOL_DEG = 1e-9  # the file's JSON holds the floats as the controller said 
 
 
 def record(sim: SimController, clock: FakeClock, folder: Path) -> tuple[Path, list[list[float]]]:
-    events = EventLog(now=lambda: WALL_START + clock.now())
-    telemetry = Telemetry(
-        sim,
-        now=clock.now,
-        recordings_folder=folder,
-        wall_now=lambda: WALL_START + clock.now(),
-        arm=arm_drawing(ArmModel.load("pulse75")),
-    )
-    events.on_record(telemetry.log_event)
-    telemetry.start_recording()
-    sim.set_pose(Pose(angles=[40.0, -70.0, 30.0, -90.0, -90.0, 20.0]), MotionParams(speed=30.0))
+    telemetry, events = recording_arm(sim, clock, folder)
     recorded = []
     for i in range(N_SAMPLES):
         clock.advance(SAMPLE_PERIOD_S)
