@@ -4,6 +4,7 @@ the obstacle. Files stay as they were for programs without planned moves."""
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 
 import numpy as np
@@ -69,7 +70,7 @@ def _farthest_off_the_segments(sim: SimController, clock: FakeClock, send: Calla
     settle(sim, clock)
     send()
     dense = np.concatenate(
-        [np.linspace(a, b, 2001) for a, b in zip(CORNER_PATH_DEG, CORNER_PATH_DEG[1:], strict=False)]
+        [np.linspace(a, b, 2001) for a, b in itertools.pairwise(CORNER_PATH_DEG)]
     )
     farthest = 0.0
     while clock.now() < sim.busy_until():
