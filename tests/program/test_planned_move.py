@@ -69,9 +69,7 @@ def _farthest_off_the_segments(sim: SimController, clock: FakeClock, send: Calla
     sim.set_pose(Pose(angles=list(CORNER_PATH_DEG[0])), MotionParams(speed=100.0))
     settle(sim, clock)
     send()
-    dense = np.concatenate(
-        [np.linspace(a, b, 2001) for a, b in itertools.pairwise(CORNER_PATH_DEG)]
-    )
+    dense = np.concatenate([np.linspace(a, b, 2001) for a, b in itertools.pairwise(CORNER_PATH_DEG)])
     farthest = 0.0
     while clock.now() < sim.busy_until():
         clock.advance(0.01)
