@@ -36,7 +36,7 @@ run: $(RUN_STAMP)
 # WebGL and measure what a user feels on a real clock (jog shares, stop times): they run after, one at a
 # time (run in parallel, two of them failed on a loaded machine). Each pass prints its count; `measures`
 # marks the browser tests that assert a real-time figure.
-test: $(STAMP) $(SDK_STAMP) layers typecheck
+test: $(STAMP) $(SDK_STAMP) lint layers typecheck
 	@$(BIN)/pytest -q -n 2 --ignore=tests/browser $(PYTEST_ARGS)
 	@$(BIN)/pytest -q tests/browser $(PYTEST_ARGS)
 
