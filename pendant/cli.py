@@ -1,7 +1,7 @@
 """The `pendant` command: flags -> Settings -> controller -> the web UI and the API server.
 
     pendant [--host 127.0.0.1] [--ui-port 8080] [--api-port 8081] [--model pulse75|pulse90] [--robot URL]
-            [--connect-timeout 1] [--read-timeout 3] [--no-ui [--time-scale K]]
+            [--connect-timeout 1] [--read-timeout 3] [--no-ui [--time-scale K]] [--foxglove-port PORT]
     pendant check URL [--timeout S]
     pendant run PROGRAM.json [--robot URL] [--loops N]
     pendant diff A.json B.json
@@ -337,8 +337,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     # Without the page's refresh loop, a thread of its own logs the arm's state changes.
     watch = StateWatch(controller, events, metrics).start() if ui is None else None
     desk.telemetry = ui.telemetry if ui is not None else _headless_telemetry(settings, controller, events)
+    if settings.foxglove_port is not None:  # before the sampler: with --no-ui it samples for the live view
+        desk.telemetry.start_live(settings.host, settings.foxglove_port)
     sampler = RecordingSampler(controller, desk.telemetry).start() if ui is None else None
-    announce(settings)
+    live = desk.telemetry.live
+    announce(settings, foxglove_port=live.port if live is not None else None)
     from pendant.api.quitting import freeze_on_quit
 
     on_main_thread = threading.current_thread() is threading.main_thread()
@@ -363,6 +366,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if sampler is not None:
             sampler.stop()
             desk.telemetry.stop_recording()  # a recording still running is finished, readable
+        desk.telemetry.stop_live()
         preflights.close()
         if store is not None:
             store.close()

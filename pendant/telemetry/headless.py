@@ -1,12 +1,14 @@
-"""With `--no-ui` no page samples the arm: while a recording started from the API runs, this thread reads
-the motors, the TCP and the motion status at the page's rate and writes them to it."""
+"""With `--no-ui` no page samples the arm: while a recording started from the API runs, or the Foxglove live
+view is on, this thread reads the motors, the TCP and the motion status at the page's rate and writes them
+to both."""
 
 from __future__ import annotations
 
 import threading
 
 from pendant.controller import Controller, ControllerError
-from pendant.telemetry.sampler import SAMPLE_HZ, ArmState, Telemetry
+from pendant.telemetry.channels import ArmState
+from pendant.telemetry.sampler import SAMPLE_HZ, Telemetry
 
 IDLE_CHECK_S = 0.1  # how soon a started recording gets its first sample
 
@@ -37,7 +39,7 @@ class RecordingSampler:
 
     def _loop(self) -> None:
         while not self._stop.is_set():
-            if self._telemetry.running is None:
+            if self._telemetry.running is None and self._telemetry.live is None:
                 self._stop.wait(IDLE_CHECK_S)
                 continue
             self._telemetry.sample(self._state())

@@ -1,0 +1,98 @@
+"""The live view in Foxglove, over real WebSockets on a real `pendant --foxglove-port`: connected as Foxglove
+connects (subprotocol, advertise, subscribe), it carries the recordings' channels with the same schemas, and
+/joints and /tf follow a move as it happens."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+import httpx
+import jsonschema
+import pytest
+
+from tests.support.foxglove_client import FoxgloveClient, Received
+from tests.support.launchers import pendant_process
+from tests.support.mcap_reading import read_mcap
+from tests.support.ports import free_port
+from tests.support.waiting import wait_idle
+
+START_DEG = [0.0, -90.0, 0.0, -90.0, 0.0, 0.0]
+TARGET_DEG = [40.0, -90.0, 0.0, -90.0, 0.0, 0.0]
+SPEED = 20  # percent: a move of a few seconds, so many samples fall inside it
+ANGLE_TOL_DEG = 0.5
+SETTLE_S = 1.0  # after the arm is idle: the samples that show it at rest
+
+
+def _joints(messages: list[Received], schema: dict[str, object]) -> list[list[float]]:
+    angles = []
+    for message in messages:
+        decoded = json.loads(message.payload)
+        jsonschema.validate(decoded, schema)
+        angles.append(decoded["position_deg"])
+    return angles
+
+
+def test_foxglove_sees_the_recordings_channels_and_follows_a_move_live(tmp_path: Path) -> None:
+    port = free_port()
+    with pendant_process("--data", str(tmp_path), "--foxglove-port", str(port)) as (process, base):
+        api = httpx.Client(base_url=base, timeout=10.0)
+        assert api.put(f"/pose?speed={SPEED}", json={"angles": START_DEG}).status_code == 200
+        wait_idle(api)
+        # A recording made meanwhile: the live channels are the file's, schema for schema.
+        assert api.post("/pendant/recordings", json={"name": "beside"}).status_code == 201
+        with FoxgloveClient(f"ws://127.0.0.1:{port}") as foxglove:
+            foxglove.wait_for_channels("/joints", "/tf", "/tcp", "/motors", "/io", "/events", "/arm", "/cell")
+            assert foxglove.ws.subprotocol == "foxglove.sdk.v1", "the SDK's name of foxglove.websocket.v1"
+            assert foxglove.server_info["name"] == "PULSE pendant"
+            joints_schema = foxglove.json_schema("/joints")
+            for broken in ({}, {"name": [], "position_deg": [], "velocity_rpm": [], "extra": 1}):
+                with pytest.raises(jsonschema.ValidationError):
+                    jsonschema.validate(broken, joints_schema)
+            foxglove.subscribe("/joints", "/tf", "/arm")
+            before = list(foxglove.messages(SETTLE_S))
+            assert api.put(f"/pose?speed={SPEED}", json={"angles": TARGET_DEG}).status_code == 200
+            during: list[Received] = []
+            while api.get("/status/motion").text.strip('"') != "IDLE":
+                during += foxglove.messages(0.2)
+            during += foxglove.messages(SETTLE_S)
+            live_schemas = {topic: channel for topic, channel in foxglove.channels.items()}
+        assert api.post("/pendant/recordings/beside/stop").status_code == 200
+        assert f"Foxglove live view: ws://127.0.0.1:{port}" in _said(process)
+
+    joints = [m for m in before + during if m.topic == "/joints"]
+    j1 = [angles[0] for angles in _joints(joints, joints_schema)]
+    assert j1, "no /joints message came"
+    assert abs(j1[0] - START_DEG[0]) < ANGLE_TOL_DEG and abs(j1[-1] - TARGET_DEG[0]) < ANGLE_TOL_DEG, j1
+    on_the_way = [a for a in j1 if START_DEG[0] + 1.0 < a < TARGET_DEG[0] - 1.0]
+    assert len(on_the_way) >= 3, f"the move is seen as it happens, not only its end: {j1}"
+    assert on_the_way == sorted(on_the_way), "J1 only rises on its way to the target"
+
+    frames = [foxglove.decode_protobuf(m) for m in before + during if m.topic == "/tf"]
+    assert frames, "no /tf message came"
+    first = {t.child_frame_id: t.rotation for t in frames[0].transforms}
+    last = {t.child_frame_id: t.rotation for t in frames[-1].transforms}
+    assert first.keys() == last.keys() and len(first) >= 6
+    assert first != last, "the links turned in /tf"
+
+    arm = [foxglove.decode_protobuf(m) for m in before if m.topic == "/arm"]
+    assert arm and len(arm[0].entities) >= 6, "a client that subscribes gets the arm's meshes at once"
+
+    file_schemas, _ = read_mcap(tmp_path / "recordings" / "pendant-beside.mcap")
+    # The file has the channels that got a message (no cell read and no program run here: no /cell, /program).
+    assert set(file_schemas) >= {"/joints", "/tf", "/tcp", "/motors", "/io", "/arm"}
+    assert set(file_schemas) <= set(live_schemas)
+    for topic, expected in file_schemas.items():
+        channel = live_schemas[topic]
+        if isinstance(expected, dict):
+            assert foxglove.json_schema(topic) == expected, topic
+        else:
+            assert channel.schema_name == expected, topic
+
+
+def _said(process: subprocess.Popen[str]) -> str:
+    """What the pendant printed so far (its output goes to a file)."""
+    assert process.stdout is not None
+    process.stdout.seek(0)
+    return process.stdout.read()
