@@ -34,6 +34,7 @@ from pendant.monitoring.state_watch import StateWatch
 if TYPE_CHECKING:
     from pendant.cell.keeper import CellKeeper
     from pendant.telemetry import Telemetry
+    from pendant.telemetry.live import LiveView
 
 
 def clean_up_after_a_crash(settings: Settings) -> list[Path]:
@@ -102,9 +103,23 @@ def _exit_on_sigterm(signum: int, frame: object) -> None:
     raise SystemExit(128 + signum)
 
 
+def _open_live_view(settings: Settings) -> LiveView | None:
+    """--foxglove-port's server, listening; exits with the reason when it cannot (the port is taken)."""
+    if settings.foxglove_port is None:
+        return None
+    from pendant.telemetry.live import LiveView
+
+    try:
+        return LiveView(settings.host, settings.foxglove_port)
+    except RuntimeError as error:
+        where = f"{settings.host}:{settings.foxglove_port}"
+        raise SystemExit(f"pendant: cannot serve the Foxglove live view on {where}: {error}") from None
+
+
 def serve(argv: Sequence[str] | None = None) -> int:
     """`pendant [flags]`: the page and the API until interrupted (Ctrl-C, SIGTERM); 0 once stopped."""
     settings = with_access_token(parse_settings(argv))
+    live = _open_live_view(settings)  # first: a port it cannot have ends the start before anything runs
     started_at = time.monotonic()
     controller = make_controller(settings)
     # One log for the page and the API (who sent what), kept on disk; one set of metrics for both.
@@ -137,10 +152,9 @@ def serve(argv: Sequence[str] | None = None) -> int:
     # Without the page's refresh loop, a thread of its own logs the arm's state changes.
     watch = StateWatch(controller, events, metrics).start() if ui is None else None
     desk.telemetry = ui.telemetry if ui is not None else _headless_telemetry(settings, controller, events)
-    if settings.foxglove_port is not None:  # before the sampler: with --no-ui it samples for the live view
-        desk.telemetry.start_live(settings.host, settings.foxglove_port)
+    if live is not None:  # before the sampler: with --no-ui it samples for the live view
+        desk.telemetry.attach_live(live)
     sampler = RecordingSampler(controller, desk.telemetry).start() if ui is None else None
-    live = desk.telemetry.live
     announce(settings, foxglove_port=live.port if live is not None else None)
     from pendant.api.quitting import freeze_on_quit
 
@@ -166,7 +180,8 @@ def serve(argv: Sequence[str] | None = None) -> int:
         if sampler is not None:
             sampler.stop()
             desk.telemetry.stop_recording()  # a recording still running is finished, readable
-        desk.telemetry.stop_live()
+        if live is not None:
+            desk.telemetry.stop_live()
         preflights.close()
         if store is not None:
             store.close()

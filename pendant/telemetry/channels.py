@@ -59,11 +59,11 @@ class ArmChannels:
             for topic, (name, schema) in CHANNELS.items()
         }
         self._tf = FrameTransformsChannel("/tf", context=context)
-        self._arm_channel = SceneUpdateChannel("/arm", context=context)
+        self.arm_channel = SceneUpdateChannel("/arm", context=context)
         self._cell = SceneUpdateChannel("/cell", context=context)
         self._path = SceneUpdateChannel("/tcp_path", context=context)
         self._events = LogChannel("/events", context=context)
-        self._arm = arm
+        self.arm = arm  # draws the arm on /tf and /arm (None: those stay empty)
         self._path_points: list[tuple[float, float, float]] = []
         self._path_pieces = 0
         self._program: tuple[int, str, str] | None = None
@@ -88,8 +88,8 @@ class ArmChannels:
 
     def write_arm(self, time_ns: int) -> None:
         """The links' meshes on /arm (locked to their /tf frames: written once, they follow the arm)."""
-        if self._arm is not None:
-            self._arm_channel.log(foxglove_scene.arm_meshes(time_ns, self._arm.meshes), log_time=time_ns)
+        if self.arm is not None:
+            self.arm_channel.log(foxglove_scene.arm_meshes(time_ns, self.arm.meshes), log_time=time_ns)
             self.messages += 1
 
     def write(self, topic: str, time_ns: int, message: BaseModel) -> None:
@@ -131,9 +131,9 @@ class ArmChannels:
             self.write("/tcp", time_ns, Tcp(**tcp.point.model_dump(), **tcp.rotation.model_dump()))
         io = Io(outputs=list(outputs), inputs=list(inputs), motion_status=motion_status or "")
         self.write("/io", time_ns, io)
-        if self._arm is not None and len(motors) == 6:
+        if self.arm is not None and len(motors) == 6:
             q = np.radians([m.angle for m in motors])
-            poses = self._arm.link_poses(q)
+            poses = self.arm.link_poses(q)
             self._tf.log(foxglove_scene.frame_transforms(time_ns, poses), log_time=time_ns)
             self.messages += 1
             if TCP_LINK in poses:

@@ -35,7 +35,8 @@ class _Resend(ServerListener):
 
 
 class LiveView:
-    """A Foxglove WebSocket server on `host:port` (0: a free port; `.port` says which)."""
+    """A Foxglove WebSocket server on `host:port` (0: a free port; `.port` says which); RuntimeError when it
+    cannot listen there. `arm` may be given later (`channels.arm`), before the first sample."""
 
     def __init__(
         self,
@@ -45,7 +46,7 @@ class LiveView:
         wall_now: Callable[[], float] = time.time,
     ) -> None:
         self._context = foxglove.Context()
-        self._channels = ArmChannels(self._context, arm)
+        self.channels = ArmChannels(self._context, arm)
         self._wall_now = wall_now
         self._lock = threading.Lock()
         self._server: WebSocketServer = foxglove.start_server(
@@ -67,19 +68,19 @@ class LiveView:
     def publish(self, motors: Sequence[MotorStatus], state: ArmState) -> None:
         """One sample, stamped with the wall clock (any thread)."""
         with self._lock:
-            self._channels.write_state(int(self._wall_now() * 1e9), motors, state)
+            self.channels.write_state(int(self._wall_now() * 1e9), motors, state)
 
     def log_event(self, event: Event) -> None:
         with self._lock:
-            self._channels.write_event(event)
+            self.channels.write_event(event)
 
     def resend(self, topic: str) -> None:
         time_ns = int(self._wall_now() * 1e9)
         with self._lock:
             if topic == "/arm":
-                self._channels.write_arm(time_ns)
-            elif topic == "/cell" and self._channels.cell_written is not None:
-                self._channels.write_cell(time_ns, self._channels.cell_written)
+                self.channels.write_arm(time_ns)
+            elif topic == "/cell" and self.channels.cell_written is not None:
+                self.channels.write_cell(time_ns, self.channels.cell_written)
 
     def stop(self) -> None:
         self._server.stop()

@@ -110,10 +110,10 @@ class Telemetry:
         """What draws the arm in the 3D channels (the live view draws it the same way)."""
         return self._arm
 
-    def start_live(self, host: str, port: int) -> LiveView:
-        """Serve the Foxglove live view on `host:port`, fed from now on by every sample."""
-        self.live = LiveView(host, port, self._arm, wall_now=self._wall_now)
-        return self.live
+    def attach_live(self, live: LiveView) -> None:
+        """Feed the Foxglove live view every sample from now on, the arm drawn as in the recordings."""
+        live.channels.arm = self._arm
+        self.live = live
 
     def stop_live(self) -> None:
         live, self.live = self.live, None

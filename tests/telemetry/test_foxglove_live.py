@@ -5,6 +5,7 @@ connects (subprotocol, advertise, subscribe), it carries the recordings' channel
 from __future__ import annotations
 
 import json
+import socket
 import subprocess
 from pathlib import Path
 
@@ -13,7 +14,7 @@ import jsonschema
 import pytest
 
 from tests.support.foxglove_client import FoxgloveClient, Received
-from tests.support.launchers import pendant_process
+from tests.support.launchers import child_env, pendant_command, pendant_process
 from tests.support.mcap_reading import read_mcap
 from tests.support.ports import free_port
 from tests.support.waiting import wait_idle
@@ -89,6 +90,19 @@ def test_foxglove_sees_the_recordings_channels_and_follows_a_move_live(tmp_path:
             assert foxglove.json_schema(topic) == expected, topic
         else:
             assert channel.schema_name == expected, topic
+
+
+def test_a_taken_port_ends_the_start_with_the_reason(tmp_path: Path) -> None:
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        command = pendant_command("--no-ui", "--api-port", str(free_port()), "--foxglove-port", str(port))
+        command += ["--data", str(tmp_path)]
+        done = subprocess.run(command, env=child_env(), capture_output=True, text=True, timeout=60)
+    assert done.returncode == 1, done
+    assert f"cannot serve the Foxglove live view on 127.0.0.1:{port}" in done.stderr, done.stderr
+    assert "Address already in use" in done.stderr and "Traceback" not in done.stderr, done.stderr
 
 
 def _said(process: subprocess.Popen[str]) -> str:
