@@ -13,6 +13,11 @@ import httpx
 import jsonschema
 import pytest
 
+from pendant.controller.cell_types import BoxObstacle
+from pendant.controller.types import Point, Position, Rotation
+from pendant.eventlog import EventKind, EventLog
+from pendant.sim import SimController
+from pendant.telemetry import ArmState, LiveView, Telemetry, arm_drawing
 from tests.support.foxglove_client import FoxgloveClient, Received
 from tests.support.launchers import child_env, pendant_command, pendant_process
 from tests.support.mcap_reading import read_mcap
@@ -110,3 +115,38 @@ def _said(process: subprocess.Popen[str]) -> str:
     assert process.stdout is not None
     process.stdout.seek(0)
     return process.stdout.read()
+
+
+BOX = BoxObstacle(
+    obstacleType="BOX",
+    name="fixture",
+    sides=Point(x=0.2, y=0.1, z=0.3),
+    centerPosition=Position(
+        point=Point(x=0.5, y=0.4, z=0.15), rotation=Rotation(roll=0.0, pitch=0.0, yaw=0.0)
+    ),
+)
+
+
+def test_a_client_that_comes_later_gets_the_cell_and_the_events(sim: SimController, tmp_path: Path) -> None:
+    """The cell is written when it changes: Foxglove connecting afterwards still draws it (sent again at its
+    subscription); events logged go to /events as they come."""
+    telemetry = Telemetry(sim, recordings_folder=tmp_path, arm=arm_drawing(sim.arm))
+    live = LiveView("127.0.0.1", 0)
+    telemetry.attach_live(live)
+    try:
+        telemetry.sample(ArmState(sim.get_position(), obstacles=(BOX,)))  # nobody is connected yet
+        with FoxgloveClient(live.url) as foxglove:
+            foxglove.wait_for_channels("/cell", "/events")
+            foxglove.subscribe("/cell", "/events")
+            cells = [m for m in foxglove.messages(SETTLE_S) if m.topic == "/cell"]
+            events = EventLog()
+            events.on_record(telemetry.log_event)
+            events.record(EventKind.COMMAND, "API 127.0.0.1 (curl)", "PUT /freeze")
+            logs = [m for m in foxglove.messages(SETTLE_S) if m.topic == "/events"]
+            assert cells, "no /cell message at the subscription"
+            drawn = foxglove.decode_protobuf(cells[0])
+            assert [entity.id for entity in drawn.entities] == ["cell/fixture"]
+            assert logs, "no /events message"
+            assert "PUT /freeze" in foxglove.decode_protobuf(logs[0]).message
+    finally:
+        telemetry.stop_live()
