@@ -29,8 +29,9 @@ $(SDK_STAMP):
 	@$(SDK_VENV)/bin/python -m pip install -q --disable-pip-version-check --no-compile "pulse-api==1.5.0" "pdhttp==1.5.0"
 	@touch $(SDK_STAMP)
 
+# `make run FOXGLOVE=8765`: also the live view for Foxglove on that port (the banner prints its URL).
 run: $(RUN_STAMP)
-	@$(BIN)/pendant $(ARGS)
+	@$(BIN)/pendant $(if $(FOXGLOVE),--foxglove-port $(FOXGLOVE)) $(ARGS)
 
 # Two workers (a 2-core machine) for every test but the browser tests, which drive Chromium in software
 # WebGL and measure what a user feels on a real clock (jog shares, stop times): they run after, one at a

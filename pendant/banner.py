@@ -71,8 +71,9 @@ def qr_lines(url: str) -> str:
     return out.getvalue()
 
 
-def announce(settings: Settings, out: TextIO | None = None) -> None:
-    """Print where things are served, first thing, so a user (or a test) knows where to go."""
+def announce(settings: Settings, out: TextIO | None = None, foxglove_port: int | None = None) -> None:
+    """Print where things are served, first thing, so a user (or a test) knows where to go; `foxglove_port`:
+    where the Foxglove live view listens (--foxglove-port, or the port the system gave for 0)."""
     out = out if out is not None else sys.stdout
 
     def say(line: str = "") -> None:
@@ -85,6 +86,11 @@ def announce(settings: Settings, out: TextIO | None = None) -> None:
     say(f"PULSE REST API ({source}): {api[0]}  (docs: {api[0]}/docs, metrics: {api[0]}/metrics)")
     for other in api[1:]:
         say(f"    also {other}")
+    if foxglove_port is not None:
+        live = [f"ws://{_bracketed(a)}:{foxglove_port}" for a in interface_addresses(settings.host)]
+        say(f"Foxglove live view: {live[0]}  (in Foxglove: Open connection > Foxglove WebSocket > that URL)")
+        for other in live[1:]:
+            say(f"    also {other}")
     if not settings.no_ui:
         urls = page_urls(settings)
         say(f"PULSE pendant: {urls[0].viewer}")

@@ -27,4 +27,6 @@ class Settings:
     allowed_hosts: tuple[str, ...] = ()  # --allowed-host: names the pendant answers to besides IPs, localhost
     # Simulated time per wall-clock second (the simulator's clock; --time-scale, with --no-ui only).
     time_scale: float = 1.0
+    # --foxglove-port: the Foxglove live view (the Foxglove WebSocket protocol) on --host; None: off.
+    foxglove_port: int | None = None
     fresh_cell: bool = False  # --fresh-cell: the simulator starts with no obstacle, default tool and base

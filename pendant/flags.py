@@ -96,6 +96,13 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         help="folder of the event log and recordings (default: $PENDANT_DATA_DIR, else pendant-data/ "
         "beside the programs folder)",
     )
+    parser.add_argument(
+        "--foxglove-port",
+        type=int,
+        metavar="PORT",
+        help="serve a live view for Foxglove (Foxglove WebSocket protocol, the recordings' channels) on "
+        "--host at PORT, e.g. 8765 (default: off)",
+    )
     parser.add_argument("--no-ui", action="store_true", help="serve the PULSE REST API only")
     parser.add_argument(
         "--fresh-cell",
@@ -112,8 +119,8 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         "(default %(default)g)",
     )
     args = parser.parse_args(argv)
-    for port in (args.api_port, args.ui_port):
-        if not 0 <= port <= 65535:
+    for port in (args.api_port, args.ui_port, args.foxglove_port):
+        if port is not None and not 0 <= port <= 65535:
             parser.error(f"port {port} is out of range 0-65535")
     if args.token is not None and (problem := token_problem(args.token)) is not None:
         parser.error(f"--token: {problem}")
@@ -136,6 +143,7 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         remote_control=None if args.remote_control is None else args.remote_control == "on",
         time_scale=args.time_scale,
         fresh_cell=args.fresh_cell,
+        foxglove_port=args.foxglove_port,
     )
 
 

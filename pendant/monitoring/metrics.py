@@ -4,16 +4,17 @@ Counters are kept by the pendant as things happen (commands by endpoint and stat
 failures, events, program runs); the arm's readings are read from the controller at scrape time
 (controller_metrics.py). A read like any GET: open without the access token.
 
-Every API command series exists at 0 from the start (each changing route by its template, each answer
-status): Prometheus' rate() and increase() need a sample before the first event, or a fresh site's first
-command and first refusal of each kind would never show. Labels are route templates (`DELETE
-/environment/{obstacle}`), never raw paths, so the number of series is fixed at start.
+Every counter series exists at 0 from the start: each API command (each changing route by its template,
+each answer status), each page command (by its name, each outcome: once a page is served), each event kind,
+each motion failure source. Prometheus' rate() and increase() need a sample before the first event, or a
+fresh site's first command and first refusal of each kind would never show. Labels are route templates
+(`DELETE /environment/{obstacle}`) and command names (`Delete obstacle`), never raw paths or the names in a
+page's label, so the number of series is fixed at start.
 """
 
 from __future__ import annotations
 
 import re
-import threading
 import time
 from collections.abc import Iterable
 
@@ -36,12 +37,11 @@ from pendant import __version__
 from pendant.access.token import changes_robot
 from pendant.controller.operations import OPERATIONS, find_operation
 from pendant.controller.protocol import Controller
-from pendant.eventlog import Event, EventLog
+from pendant.eventlog import Event, EventKind, EventLog
 from pendant.monitoring.controller_metrics import ControllerCollector
 
 METRICS_PATH = "/metrics"
-MAX_ENDPOINTS = 100  # distinct page labels; more are counted as "other" (a label per URL would explode)
-OTHER = "other"  # a command to no route of the pendant (answered 404 or 405)
+OTHER = "other"  # a command to no route of the pendant (answered 404 or 405), or of no known page name
 # Every status the pendant answers a command with (the PULSE API's, the access guard's, the proxy's).
 ACCEPTED_STATUSES = ("200",)
 REFUSAL_STATUSES = tuple(
@@ -54,7 +54,30 @@ MOTION_FAILURE_STATUSES = frozenset(
 # Every source of a motion failure, counted from 0 at start: Prometheus' increase() needs a first sample
 # before the first failure, or a fresh pendant's first failures would not count towards an alert.
 MOTION_FAILURE_SOURCES = ("api", "page", "program", "controller")
-_NUMBER = re.compile(r"/\d+(?=/|$)")
+# The page's commands by name: its label up to what names a thing (`Delete obstacle 'box-7'`, `DO3 HIGH`,
+# `Retry step 7 (banner)`, `Program: Run 'pick'`). The longest name a label starts with (a whole word) is
+# its series; a label of none is counted as OTHER.
+PAGE_COMMANDS = (
+    *("Freeze", "Protective stop", "Stop", "Pause", "Recover", "Home", "Relax", "Pack"),
+    *("Move J", "Move L", "Move (planned)", "Move by hand", "Plan around", "Open gripper", "Close gripper"),
+    *("DO", "DI", "Bind stop", "Unbind stop", "Free drive on", "Free drive off"),
+    *("Set tool", "Set tool shape", "Set base", "Inject", "Reset", "Reset simulator"),
+    *("Add obstacle", "Update obstacle", "Delete obstacle", "Delete all obstacles"),
+    *("Save cell", "Apply cell"),
+    *("Program", "Record path", "Stop recording", "Recorded path"),
+    *("Retry step", "Skip step", "Resume program", "Stop program", "Leave free drive", "Finish untwisting"),
+)
+PAGE_STATUSES = ("sent", "failed", "refused")  # ActivityLog's outcomes; the last two are refusals
+_BY_LENGTH = sorted(PAGE_COMMANDS, key=len, reverse=True)
+
+
+def page_command(label: str) -> str:
+    """The name a page label is counted under: the longest of PAGE_COMMANDS it starts with as a whole word
+    (`DO3 HIGH` -> `DO`), else OTHER."""
+    for name in _BY_LENGTH:
+        if label.startswith(name) and (len(label) == len(name) or not label[len(name)].isalpha()):
+            return name
+    return OTHER
 
 
 class _EventLogHealth(Collector):
@@ -113,12 +136,12 @@ class PendantMetrics:
         for source in MOTION_FAILURE_SOURCES:
             self.motion_failures.labels(source)
         self.events = Counter("pendant_events", "Events logged, by kind", ["kind"], registry=r)
+        for kind in EventKind:
+            self.events.labels(kind.value)
         self.program_runs = Counter("pendant_program_runs", "Program runs started", registry=r)
         self.program_failures = Counter("pendant_program_failures", "Program runs that failed", registry=r)
         self.viewers = Gauge("pendant_viewers_connected", "Browsers showing the page", registry=r)
         self.registry.register(ControllerCollector(controller))
-        self._endpoints: set[str] = set()
-        self._lock = threading.Lock()
 
     def start_at_zero(self, endpoints: Iterable[str], source: str = "api") -> None:
         """Create every (endpoint, status) series of `source` at 0, refusals too."""
@@ -129,21 +152,19 @@ class PendantMetrics:
                 self.commands.labels(source, endpoint, status)
                 self.refusals.labels(source, endpoint, status)
 
-    def endpoint(self, label: str) -> str:
-        """A bounded page label: numbers folded (`DO{n} HIGH`), at most MAX_ENDPOINTS."""
-        label = _NUMBER.sub("/{n}", label)[:80]
-        with self._lock:
-            if label in self._endpoints:
-                return label
-            if len(self._endpoints) >= MAX_ENDPOINTS:
-                return "other"
-            self._endpoints.add(label)
-            return label
+    def start_page_at_zero(self) -> None:
+        """Create every page command series (each name of PAGE_COMMANDS and OTHER, each outcome) at 0: a page
+        is served."""
+        for name in (*PAGE_COMMANDS, OTHER):
+            for status in PAGE_STATUSES:
+                self.commands.labels("page", name, status)
+                if status != "sent":
+                    self.refusals.labels("page", name, status)
 
     def count_command(self, source: str, endpoint: str, status: str, *, failed: bool, motion: bool) -> None:
-        """Count a command; `endpoint` is a route template (API) or a page label (folded and capped)."""
+        """Count a command; `endpoint` is a route template (API) or a page label (counted by its name)."""
         if source != "api":
-            endpoint = self.endpoint(endpoint)
+            endpoint = page_command(endpoint)
         self.commands.labels(source, endpoint, status).inc()
         if failed:
             self.refusals.labels(source, endpoint, status).inc()

@@ -10,16 +10,16 @@ from __future__ import annotations
 import threading
 import time
 from collections import deque
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from collections.abc import Callable
 from pathlib import Path
 
 from pendant.controller import Controller, ControllerError
-from pendant.controller.cell_types import Obstacle
-from pendant.controller.types import INPUT_PORTS, OUTPUT_PORTS, MotorStatus, Position, SignalLevel
+from pendant.controller.types import MotorStatus
 from pendant.eventlog import Event
 from pendant.telemetry.arm_scene import ArmDrawing
+from pendant.telemetry.channels import ArmState
 from pendant.telemetry.history import HistoryWindow, MotorHistory
+from pendant.telemetry.live import LiveView
 from pendant.telemetry.mcap_file import McapFile
 from pendant.telemetry.recorder import CsvRecorder
 from pendant.telemetry.recordings import (
@@ -36,22 +36,6 @@ from pendant.telemetry.recordings import (
 
 SAMPLE_HZ = 10.0
 PENDING_EVENTS_MAX = 1000  # events waiting for the next sample to be written to the MCAP
-
-
-@dataclass(frozen=True)
-class ArmState:
-    """What the page last read besides the motors, for the recording's /tcp and /io channels."""
-
-    tcp: Position | None = None
-    outputs: Mapping[int, SignalLevel] = field(default_factory=dict)
-    inputs: Mapping[int, SignalLevel] = field(default_factory=dict)
-    motion_status: str | None = None
-    obstacles: tuple[Obstacle, ...] | None = None  # the cell, when the page has read it
-    program: tuple[int, str, str] | None = None  # the step running: line (1-based), its text, the run state
-
-
-def _levels(levels: Mapping[int, SignalLevel], ports: tuple[int, ...]) -> list[float]:
-    return [1.0 if levels.get(p) == SignalLevel.HIGH else 0.0 for p in ports]
 
 
 class Telemetry:
@@ -76,12 +60,12 @@ class Telemetry:
         self.recorder = CsvRecorder()
         self.recordings_folder = recordings_folder
         self.mcap: McapFile | None = None
+        self.live: LiveView | None = None  # the Foxglove live view (--foxglove-port), fed every sample
         self.last_stem: str | None = None
         self.latest: list[MotorStatus] | None = None
         self.seq = 0  # counts samples: the dashboard redraws only when it moved
         self._wall_offset = 0.0  # wall clock minus `now`, fixed at the recording's start
         self._pending_events: deque[Event] = deque(maxlen=PENDING_EVENTS_MAX)
-        self._cell_written: tuple[Obstacle, ...] | None = None
         self._lock = threading.Lock()
 
     def sample(self, state: ArmState | None = None) -> list[MotorStatus] | None:
@@ -100,6 +84,8 @@ class Telemetry:
             self.seq += 1
             if self.mcap is not None:
                 self._write_mcap(now, motors, state or ArmState())
+        if self.live is not None:
+            self.live.publish(motors, state or ArmState())
         return motors
 
     def log_event(self, event: Event) -> None:
@@ -107,27 +93,32 @@ class Telemetry:
         sample, by the refresh loop)."""
         if self.mcap is not None:
             self._pending_events.append(event)
+        if self.live is not None:
+            self.live.log_event(event)
 
     def _write_mcap(self, now: float, motors: list[MotorStatus], state: ArmState) -> None:
         assert self.mcap is not None
         time_ns = int((now + self._wall_offset) * 1e9)
         while self._pending_events:
             self.mcap.write_event(self._pending_events.popleft())
-        if state.obstacles is not None and state.obstacles != self._cell_written:
-            self.mcap.write_cell(time_ns, state.obstacles)
-            self._cell_written = state.obstacles
-        if state.program is not None:
-            self.mcap.write_program(time_ns, *state.program)
-        self.mcap.write_sample(
-            time_ns,
-            motors,
-            state.tcp,
-            _levels(state.outputs, OUTPUT_PORTS),
-            _levels(state.inputs, INPUT_PORTS),
-            state.motion_status,
-        )
+        self.mcap.write_state(time_ns, motors, state)
         if not self.recorder.recording:  # the CSV reached its limit: so does the MCAP
             self._close_files()
+
+    @property
+    def arm(self) -> ArmDrawing | None:
+        """What draws the arm in the 3D channels (the live view draws it the same way)."""
+        return self._arm
+
+    def attach_live(self, live: LiveView) -> None:
+        """Feed the Foxglove live view every sample from now on, the arm drawn as in the recordings."""
+        live.channels.arm = self._arm
+        self.live = live
+
+    def stop_live(self) -> None:
+        live, self.live = self.live, None
+        if live is not None:
+            live.stop()
 
     @property
     def running(self) -> str | None:
@@ -162,7 +153,6 @@ class Telemetry:
             self.recorder.start(now)
             self._wall_offset = wall - now
             self._pending_events.clear()
-            self._cell_written = None
             return name_of(stem)
 
     def stop_recording(self) -> int:

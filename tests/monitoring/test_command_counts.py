@@ -59,8 +59,11 @@ def test_every_command_series_exists_at_zero_before_the_first_command(tmp_path: 
     """rate() and increase() need a sample before the first event: a fresh pendant shows every operation of
     the table, and the pendant's own routes, at 0 for every answer."""
     with running_pendant("--data", str(tmp_path)) as base:
-        commands = series(scrape(base), "pendant_commands_total")
-        refusals = series(scrape(base), "pendant_command_refusals_total")
+        samples = scrape(base)
+        commands = series(samples, "pendant_commands_total")
+        refusals = series(samples, "pendant_command_refusals_total")
+    kinds = {labels["kind"] for labels, _ in samples["pendant_events_total"]}
+    assert kinds == {"state", "error", "command", "refused", "control"}, "each event kind, from 0"
     for op in OPERATIONS:
         if op.method == "GET":
             continue

@@ -111,6 +111,8 @@ class ActivityLog:
         self._events = events
         self._desk = desk
         self._metrics = metrics
+        if metrics is not None:
+            metrics.start_page_at_zero()  # rate() and increase() see the page's first command of each kind
         self._failure_logged: str | None = None
         self._run_state = RunState.IDLE
 
