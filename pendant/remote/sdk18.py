@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from typing import Any, TypeVar
 from urllib.parse import quote
 
-import httpx
 from pydantic import TypeAdapter
 
 from pendant.controller.cell_types import Obstacle, ToolInfo, ToolShape
@@ -28,6 +27,7 @@ from pendant.controller.system_types import (
     Version,
 )
 from pendant.controller.types import SignalLevel
+from pendant.remote.calls import OperationCalls
 from pendant.remote.wire import decode_text
 
 T = TypeVar("T")
@@ -43,21 +43,8 @@ def dump(model: Any) -> Any:
     return model.model_dump(mode="json", by_alias=True, exclude_none=True)
 
 
-class Pulse18Client:
+class Pulse18Client(OperationCalls):
     """SDK 1.8.4's operations over RemoteController's transport (one request each, never re-sent)."""
-
-    def _request(
-        self,
-        method: str,
-        path: str,
-        *,
-        json: Any = None,
-        params: Mapping[str, str | int | float] | None = None,
-    ) -> httpx.Response:
-        raise NotImplementedError  # RemoteController's
-
-    def _parse(self, response: httpx.Response, request_line: str, parse: Callable[[bytes], T]) -> T:
-        raise NotImplementedError  # RemoteController's
 
     def _get_model(self, path: str, model: type[Any]) -> Any:
         raise NotImplementedError  # RemoteController's
@@ -152,21 +139,19 @@ class Pulse18Client:
 
     def run_linear_positions(self, positions: list[PositionWaypoint], params: LinearMotionParameters) -> str:
         body = LinearPositions(positions=positions, motionParameters=params)
-        return self._command("PUT", "/run/linear/positions", json=dump(body))
+        return str(self.call("PUT /run/linear/positions", json=dump(body)))
 
     def run_linear_poses(self, poses: list[PoseWaypoint], params: LinearMotionParameters) -> str:
-        return self._command(
-            "PUT", "/run/linear/poses", json=dump(LinearPoses(poses=poses, motionParameters=params))
-        )
+        body = LinearPoses(poses=poses, motionParameters=params)
+        return str(self.call("PUT /run/linear/poses", json=dump(body)))
 
     def run_joint_positions(self, positions: list[PositionWaypoint], params: JointMotionParameters) -> str:
         body = JointPositions(positions=positions, motionParameters=params)
-        return self._command("PUT", "/run/joint/positions", json=dump(body))
+        return str(self.call("PUT /run/joint/positions", json=dump(body)))
 
     def run_joint_poses(self, poses: list[PoseWaypoint], params: JointMotionParameters) -> str:
-        return self._command(
-            "PUT", "/run/joint/poses", json=dump(JointPoses(poses=poses, motionParameters=params))
-        )
+        body = JointPoses(poses=poses, motionParameters=params)
+        return str(self.call("PUT /run/joint/poses", json=dump(body)))
 
     def _command(self, method: str, path: str, *, json: Any = None) -> str:
         """A command answering the controller's message (text)."""
