@@ -31,20 +31,23 @@ def serve(
     key: str,
     *,
     summary: str,
-    description: str,
+    description: str | None = None,
     ok: str = "Success (empty body)",
     example: Any = _NO_EXAMPLE,
     body_example: Any = None,
     body_description: str = "",
     errors: docs.Responses | None = None,
     response_class: type[Response] | None = None,
+    convertors: dict[str, str] | None = None,
     **route: Any,
 ) -> Callable[[F], F]:
     """Register the decorated handler as the route of the row `key` (`METHOD /path`) on `router`.
 
     `ok`: the 200's description; `example`: its example (a JSON document, or the strings a text answer may
     carry); `body_example`, `body_description`: the request body's, for a row with one; `errors`: the other
-    documented answers (a 200 there replaces the row's). `route`: more of FastAPI's `add_api_route` keywords.
+    documented answers (a 200 there replaces the row's). `convertors`: Starlette path convertors for the
+    template's parameters (`{"obstacle": "path"}`: a name with a slash). `route`: more of FastAPI's
+    `add_api_route` keywords.
     """
     op = operation(key)
 
@@ -52,8 +55,11 @@ def serve(
         extra = route.pop("openapi_extra", None) or {}
         if op.request is not None:
             extra = {**json_body(_body_schema(op), body_example, body_description), **extra}
+        path = op.path.removeprefix(router.prefix)
+        for name, convertor in (convertors or {}).items():
+            path = path.replace(f"{{{name}}}", f"{{{name}:{convertor}}}")
         router.add_api_route(
-            op.path.removeprefix(router.prefix),
+            path,
             endpoint,
             methods=[op.method],
             summary=summary,
