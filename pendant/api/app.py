@@ -30,7 +30,6 @@ from pendant.api.routers.tool import tool_router
 from pendant.api.routing import DirectDispatch, direct_endpoints
 from pendant.api.stop_notice import StopNotice
 from pendant.controller.cell_types import Obstacle, ToolInfo, ToolShape
-from pendant.controller.operations import find_operation
 from pendant.controller.protocol import Controller
 from pendant.controller.stops import StopBus
 from pendant.controller.system_types import (
@@ -167,10 +166,6 @@ def _openapi(app: FastAPI) -> dict[str, Any]:
     for path, path_item in schema.get("paths", {}).items():
         for method, operation in path_item.items():
             operation.get("responses", {}).pop("422", None)
-            declared = find_operation(method, path)
-            if declared is not None:  # where it comes from, and whether it is a stop: the operations table's
-                operation["x-pulse-source"] = declared.source.value
-                operation["x-pulse-stop"] = declared.stop
             if (method.upper(), path) in BODY_LIMITS:  # the documented body has a size limit: say so
                 limit = body_limit(method.upper(), path)
                 too_large = docs.error(413, "Request body too large", too_large_message(limit))

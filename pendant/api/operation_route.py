@@ -52,7 +52,8 @@ def serve(
     op = operation(key)
 
     def register(endpoint: F) -> F:
-        extra = route.pop("openapi_extra", None) or {}
+        # Where it comes from, whether it is a stop: a route registered elsewhere lacks them (a test sees it).
+        extra = {"x-pulse-source": op.source.value, "x-pulse-stop": op.stop, **route.pop("openapi_extra", {})}
         if op.request is not None:
             extra = {**json_body(_body_schema(op), body_example, body_description), **extra}
         path = op.path.removeprefix(router.prefix)
@@ -66,7 +67,7 @@ def serve(
             description=description,
             response_class=response_class or (JSONBytesResponse if op.reply is Reply.JSON else TextResponse),
             responses={**answer(op, ok, example), **(errors or {})},
-            openapi_extra=extra or None,
+            openapi_extra=extra,
             **route,
         )
         return endpoint
