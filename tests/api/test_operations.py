@@ -9,6 +9,7 @@ from __future__ import annotations
 from enum import Enum
 from typing import Any, get_args, get_origin
 
+import httpx
 import pytest
 from fastapi.testclient import TestClient
 from pydantic import BaseModel, TypeAdapter
@@ -186,6 +187,8 @@ def test_the_remote_client_sends_every_row_and_reads_its_answer_as_the_row_types
     sim = SimController("pulse75", FakeClock())
     with TestClient(create_app(sim)) as client:
         remote = RemoteController(str(client.base_url), client=client)
+        answers: list[httpx.Response] = []
+        client.event_hooks["response"] = [answers.append]
         for op in OPERATIONS:
             client.put("/sim/reset")
             client.put("/environment", json=box("far box", (2.0, 2.0, 2.0)).model_dump(mode="json"))
@@ -198,13 +201,19 @@ def test_the_remote_client_sends_every_row_and_reads_its_answer_as_the_row_types
             if op.schema in MOVES_THROUGH_POSITIONS:
                 example = _here(example, here)
             answer = remote.call(op.key, path=_filled(op), json=example)
+            sent = answers[-1]
+            assert (sent.request.method, sent.status_code) == (op.method, 200), op
+            assert op.matches(sent.request.method, sent.request.url.path), op
+            media_type = sent.headers["content-type"].partition(";")[0]
             if op.reply is Reply.EMPTY:
-                assert answer is None, op
-            elif op.reply is Reply.TEXT:
-                assert isinstance(answer, str) and answer != "", op
-                assert answer == op.result(answer), op
-            else:
-                assert TypeAdapter(op.result).validate_python(answer) == answer, op
+                assert (answer, sent.read()) == (None, b""), op
+            elif op.reply is Reply.TEXT:  # a JSON string literal; GET /status labels it application/json
+                assert media_type in ("text/plain", "application/json"), op
+                assert sent.json() == answer == op.result(answer) != "", op
+            else:  # the row's type reads the whole answer: a field it lacks would be lost here
+                assert media_type == "application/json", op
+                adapter = TypeAdapter(op.result)
+                assert adapter.dump_python(answer, mode="json", by_alias=True) == sent.json(), op
 
 
 def test_the_proxy_forwards_each_row_as_a_read_a_command_or_a_stop() -> None:
