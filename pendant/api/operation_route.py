@@ -3,17 +3,19 @@
 The row (pendant.controller.operations) gives the method and path, the documented request body (its model,
 a list of it for a run of waypoints) and the 200 answer (empty, a string, or a JSON model) with the response
 class that sends it; the handler gives what only it knows: the text (summary, description, examples) and the
-errors it can answer. A handler that names no row fails at import (KeyError), and a row without a handler
-fails tests/api/test_operations.py.
+errors it can answer. It reads its body with the row's model too: `read_body(request, body_of(key))`. A
+handler that names no row fails at import (KeyError), and a row without a handler fails
+tests/api/test_operations.py.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from enum import Enum
-from typing import Any, TypeVar, get_args, get_origin
+from typing import Annotated, Any, TypeVar, get_args, get_origin
 
 from fastapi import APIRouter
+from pydantic import Field, TypeAdapter
 from starlette.responses import Response
 
 from pendant.api import docs
@@ -73,6 +75,23 @@ def serve(
         return endpoint
 
     return register
+
+
+_BODIES: dict[str, TypeAdapter[Any]] = {}
+
+
+def body_of(key: str) -> TypeAdapter[Any]:
+    """The parser of the row `key`'s request body (for `pendant.api.params.read_body`): the row's model, or
+    a non-empty list of it (an empty run is 400, as the controller answers)."""
+    adapter = _BODIES.get(key)
+    if adapter is None:
+        request = operation(key).request
+        if request is None:
+            raise KeyError(f"{key} takes no body")
+        if get_origin(request) is list:
+            request = Annotated[request, Field(min_length=1)]
+        adapter = _BODIES[key] = TypeAdapter(request)
+    return adapter
 
 
 def answer(op: Operation, description: str, example: Any = _NO_EXAMPLE) -> docs.Responses:

@@ -6,8 +6,9 @@ whether the access guard opens it to everyone as a stop, how the proxy forwards 
 
 Adding an operation: one row here, its handler in a router (pendant/api/routers, registered with
 `serve(router, "METHOD /path")`) and the simulator's code behind it (docs/development.md, "Adding an
-operation"). tests/api/test_operations.py fails while a route exists that this table does not name, a row has
-no route, or a served route's method, path or models differ from its row's. The table lives at the bottom
+operation"). The API refuses to start while a row has no route or a route no row (create_app), and
+tests/api/test_operations.py fails while a served route's method, path or models differ from its row's, or
+the remote client cannot read a row's real answer as the row types it. The table lives at the bottom
 layer (no FastAPI): pendant.access and pendant.remote read it too, and pendant.api imports both.
 """
 

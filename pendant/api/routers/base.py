@@ -5,8 +5,8 @@ from __future__ import annotations
 from fastapi import APIRouter, Request
 
 from pendant.api import docs
-from pendant.api.operation_route import serve
-from pendant.api.params import POSITION, read_body
+from pendant.api.operation_route import body_of, serve
+from pendant.api.params import read_body
 from pendant.api.wire import JSONBytesResponse, model_result
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSITION
 from pendant.controller.protocol import Controller
@@ -48,7 +48,7 @@ def base_router(controller: Controller) -> APIRouter:
         body_description="The new zero point",
     )
     async def set_base(request: Request) -> JSONBytesResponse:
-        base = await read_body(request, POSITION)
+        base = await read_body(request, body_of("POST /base"))
         return model_result(controller.set_base(base))
 
     return router

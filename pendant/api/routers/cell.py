@@ -10,10 +10,9 @@ from typing import Annotated
 
 from fastapi import APIRouter, Path, Request
 from fastapi.concurrency import run_in_threadpool
-from pydantic import TypeAdapter
 
 from pendant.api import docs
-from pendant.api.operation_route import serve
+from pendant.api.operation_route import body_of, serve
 from pendant.api.params import read_body
 from pendant.api.wire import JSONBytesResponse, TextResponse, model_result, models_result, string_result
 from pendant.controller.cell_types import (
@@ -23,16 +22,9 @@ from pendant.controller.cell_types import (
     MSG_SHAPE_TOUCHES,
     MSG_TOO_MANY_OBSTACLES,
     NAME_MAX_CHARS,
-    Obstacle,
-    ToolInfo,
-    ToolShape,
 )
 from pendant.controller.errors import MSG_COLLISION
 from pendant.controller.protocol import Controller
-
-TOOL_INFO = TypeAdapter(ToolInfo)
-TOOL_SHAPE = TypeAdapter(ToolShape)
-OBSTACLE: TypeAdapter[Obstacle] = TypeAdapter(Obstacle)
 
 EXAMPLE_TOOL_INFO = {
     "name": "gripper",
@@ -85,7 +77,7 @@ def cell_router(controller: Controller) -> APIRouter:
         tags=tool_tags,
     )
     async def set_tool_info(request: Request) -> JSONBytesResponse:
-        info = await read_body(request, TOOL_INFO)
+        info = await read_body(request, body_of("POST /tool/info"))
         return model_result(await run_in_threadpool(controller.set_tool_info, info))
 
     @serve(
@@ -117,7 +109,7 @@ def cell_router(controller: Controller) -> APIRouter:
         tags=tool_tags,
     )
     async def set_tool_shape(request: Request) -> JSONBytesResponse:
-        shape = await read_body(request, TOOL_SHAPE)
+        shape = await read_body(request, body_of("POST /tool/shape"))
         return model_result(await run_in_threadpool(controller.set_tool_shape, shape))
 
     env: list[str | Enum] = [docs.TAG_ENVIRONMENT]
@@ -145,7 +137,7 @@ def cell_router(controller: Controller) -> APIRouter:
         tags=env,
     )
     async def add_obstacle(request: Request) -> TextResponse:
-        obstacle = await read_body(request, OBSTACLE)
+        obstacle = await read_body(request, body_of("PUT /environment"))
         return string_result(await run_in_threadpool(controller.add_obstacle, obstacle))
 
     @serve(

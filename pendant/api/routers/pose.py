@@ -12,8 +12,8 @@ from fastapi import APIRouter, Depends, Request
 from fastapi.concurrency import run_in_threadpool
 
 from pendant.api import docs
-from pendant.api.operation_route import serve
-from pendant.api.params import POSES, TARGET_POSE, motion_params, read_body
+from pendant.api.operation_route import body_of, serve
+from pendant.api.params import motion_params, read_body
 from pendant.api.wire import JSONBytesResponse, TextResponse, empty_result, timestamped_result
 from pendant.controller.protocol import Controller
 from pendant.controller.types import MotionParams, Pose
@@ -46,7 +46,7 @@ def pose_router(controller: Controller) -> APIRouter:
         body_description="Target pose (SDK 1.7's `blend` and `actions` allowed)",
     )
     async def set_pose(request: Request, params: Params) -> TextResponse:
-        target = await read_body(request, TARGET_POSE)
+        target = await read_body(request, body_of("PUT /pose"))
         await run_in_threadpool(controller.set_pose, target, params)
         return empty_result()
 
@@ -63,7 +63,7 @@ def pose_router(controller: Controller) -> APIRouter:
         body_description="Waypoints, each with an optional `blend` and `actions`",
     )
     async def run_poses(request: Request, params: Params) -> TextResponse:
-        waypoints = await read_body(request, POSES)
+        waypoints = await read_body(request, body_of("PUT /poses/run"))
         # A PoseWaypoint is a Pose with a blend; the list is only read (so list's invariance does not bite).
         await run_in_threadpool(controller.run_poses, cast(list[Pose], waypoints), params)
         return empty_result()

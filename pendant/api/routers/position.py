@@ -12,8 +12,8 @@ from fastapi import APIRouter, Depends, Request
 from fastapi.concurrency import run_in_threadpool
 
 from pendant.api import docs
-from pendant.api.operation_route import serve
-from pendant.api.params import POSITIONS, TARGET_POSITION, motion_params, read_body
+from pendant.api.operation_route import body_of, serve
+from pendant.api.params import motion_params, read_body
 from pendant.api.wire import JSONBytesResponse, TextResponse, empty_result, model_result, timestamped_result
 from pendant.controller.protocol import Controller
 from pendant.controller.types import MotionParams, Position
@@ -55,7 +55,7 @@ def position_router(controller: Controller) -> APIRouter:
         body_description="Target position (SDK 1.7's `blend` and `actions` allowed)",
     )
     async def set_position(request: Request, params: Params) -> JSONBytesResponse:
-        target = await read_body(request, TARGET_POSITION)
+        target = await read_body(request, body_of("PUT /position"))
         return model_result(await run_in_threadpool(controller.set_position, target, params))
 
     @serve(
@@ -71,7 +71,7 @@ def position_router(controller: Controller) -> APIRouter:
         body_description="Waypoints, each with an optional `blend` and `actions`",
     )
     async def run_positions(request: Request, params: Params) -> TextResponse:
-        waypoints = await read_body(request, POSITIONS)
+        waypoints = await read_body(request, body_of("PUT /positions/run"))
         # A PositionWaypoint is a Position with a blend; the list is only read (so list's invariance does not
         # bite).
         await run_in_threadpool(controller.run_positions, cast(list[Position], waypoints), params)

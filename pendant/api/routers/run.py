@@ -11,14 +11,12 @@ from typing import Any
 
 from fastapi import APIRouter, Request
 from fastapi.concurrency import run_in_threadpool
-from pydantic import TypeAdapter
 
 from pendant.api import docs
-from pendant.api.operation_route import serve
+from pendant.api.operation_route import body_of, serve
 from pendant.api.params import read_body
 from pendant.api.wire import TextResponse, string_result
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSE, MSG_UNREACHABLE_POSITION
-from pendant.controller.operations import operation
 from pendant.controller.protocol import Controller
 
 _POSITION = {
@@ -47,7 +45,7 @@ def run_router(controller: Controller) -> APIRouter:
         unreachable: str,
         run: Callable[[Any], str],
     ) -> None:
-        adapter: TypeAdapter[Any] = TypeAdapter(operation(key).request)
+        adapter = body_of(key)
 
         async def endpoint(request: Request) -> TextResponse:
             body = await read_body(request, adapter)

@@ -4,19 +4,16 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Request
 from fastapi.concurrency import run_in_threadpool
-from pydantic import TypeAdapter
 
 from pendant.api import docs
 from pendant.api.errors import MSG_INPUT_PORT
-from pendant.api.operation_route import serve
+from pendant.api.operation_route import body_of, serve
 from pendant.api.params import InputPort, read_body
 from pendant.api.wire import TextResponse, string_result
 from pendant.controller.errors import MSG_JOG_BLOCKED, MSG_PROTECTIVE_STOP
 from pendant.controller.protocol import Controller
-from pendant.controller.system_types import JoggingAcceleration
 from pendant.controller.types import SignalLevel
 
-JOGGING = TypeAdapter(JoggingAcceleration)
 EXAMPLE_JOG = {"acceleration": {"x": 0.5, "y": 0.0, "z": 0.0, "rx": 0.0, "ry": 0.0, "rz": 0.0}}
 
 
@@ -122,7 +119,7 @@ def safety_router(controller: Controller) -> APIRouter:
         body_description="Direction and strength",
     )
     async def jogging(request: Request) -> TextResponse:
-        body = await read_body(request, JOGGING)
+        body = await read_body(request, body_of("PUT /jogging"))
         return string_result(await run_in_threadpool(controller.jog, body.acceleration))
 
     @serve(

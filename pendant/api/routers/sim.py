@@ -10,8 +10,8 @@ from fastapi.responses import JSONResponse
 
 from pendant.api import docs
 from pendant.api.errors import MSG_FAULT, MSG_INPUT_PORT
-from pendant.api.operation_route import serve
-from pendant.api.params import POSE, InputPort, read_body
+from pendant.api.operation_route import body_of, serve
+from pendant.api.params import InputPort, read_body
 from pendant.api.wire import TextResponse, empty_result
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSE
 from pendant.controller.types import SignalLevel
@@ -79,7 +79,7 @@ def sim_router(sim: SimController) -> APIRouter:
         body_description="Where the hand puts the arm",
     )
     async def move_by_hand(request: Request) -> TextResponse:
-        pose = await read_body(request, POSE)
+        pose = await read_body(request, body_of("PUT /sim/pose"))
         sim.move_by_hand(pose)
         return empty_result()
 

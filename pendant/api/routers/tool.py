@@ -5,8 +5,8 @@ from __future__ import annotations
 from fastapi import APIRouter, Request
 
 from pendant.api import docs
-from pendant.api.operation_route import serve
-from pendant.api.params import TOOL, read_body
+from pendant.api.operation_route import body_of, serve
+from pendant.api.params import read_body
 from pendant.api.wire import JSONBytesResponse, model_result
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSITION
 from pendant.controller.protocol import Controller
@@ -49,7 +49,7 @@ def tool_router(controller: Controller) -> APIRouter:
         body_description="The new tool",
     )
     async def set_tool(request: Request) -> JSONBytesResponse:
-        tool = await read_body(request, TOOL)
+        tool = await read_body(request, body_of("POST /tool"))
         return model_result(controller.set_tool(tool))
 
     return router
