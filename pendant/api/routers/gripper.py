@@ -17,7 +17,6 @@ from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS
 def gripper_router(controller: Controller) -> APIRouter:
     router = APIRouter(tags=["Gripper"])
     responses = {
-        **docs.empty_ok(),
         **docs.precondition(MSG_TIMEOUT, MSG_GRIPPER_DISABLED),
         **docs.arm_errors(),
     }

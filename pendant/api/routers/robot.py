@@ -10,7 +10,6 @@ from pendant.api.operation_route import serve
 from pendant.api.wire import TextResponse, empty_result, string_result
 from pendant.controller.errors import MSG_PROTECTIVE_STOP
 from pendant.controller.protocol import Controller
-from pendant.controller.types import RecoverResult
 
 
 def robot_router(controller: Controller) -> APIRouter:
@@ -59,7 +58,6 @@ def robot_router(controller: Controller) -> APIRouter:
             "An EMERGENCY cannot be recovered."
         ),
         ok="Recover result",
-        example=(result.value for result in RecoverResult),
         errors=docs.arm_errors(),
     )
     async def recover() -> TextResponse:

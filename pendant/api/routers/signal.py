@@ -12,9 +12,6 @@ from pendant.api.wire import TextResponse, empty_result, string_result
 from pendant.controller.protocol import Controller
 from pendant.controller.types import SignalLevel
 
-_LEVEL_SCHEMA = {"type": "string", "enum": [level.value for level in SignalLevel]}
-_LEVELS = tuple(level.value for level in SignalLevel)
-
 
 def signal_router(controller: Controller) -> APIRouter:
     router = APIRouter(tags=["Signals"])
@@ -25,7 +22,6 @@ def signal_router(controller: Controller) -> APIRouter:
         summary="Getting the signal level on a digital output",
         description="LOW: the default state (e.g. LED off); HIGH: the changed state (e.g. LED on).",
         ok="Signal level",
-        example=_LEVELS,
         errors={**docs.precondition(MSG_OUTPUT_PORT), **docs.arm_errors()},
     )
     async def get_output(port: OutputPort) -> TextResponse:
@@ -37,13 +33,12 @@ def signal_router(controller: Controller) -> APIRouter:
         summary="Getting the signal level on a digital input",
         description="LOW: the default state; HIGH: the changed state.",
         ok="Signal level",
-        example=_LEVELS,
         errors={**docs.precondition(MSG_INPUT_PORT), **docs.arm_errors()},
     )
     async def get_input(port: InputPort) -> TextResponse:
         return string_result(controller.get_input(port).value)
 
-    output_responses = {**docs.empty_ok(), **docs.precondition(MSG_OUTPUT_PORT), **docs.arm_errors()}
+    output_responses = {**docs.precondition(MSG_OUTPUT_PORT), **docs.arm_errors()}
 
     @serve(
         router,

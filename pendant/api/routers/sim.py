@@ -35,7 +35,7 @@ def sim_router(sim: SimController) -> APIRouter:
         sim.set_input(port, level)
         return empty_result()
 
-    input_responses = {**docs.empty_ok(), **docs.precondition(MSG_INPUT_PORT)}
+    input_responses = docs.precondition(MSG_INPUT_PORT)
 
     @serve(
         router,

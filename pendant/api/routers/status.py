@@ -8,7 +8,6 @@ from pendant.api import docs
 from pendant.api.operation_route import serve
 from pendant.api.wire import JSONBytesResponse, TextResponse, motors_result, string_result
 from pendant.controller.protocol import Controller
-from pendant.controller.types import MotionStatus
 
 
 def status_router(controller: Controller) -> APIRouter:
@@ -24,7 +23,6 @@ def status_router(controller: Controller) -> APIRouter:
             "ERROR: stopped and frozen; PUT /recover brings it back."
         ),
         ok="Motion status",
-        example=(status.value for status in MotionStatus),
         errors=docs.arm_errors(),
     )
     async def get_motion_status() -> TextResponse:

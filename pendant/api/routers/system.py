@@ -133,13 +133,9 @@ def system_router(controller: Controller) -> APIRouter:
         "POST /motors-log",
         summary="Reading the motors' logs",
         description="Reads the logs of every motor; answers how many were read (a JSON number).",
-        errors={
-            200: {
-                "description": "Number of logs read",
-                "content": {docs.JSON: {"schema": {"type": "integer"}, "example": 6}},
-            },
-            **docs.arm_errors(),
-        },
+        ok="Number of logs read",
+        example=6,
+        errors=docs.arm_errors(),
     )
     async def read_motors_log() -> JSONBytesResponse:
         return json_result(controller.read_motors_log())
