@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, get_args, get_origin
 
-from fastapi import FastAPI
+from fastapi import APIRouter, FastAPI
 from fastapi.openapi.utils import get_openapi
+from fastapi.routing import APIRoute
 from fastapi_offline import FastAPIOffline
 from pydantic import TypeAdapter
 
@@ -29,20 +31,9 @@ from pendant.api.routers.system import system_router
 from pendant.api.routers.tool import tool_router
 from pendant.api.routing import DirectDispatch, direct_endpoints
 from pendant.api.stop_notice import StopNotice
-from pendant.controller.cell_types import Obstacle, ToolInfo, ToolShape
-from pendant.controller.operations import find_operation
+from pendant.controller.operations import OPERATIONS, Source
 from pendant.controller.protocol import Controller
 from pendant.controller.stops import StopBus
-from pendant.controller.system_types import (
-    JoggingAcceleration,
-    JointPoses,
-    JointPositions,
-    LinearPoses,
-    LinearPositions,
-    PoseWaypoint,
-    PositionWaypoint,
-)
-from pendant.controller.types import Pose, Position, Tool
 from pendant.eventlog import EventLog
 
 if TYPE_CHECKING:
@@ -85,6 +76,37 @@ while a jog is held there, 409.
 """
 
 
+CONTROLLER_ROUTERS: tuple[Callable[[Controller], APIRouter], ...] = (
+    position_router,
+    pose_router,
+    status_router,
+    tool_router,
+    base_router,
+    robot_router,
+    gripper_router,
+    signal_router,
+    system_router,
+    cell_router,
+    safety_router,
+    run_router,
+)
+
+
+def _check_every_row_is_served(routers: list[APIRouter], *, with_sim: bool) -> None:
+    """Every row of the operations table has its route (the /sim rows with the simulator), and no route is
+    outside the table: an operation is a row plus its handler, never one without the other."""
+    served = {
+        (method, route.path_format)
+        for router in routers
+        for route in router.routes
+        if isinstance(route, APIRoute)
+        for method in route.methods or ()
+    }
+    rows = {(op.method, op.path) for op in OPERATIONS if with_sim or op.source is not Source.SIMULATOR}
+    if served != rows:
+        raise RuntimeError(f"rows without a route: {rows - served}; routes without a row: {served - rows}")
+
+
 def _sim_controller_type() -> type[SimController] | None:
     try:
         from pendant.sim import SimController
@@ -116,20 +138,7 @@ def create_app(
         description=DESCRIPTION,
         openapi_tags=docs.TAGS,
     )
-    routers = [
-        position_router(controller),
-        pose_router(controller),
-        status_router(controller),
-        tool_router(controller),
-        base_router(controller),
-        robot_router(controller),
-        gripper_router(controller),
-        signal_router(controller),
-        system_router(controller),
-        cell_router(controller),
-        safety_router(controller),
-        run_router(controller),
-    ]
+    routers = [make(controller) for make in CONTROLLER_ROUTERS]
     sim_type = _sim_controller_type()
     if sim_type is not None and isinstance(controller, sim_type):
         from pendant.api.routers.sim import sim_router
@@ -137,6 +146,7 @@ def create_app(
         routers.append(sim_router(controller))
     for router in routers:
         app.include_router(router)
+    _check_every_row_is_served(routers, with_sim=len(routers) > len(CONTROLLER_ROUTERS))
 
     install_error_handlers(app)
     app.add_middleware(DirectDispatch, table=direct_endpoints(routers))
@@ -167,10 +177,6 @@ def _openapi(app: FastAPI) -> dict[str, Any]:
     for path, path_item in schema.get("paths", {}).items():
         for method, operation in path_item.items():
             operation.get("responses", {}).pop("422", None)
-            declared = find_operation(method, path)
-            if declared is not None:  # where it comes from, and whether it is a stop: the operations table's
-                operation["x-pulse-source"] = declared.source.value
-                operation["x-pulse-stop"] = declared.stop
             if (method.upper(), path) in BODY_LIMITS:  # the documented body has a size limit: say so
                 limit = body_limit(method.upper(), path)
                 too_large = docs.error(413, "Request body too large", too_large_message(limit))
@@ -179,24 +185,9 @@ def _openapi(app: FastAPI) -> dict[str, Any]:
     components = schema.setdefault("components", {}).setdefault("schemas", {})
     for unused in ("HTTPValidationError", "ValidationError"):
         components.pop(unused, None)
-    for model in (
-        Position,
-        Pose,
-        Tool,
-        PositionWaypoint,
-        PoseWaypoint,
-        ToolInfo,
-        ToolShape,
-        JoggingAcceleration,
-        LinearPositions,
-        LinearPoses,
-        JointPositions,
-        JointPoses,
-    ):
-        _add_model_schema(components, model)
-    components.setdefault("Obstacle", TypeAdapter(Obstacle).json_schema(ref_template=_REF))
-    for name, definition in components["Obstacle"].pop("$defs", {}).items():
-        components.setdefault(name, definition)
+    for op in OPERATIONS:  # the request bodies' models, as the operations table names them
+        if op.schema is not None:
+            _add_body_schema(components, op.schema.removesuffix("[]"), op.request)
     components["Tool"]["properties"]["radius"]["minimum"] = 0
     app.openapi_schema = schema
     return schema
@@ -205,8 +196,10 @@ def _openapi(app: FastAPI) -> dict[str, Any]:
 _REF = "#/components/schemas/{model}"
 
 
-def _add_model_schema(components: dict[str, Any], model: type[Any]) -> None:
-    model_schema = model.model_json_schema(ref_template=_REF)
-    for name, definition in model_schema.pop("$defs", {}).items():
-        components.setdefault(name, definition)
-    components.setdefault(model.__name__, model_schema)
+def _add_body_schema(components: dict[str, Any], name: str, request: Any) -> None:
+    if get_origin(request) is list:
+        request = get_args(request)[0]
+    body_schema = TypeAdapter(request).json_schema(ref_template=_REF)
+    for defined, definition in body_schema.pop("$defs", {}).items():
+        components.setdefault(defined, definition)
+    components.setdefault(name, body_schema)

@@ -16,10 +16,9 @@ from typing import Annotated, Any, TypeVar
 
 from fastapi import Path, Query, Request
 from fastapi.concurrency import run_in_threadpool
-from pydantic import Field, TypeAdapter, ValidationError
+from pydantic import TypeAdapter, ValidationError
 
 from pendant.controller.errors import BadRequest
-from pendant.controller.system_types import PoseWaypoint, PositionWaypoint
 from pendant.controller.types import (
     ACCELERATION_MAX,
     DEFAULT_GRIPPER_TIMEOUT_MS,
@@ -33,9 +32,6 @@ from pendant.controller.types import (
     TCP_MAX_VELOCITY_MIN,
     MotionParams,
     MotionType,
-    Pose,
-    Position,
-    Tool,
 )
 
 T = TypeVar("T")
@@ -43,14 +39,7 @@ T = TypeVar("T")
 # Parsing up to this many bytes takes a few microseconds: cheaper on the loop than a hop to a thread.
 INLINE_PARSE_MAX_BYTES = 4096
 
-POSITION = TypeAdapter(Position)
-POSE = TypeAdapter(Pose)
-TOOL = TypeAdapter(Tool)
-# Motion targets may carry SDK 1.7's `blend` and `actions`.
-TARGET_POSITION = TypeAdapter(PositionWaypoint)
-TARGET_POSE = TypeAdapter(PoseWaypoint)
-POSITIONS = TypeAdapter(Annotated[list[PositionWaypoint], Field(min_length=1)])
-POSES = TypeAdapter(Annotated[list[PoseWaypoint], Field(min_length=1)])
+# The bodies' parsers are the operations table's models (pendant.api.operation_route.body_of).
 
 
 async def read_body(request: Request, adapter: TypeAdapter[T]) -> T:

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import Any, TypeVar
 
 import httpx
-from pydantic import TypeAdapter, ValidationError
+from pydantic import ValidationError
 
 from pendant.controller.errors import ControllerError, ControllerOffline, Unsupported
 from pendant.controller.types import (
@@ -29,7 +29,7 @@ from pendant.controller.types import (
     Tool,
 )
 from pendant.remote.sdk18 import Pulse18Client, dump
-from pendant.remote.wire import decode_text, error_for_status, quote_body
+from pendant.remote.wire import error_for_status, quote_body
 
 T = TypeVar("T")
 
@@ -40,8 +40,6 @@ _RETRY_PAUSE_S = 0.05
 # Below the usual server idle timeouts (uvicorn: 5 s), so we drop an idle connection before the server does
 # and rarely send a command into a socket the server is closing.
 _KEEPALIVE_EXPIRY_S = 2.0
-
-_MOTORS = TypeAdapter(list[MotorStatus])
 
 
 @dataclass(frozen=True)
@@ -120,59 +118,57 @@ class RemoteController(Pulse18Client):
             self.get_motion_status()
         return self.health()
 
-    # Reads
+    # Reads (each a thin wrapper naming its operations-table row: `call`, pendant.remote.calls)
 
     def get_position(self) -> Position:
-        return self._get_model("/position", Position)
+        return self.call("GET /position", result=Position)  # firmware before 1.8 sends no timestamp
 
     def get_pose(self) -> Pose:
-        return self._get_model("/pose", Pose)
+        return self.call("GET /pose", result=Pose)  # likewise
 
     def get_motion_status(self) -> MotionStatus:
-        return self._get_text("/status/motion", MotionStatus)
+        return self.call("GET /status/motion")
 
     def get_motors(self) -> list[MotorStatus]:
-        response = self._request("GET", "/status/motors")
-        return self._parse(response, "GET /status/motors", _MOTORS.validate_json)
+        return self.call("GET /status/motors")
 
     def get_tool(self) -> Tool:
-        return self._get_model("/tool", Tool)
+        return self.call("GET /tool")
 
     def get_base(self) -> Position:
-        return self._get_model("/base", Position)
+        return self.call("GET /base")
 
     def get_robot_id(self) -> str:
-        return self._get_text("/robot/id", str)
+        return self.call("GET /robot/id")
 
     def get_output(self, port: int) -> SignalLevel:
-        return self._get_text(f"/signal/output/{port}", SignalLevel)
+        return self.call("GET /signal/output/{port}", path={"port": port})
 
     def get_input(self, port: int) -> SignalLevel:
-        return self._get_text(f"/signal/input/{port}", SignalLevel)
+        return self.call("GET /signal/input/{port}", path={"port": port})
 
     # Motion
 
     def set_position(self, position: Position, params: MotionParams) -> Position:
-        response = self._request("PUT", "/position", json=dump(position), params=_motion_query(params))
-        return self._parse(response, "PUT /position", Position.model_validate_json)
+        return self.call("PUT /position", json=dump(position), params=_motion_query(params))
 
     def set_pose(self, pose: Pose, params: MotionParams) -> None:
-        self._request("PUT", "/pose", json=dump(pose), params=_motion_query(params))
+        self.call("PUT /pose", json=dump(pose), params=_motion_query(params))
 
     def run_positions(self, positions: list[Position], params: MotionParams) -> None:
         body = [dump(position) for position in positions]
-        self._request("PUT", "/positions/run", json=body, params=_motion_query(params))
+        self.call("PUT /positions/run", json=body, params=_motion_query(params))
 
     def run_poses(self, poses: list[Pose], params: MotionParams) -> None:
         body = [dump(pose) for pose in poses]
-        self._request("PUT", "/poses/run", json=body, params=_motion_query(params))
+        self.call("PUT /poses/run", json=body, params=_motion_query(params))
 
     def open_gripper(self, timeout_ms: int) -> None:
-        self._request("PUT", "/gripper/open", params={"timeout": timeout_ms})
+        self.call("PUT /gripper/open", params={"timeout": timeout_ms})
         self._gripper_opening = 1.0
 
     def close_gripper(self, timeout_ms: int) -> None:
-        self._request("PUT", "/gripper/close", params={"timeout": timeout_ms})
+        self.call("PUT /gripper/close", params={"timeout": timeout_ms})
         self._gripper_opening = 0.0
 
     def gripper_opening(self) -> float | None:
@@ -181,42 +177,31 @@ class RemoteController(Pulse18Client):
         return self._gripper_opening
 
     def pack(self) -> None:
-        self._request("PUT", "/pack")
+        self.call("PUT /pack")
 
     # State
 
     def relax(self) -> None:
-        self._request("PUT", "/relax")
+        self.call("PUT /relax")
 
     def freeze(self) -> None:
-        self._request("PUT", "/freeze")
+        self.call("PUT /freeze")
 
     def recover(self) -> RecoverResult:
-        response = self._request("PUT", "/recover")
-        return self._parse(response, "PUT /recover", lambda body: RecoverResult(decode_text(body)))
+        return self.call("PUT /recover")
 
     # IO and settings
 
     def set_output(self, port: int, level: SignalLevel) -> None:
-        self._request("PUT", f"/signal/output/{port}/{level.value.lower()}")
+        self.call(f"PUT /signal/output/{{port}}/{level.value.lower()}", path={"port": port})
 
     def set_tool(self, tool: Tool) -> Tool:
-        response = self._request("POST", "/tool", json=tool.model_dump())
-        return self._parse(response, "POST /tool", Tool.model_validate_json)
+        return self.call("POST /tool", json=tool.model_dump())
 
     def set_base(self, base: Position) -> Position:
-        response = self._request("POST", "/base", json=base.model_dump())
-        return self._parse(response, "POST /base", Position.model_validate_json)
+        return self.call("POST /base", json=base.model_dump())
 
     # Transport
-
-    def _get_model(self, path: str, model: type[Any]) -> Any:
-        response = self._request("GET", path)
-        return self._parse(response, f"GET {path}", model.model_validate_json)
-
-    def _get_text(self, path: str, convert: Callable[[str], T]) -> T:
-        response = self._request("GET", path)
-        return self._parse(response, f"GET {path}", lambda body: convert(decode_text(body)))
 
     def _request(
         self,

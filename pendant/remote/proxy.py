@@ -4,6 +4,9 @@ Every request outside /pendant/ (the pendant's own namespace, e.g. GET /pendant/
 controller with its method, path, query string, body and headers (minus hop-by-hop ones); the controller's
 status, headers (content type included) and body come back byte for byte.
 
+How a request is forwarded is its operations-table row's `forwarding` (pendant.controller.operations: a read,
+a command or a stop); a path outside the table goes by its method (GET, HEAD, OPTIONS are reads).
+
 Timeouts (the pendant's own, Settings / `--connect-timeout`, `--read-timeout`, `--command-timeout`):
 - reads (GET, HEAD, OPTIONS) wait the short read timeout; a GET is retried once on a fresh connection when a
   kept-alive one turns out to be dead; no answer: 502 Bad Gateway with a `text/plain` reason.
@@ -38,10 +41,10 @@ from starlette.types import ASGIApp, Receive, Scope, Send
 
 from pendant.access.http_guard import AccessGuard, AccessRules
 from pendant.access.origin import OriginPolicy
-from pendant.access.token import is_stop
 from pendant.api.limits import BodySizeLimit
 from pendant.api.stop_notice import StopNotice
 from pendant.config import Settings
+from pendant.controller.operations import Forwarding, forwarding
 from pendant.controller.stops import StopBus
 from pendant.monitoring import EventSource, PendantMetrics, add_monitoring
 from pendant.remote.client import RemoteController
@@ -58,7 +61,6 @@ PENDANT_PREFIX = "/pendant/"  # served by the pendant itself, never forwarded
 PENDANT_PATHS = ("/metrics",)  # the pendant's too (Prometheus expects this path), not a PULSE path
 BAD_GATEWAY = 502
 GATEWAY_TIMEOUT = 504
-IDEMPOTENT_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
 MSG_MAY_HAVE_RUN = "No answer from the controller: the command may have run"
 
 # Headers that belong to one connection, not to the message (RFC 9110 7.6.1), plus the ones the proxy sets
@@ -150,8 +152,9 @@ class _Forwarder:
         self, method: str, target: bytes, headers: list[tuple[bytes, bytes]], body: bytes, path: str
     ) -> UpstreamResponse | Response:
         """The controller's answer, or the 502/504 Response saying why there is none."""
-        if method not in IDEMPOTENT_METHODS:
-            return await self._command(method, target, headers, body, path)
+        kind = forwarding(method, path)
+        if kind is not Forwarding.READ:
+            return await self._command(method, target, headers, body, path, urgent=kind is Forwarding.STOP)
         attempts = 2 if method == "GET" else 1
         for attempt in range(attempts):
             try:
@@ -166,7 +169,14 @@ class _Forwarder:
         raise AssertionError("unreachable")  # the loop always returns
 
     async def _command(
-        self, method: str, target: bytes, headers: list[tuple[bytes, bytes]], body: bytes, path: str
+        self,
+        method: str,
+        target: bytes,
+        headers: list[tuple[bytes, bytes]],
+        body: bytes,
+        path: str,
+        *,
+        urgent: bool,
     ) -> UpstreamResponse | Response:
         """Sent once, with the long timeout: 502 when it was never delivered, 504 when its answer was lost."""
         try:
@@ -176,7 +186,7 @@ class _Forwarder:
                 headers,
                 body,
                 read_timeout=self.command_timeout,
-                urgent=is_stop(method, path),  # a stop never waits behind queued requests
+                urgent=urgent,  # a stop never waits behind queued requests
             )
         except UpstreamConnectError as exc:
             return _bad_gateway(
@@ -267,7 +277,7 @@ def create_proxy_app(
 
 def _headers_up(scope: Scope) -> list[tuple[bytes, bytes]]:
     """The request's headers as the controller gets them (a stop's stripped down to the bare command)."""
-    if not is_stop(scope["method"], scope["path"]):
+    if forwarding(scope["method"], scope["path"]) is not Forwarding.STOP:
         return [(name, value) for name, value in scope["headers"] if name not in _NOT_FORWARDED_UP]
     return [
         (name, value)

@@ -5,11 +5,11 @@ from __future__ import annotations
 from fastapi import APIRouter, Request
 
 from pendant.api import docs
-from pendant.api.params import POSITION, json_body, read_body
+from pendant.api.operation_route import body_of, serve
+from pendant.api.params import read_body
 from pendant.api.wire import JSONBytesResponse, model_result
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSITION
 from pendant.controller.protocol import Controller
-from pendant.controller.types import Position
 
 _BASE_DESCRIPTION = (
     "The zero point's offset from the physical centre of the arm base: x, y, z in metres, roll, pitch, yaw "
@@ -20,31 +20,35 @@ _BASE_DESCRIPTION = (
 def base_router(controller: Controller) -> APIRouter:
     router = APIRouter(tags=["Base"])
 
-    @router.get(
-        "/base",
+    @serve(
+        router,
+        "GET /base",
         summary="Getting the actual position of the arm base",
         description=_BASE_DESCRIPTION,
-        response_class=JSONBytesResponse,
-        responses={**docs.json_ok(Position, "Actual zero point", docs.EXAMPLE_BASE), **docs.arm_errors()},
+        ok="Actual zero point",
+        example=docs.EXAMPLE_BASE,
+        errors=docs.arm_errors(),
     )
     async def get_base() -> JSONBytesResponse:
         return model_result(controller.get_base())
 
-    @router.post(
-        "/base",
+    @serve(
+        router,
+        "POST /base",
         summary="Setting a new zero point position",
         description=_BASE_DESCRIPTION + " Answers with the zero point now in use.",
-        response_class=JSONBytesResponse,
-        responses={
-            **docs.json_ok(Position, "The zero point now in use", docs.EXAMPLE_BASE),
+        ok="The zero point now in use",
+        example=docs.EXAMPLE_BASE,
+        errors={
             **docs.bad_format(),
             **docs.precondition(MSG_UNREACHABLE_POSITION, MSG_COLLISION),
             **docs.arm_errors(),
         },
-        openapi_extra=json_body(docs.ref("Position"), docs.EXAMPLE_BASE, "The new zero point"),
+        body_example=docs.EXAMPLE_BASE,
+        body_description="The new zero point",
     )
     async def set_base(request: Request) -> JSONBytesResponse:
-        base = await read_body(request, POSITION)
+        base = await read_body(request, body_of("POST /base"))
         return model_result(controller.set_base(base))
 
     return router

@@ -10,10 +10,10 @@ from typing import Annotated
 
 from fastapi import APIRouter, Path, Request
 from fastapi.concurrency import run_in_threadpool
-from pydantic import TypeAdapter
 
 from pendant.api import docs
-from pendant.api.params import json_body, read_body
+from pendant.api.operation_route import body_of, serve
+from pendant.api.params import read_body
 from pendant.api.wire import JSONBytesResponse, TextResponse, model_result, models_result, string_result
 from pendant.controller.cell_types import (
     MSG_NO_OBSTACLE,
@@ -22,16 +22,9 @@ from pendant.controller.cell_types import (
     MSG_SHAPE_TOUCHES,
     MSG_TOO_MANY_OBSTACLES,
     NAME_MAX_CHARS,
-    Obstacle,
-    ToolInfo,
-    ToolShape,
 )
 from pendant.controller.errors import MSG_COLLISION
 from pendant.controller.protocol import Controller
-
-TOOL_INFO = TypeAdapter(ToolInfo)
-TOOL_SHAPE = TypeAdapter(ToolShape)
-OBSTACLE: TypeAdapter[Obstacle] = TypeAdapter(Obstacle)
 
 EXAMPLE_TOOL_INFO = {
     "name": "gripper",
@@ -58,72 +51,72 @@ def cell_router(controller: Controller) -> APIRouter:
     router = APIRouter()
     tool_tags: list[str | Enum] = ["Tool"]
 
-    @router.get(
-        "/tool/info",
-        tags=tool_tags,
+    @serve(
+        router,
+        "GET /tool/info",
         summary="Getting the tool's name and TCP",
         description="The tool of GET /tool as SDK 1.8.4 sees it: its name, the TCP's pose from the flange.",
-        response_class=JSONBytesResponse,
-        responses={**docs.json_ok(ToolInfo, "Tool name and TCP", EXAMPLE_TOOL_INFO), **docs.arm_errors()},
+        ok="Tool name and TCP",
+        example=EXAMPLE_TOOL_INFO,
+        errors=docs.arm_errors(),
+        tags=tool_tags,
     )
     async def get_tool_info() -> JSONBytesResponse:
         return model_result(controller.get_tool_info())
 
-    @router.post(
-        "/tool/info",
-        tags=tool_tags,
+    @serve(
+        router,
+        "POST /tool/info",
         summary="Setting the tool's name and TCP",
         description="The same tool as POST /tool (its radius kept). Answers with the tool now in use.",
-        response_class=JSONBytesResponse,
-        responses={
-            **docs.json_ok(ToolInfo, "The tool now in use", EXAMPLE_TOOL_INFO),
-            **docs.bad_format(),
-            **docs.precondition(MSG_COLLISION),
-            **docs.arm_errors(),
-        },
-        openapi_extra=json_body(docs.ref("ToolInfo"), EXAMPLE_TOOL_INFO, "Tool name and TCP"),
+        ok="The tool now in use",
+        example=EXAMPLE_TOOL_INFO,
+        errors={**docs.bad_format(), **docs.precondition(MSG_COLLISION), **docs.arm_errors()},
+        body_example=EXAMPLE_TOOL_INFO,
+        body_description="Tool name and TCP",
+        tags=tool_tags,
     )
     async def set_tool_info(request: Request) -> JSONBytesResponse:
-        info = await read_body(request, TOOL_INFO)
+        info = await read_body(request, body_of("POST /tool/info"))
         return model_result(await run_in_threadpool(controller.set_tool_info, info))
 
-    @router.get(
-        "/tool/shape",
-        tags=tool_tags,
+    @serve(
+        router,
+        "GET /tool/shape",
         summary="Getting the tool's shape",
         description="Capsules in the flange frame (metres), checked against obstacles and the floor.",
-        response_class=JSONBytesResponse,
-        responses={**docs.json_ok(ToolShape, "Tool shape", EXAMPLE_TOOL_SHAPE), **docs.arm_errors()},
+        ok="Tool shape",
+        example=EXAMPLE_TOOL_SHAPE,
+        errors=docs.arm_errors(),
+        tags=tool_tags,
     )
     async def get_tool_shape() -> JSONBytesResponse:
         return model_result(controller.get_tool_shape())
 
-    @router.post(
-        "/tool/shape",
-        tags=tool_tags,
+    @serve(
+        router,
+        "POST /tool/shape",
         summary="Setting the tool's shape",
         description=(
             "Capsules in the flange frame, used in every collision check from now on. Refused (412) if they "
             "would touch an obstacle or the floor where the arm is or where its queued moves end."
         ),
-        response_class=JSONBytesResponse,
-        responses={
-            **docs.json_ok(ToolShape, "The shape now in use", EXAMPLE_TOOL_SHAPE),
-            **docs.bad_format(),
-            **docs.precondition(MSG_SHAPE_TOUCHES),
-            **docs.arm_errors(),
-        },
-        openapi_extra=json_body(docs.ref("ToolShape"), EXAMPLE_TOOL_SHAPE, "Tool shape"),
+        ok="The shape now in use",
+        example=EXAMPLE_TOOL_SHAPE,
+        errors={**docs.bad_format(), **docs.precondition(MSG_SHAPE_TOUCHES), **docs.arm_errors()},
+        body_example=EXAMPLE_TOOL_SHAPE,
+        body_description="Tool shape",
+        tags=tool_tags,
     )
     async def set_tool_shape(request: Request) -> JSONBytesResponse:
-        shape = await read_body(request, TOOL_SHAPE)
+        shape = await read_body(request, body_of("POST /tool/shape"))
         return model_result(await run_in_threadpool(controller.set_tool_shape, shape))
 
     env: list[str | Enum] = [docs.TAG_ENVIRONMENT]
 
-    @router.put(
-        "/environment",
-        tags=env,
+    @serve(
+        router,
+        "PUT /environment",
         summary="Adding an obstacle",
         description=(
             "One BOX (sides, centerPosition), CAPSULE (radius, begin, finish) or PLANE (three points; the "
@@ -132,57 +125,69 @@ def cell_router(controller: Controller) -> APIRouter:
             "(the answer names the links): the arm may then move out of it, not deeper in. Refused (412) "
             "if it touches the arm while it moves (where it is or where its queued moves end)."
         ),
-        response_class=TextResponse,
-        responses={
-            **docs.text_result("Done", "Obstacle 'table' added"),
+        ok="Done",
+        example=["Obstacle 'table' added"],
+        errors={
             **docs.bad_format(),
             **docs.precondition(MSG_OBSTACLE_TOUCHES_ARM, MSG_PLANE_ON_A_LINE, MSG_TOO_MANY_OBSTACLES),
             **docs.arm_errors(),
         },
-        openapi_extra=json_body(docs.ref("Obstacle"), EXAMPLE_BOX, "The obstacle"),
+        body_example=EXAMPLE_BOX,
+        body_description="The obstacle",
+        tags=env,
     )
     async def add_obstacle(request: Request) -> TextResponse:
-        obstacle = await read_body(request, OBSTACLE)
+        obstacle = await read_body(request, body_of("PUT /environment"))
         return string_result(await run_in_threadpool(controller.add_obstacle, obstacle))
 
-    @router.get(
-        "/environment",
-        tags=env,
+    @serve(
+        router,
+        "GET /environment",
         summary="Getting every obstacle",
-        response_class=JSONBytesResponse,
-        responses={**docs.json_ok(list[Obstacle], "Obstacles", [EXAMPLE_BOX]), **docs.arm_errors()},
+        ok="Obstacles",
+        example=[EXAMPLE_BOX],
+        errors=docs.arm_errors(),
+        tags=env,
     )
     async def get_obstacles() -> JSONBytesResponse:
         return models_result(controller.get_obstacles())
 
-    @router.delete(
-        "/environment",
-        tags=env,
+    @serve(
+        router,
+        "DELETE /environment",
         summary="Removing every obstacle",
-        response_class=TextResponse,
-        responses={**docs.text_result("Done", "All obstacles removed"), **docs.arm_errors()},
+        ok="Done",
+        example=["All obstacles removed"],
+        errors=docs.arm_errors(),
+        tags=env,
     )
     async def remove_obstacles() -> TextResponse:
         return string_result(controller.remove_obstacles())
 
     not_found = docs.precondition(MSG_NO_OBSTACLE.format(name="table"))
 
-    @router.get(
-        "/environment/{obstacle:path}",
-        tags=env,
+    @serve(
+        router,
+        "GET /environment/{obstacle}",
         summary="Getting an obstacle by name",
-        response_class=JSONBytesResponse,
-        responses={**docs.json_ok(Obstacle, "The obstacle", EXAMPLE_BOX), **not_found, **docs.arm_errors()},
+        ok="The obstacle",
+        example=EXAMPLE_BOX,
+        errors={**not_found, **docs.arm_errors()},
+        convertors={"obstacle": "path"},
+        tags=env,
     )
     async def get_obstacle(obstacle: NamePath) -> JSONBytesResponse:
         return model_result(controller.get_obstacle(obstacle))
 
-    @router.delete(
-        "/environment/{obstacle:path}",
-        tags=env,
+    @serve(
+        router,
+        "DELETE /environment/{obstacle}",
         summary="Removing an obstacle by name",
-        response_class=TextResponse,
-        responses={**docs.text_result("Done", "Obstacle 'table' removed"), **not_found, **docs.arm_errors()},
+        ok="Done",
+        example=["Obstacle 'table' removed"],
+        errors={**not_found, **docs.arm_errors()},
+        convertors={"obstacle": "path"},
+        tags=env,
     )
     async def remove_obstacle(obstacle: NamePath) -> TextResponse:
         return string_result(controller.remove_obstacle(obstacle))

@@ -12,10 +12,10 @@ from fastapi import APIRouter, Depends, Request
 from fastapi.concurrency import run_in_threadpool
 
 from pendant.api import docs
-from pendant.api.params import POSES, TARGET_POSE, json_body, motion_params, read_body
+from pendant.api.operation_route import body_of, serve
+from pendant.api.params import motion_params, read_body
 from pendant.api.wire import JSONBytesResponse, TextResponse, empty_result, timestamped_result
 from pendant.controller.protocol import Controller
-from pendant.controller.system_types import PoseTimestamp
 from pendant.controller.types import MotionParams, Pose
 
 Params = Annotated[MotionParams, Depends(motion_params)]
@@ -24,55 +24,46 @@ Params = Annotated[MotionParams, Depends(motion_params)]
 def pose_router(controller: Controller) -> APIRouter:
     router = APIRouter(tags=["Pose"])
 
-    @router.get(
-        "/pose",
+    @serve(
+        router,
+        "GET /pose",
         summary="Getting the actual arm pose",
         description="The output flange angles of the six servos, in degrees, base first.",
-        response_class=JSONBytesResponse,
-        responses={
-            **docs.json_ok(
-                PoseTimestamp, "Actual arm pose, with when it was read", docs.stamped(docs.EXAMPLE_POSE)
-            ),
-            **docs.arm_errors(),
-        },
+        ok="Actual arm pose, with when it was read",
+        example=docs.stamped(docs.EXAMPLE_POSE),
+        errors=docs.arm_errors(),
     )
     async def get_pose() -> JSONBytesResponse:
         return timestamped_result(controller.get_pose(), controller.clock_time())
 
-    @router.put(
-        "/pose",
+    @serve(
+        router,
+        "PUT /pose",
         summary="Setting a new arm pose",
         description="Moves the arm to a pose: six servo angles in degrees, base first (exactly six numbers).",
-        response_class=TextResponse,
-        responses={**docs.empty_ok(), **docs.bad_format(), **docs.pose_errors(), **docs.arm_errors()},
-        openapi_extra=json_body(
-            docs.ref("PoseWaypoint"),
-            docs.EXAMPLE_POSE,
-            "Target pose (SDK 1.7's `blend` and `actions` allowed)",
-        ),
+        errors={**docs.bad_format(), **docs.pose_errors(), **docs.arm_errors()},
+        body_example=docs.EXAMPLE_POSE,
+        body_description="Target pose (SDK 1.7's `blend` and `actions` allowed)",
     )
     async def set_pose(request: Request, params: Params) -> TextResponse:
-        target = await read_body(request, TARGET_POSE)
+        target = await read_body(request, body_of("PUT /pose"))
         await run_in_threadpool(controller.set_pose, target, params)
         return empty_result()
 
-    @router.put(
-        "/poses/run",
+    @serve(
+        router,
+        "PUT /poses/run",
         summary="Asking the arm to move to a pose",
         description=(
             "Moves the arm smoothly through one or more poses (six angles in degrees each) without stopping "
             "at the waypoints."
         ),
-        response_class=TextResponse,
-        responses={**docs.empty_ok(), **docs.bad_format(), **docs.pose_errors(), **docs.arm_errors()},
-        openapi_extra=json_body(
-            docs.waypoints("PoseWaypoint"),
-            [docs.EXAMPLE_POSE],
-            "Waypoints, each with an optional `blend` and `actions`",
-        ),
+        errors={**docs.bad_format(), **docs.pose_errors(), **docs.arm_errors()},
+        body_example=[docs.EXAMPLE_POSE],
+        body_description="Waypoints, each with an optional `blend` and `actions`",
     )
     async def run_poses(request: Request, params: Params) -> TextResponse:
-        waypoints = await read_body(request, POSES)
+        waypoints = await read_body(request, body_of("PUT /poses/run"))
         # A PoseWaypoint is a Pose with a blend; the list is only read (so list's invariance does not bite).
         await run_in_threadpool(controller.run_poses, cast(list[Pose], waypoints), params)
         return empty_result()

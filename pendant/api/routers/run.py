@@ -1,4 +1,5 @@
-"""SDK 1.8.4: PUT /run/linear/{positions,poses} and /run/joint/{positions,poses}.
+"""SDK 1.8.4: PUT /run/linear/{positions,poses} and /run/joint/{positions,poses}, routes of their table rows
+(method, path, body model and answer: pendant.controller.operations).
 
 Planned in a worker thread, like every move (see pose.py).
 """
@@ -10,14 +11,13 @@ from typing import Any
 
 from fastapi import APIRouter, Request
 from fastapi.concurrency import run_in_threadpool
-from pydantic import TypeAdapter
 
 from pendant.api import docs
-from pendant.api.params import json_body, read_body
+from pendant.api.operation_route import body_of, serve
+from pendant.api.params import read_body
 from pendant.api.wire import TextResponse, string_result
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSE, MSG_UNREACHABLE_POSITION
 from pendant.controller.protocol import Controller
-from pendant.controller.system_types import JointPoses, JointPositions, LinearPoses, LinearPositions
 
 _POSITION = {
     "point": {"x": 0.3, "y": -0.2, "z": 0.4},
@@ -38,42 +38,40 @@ def run_router(controller: Controller) -> APIRouter:
     router = APIRouter(tags=[docs.TAG_RUN])
 
     def add(
-        path: str,
-        model: type[Any],
+        key: str,
         example: dict[str, Any],
         summary: str,
         description: str,
         unreachable: str,
         run: Callable[[Any], str],
     ) -> None:
-        adapter = TypeAdapter(model)
+        adapter = body_of(key)
 
         async def endpoint(request: Request) -> TextResponse:
             body = await read_body(request, adapter)
             return string_result(await run_in_threadpool(run, body))
 
-        router.add_api_route(
-            path,
-            endpoint,
-            methods=["PUT"],
+        serve(
+            router,
+            key,
             summary=summary,
             description=description + " Answers when the motion is accepted; it runs in the background.",
-            response_class=TextResponse,
-            responses={
-                **docs.text_result("Accepted", "Motion accepted"),
+            ok="Accepted",
+            example=["Motion accepted"],
+            errors={
                 **docs.bad_format(),
                 **docs.precondition(unreachable, MSG_COLLISION),
                 **docs.arm_errors(),
             },
-            openapi_extra=json_body(docs.ref(model.__name__), example, "Waypoints and motion parameters"),
-            name=path.strip("/").replace("/", "_"),
-        )
+            body_example=example,
+            body_description="Waypoints and motion parameters",
+            name=key.partition(" /")[2].replace("/", "_"),
+        )(endpoint)
 
     linear = "velocity (m/s) and acceleration (m/s^2) at the TCP"
     joint = "velocity and acceleration in percent of the joints' limits"
     add(
-        "/run/linear/positions",
-        LinearPositions,
+        "PUT /run/linear/positions",
         {"positions": [_POSITION], "motionParameters": _LINEAR},
         "Straight-line motion through positions",
         f"The TCP moves in straight lines through the positions, {linear}.",
@@ -81,8 +79,7 @@ def run_router(controller: Controller) -> APIRouter:
         lambda b: controller.run_linear_positions(b.positions, b.motionParameters),
     )
     add(
-        "/run/linear/poses",
-        LinearPoses,
+        "PUT /run/linear/poses",
         {"poses": [_POSE], "motionParameters": _LINEAR},
         "Straight-line motion through poses",
         f"The TCP moves in straight lines to where each pose puts it, arriving in that pose, {linear}.",
@@ -90,8 +87,7 @@ def run_router(controller: Controller) -> APIRouter:
         lambda b: controller.run_linear_poses(b.poses, b.motionParameters),
     )
     add(
-        "/run/joint/positions",
-        JointPositions,
+        "PUT /run/joint/positions",
         {"positions": [_POSITION], "motionParameters": _JOINT},
         "Joint-space motion through positions",
         f"The joints move (the TCP path is not straight) through the positions, {joint}.",
@@ -99,8 +95,7 @@ def run_router(controller: Controller) -> APIRouter:
         lambda b: controller.run_joint_positions(b.positions, b.motionParameters),
     )
     add(
-        "/run/joint/poses",
-        JointPoses,
+        "PUT /run/joint/poses",
         {"poses": [_POSE], "motionParameters": _JOINT},
         "Joint-space motion through poses",
         f"The joints move through the poses, {joint}.",

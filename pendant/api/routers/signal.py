@@ -6,63 +6,55 @@ from fastapi import APIRouter
 
 from pendant.api import docs
 from pendant.api.errors import MSG_INPUT_PORT, MSG_OUTPUT_PORT
+from pendant.api.operation_route import serve
 from pendant.api.params import InputPort, OutputPort
 from pendant.api.wire import TextResponse, empty_result, string_result
 from pendant.controller.protocol import Controller
 from pendant.controller.types import SignalLevel
 
-_LEVEL_SCHEMA = {"type": "string", "enum": [level.value for level in SignalLevel]}
-_LEVELS = tuple(level.value for level in SignalLevel)
-
 
 def signal_router(controller: Controller) -> APIRouter:
     router = APIRouter(tags=["Signals"])
 
-    @router.get(
-        "/signal/output/{port}",
+    @serve(
+        router,
+        "GET /signal/output/{port}",
         summary="Getting the signal level on a digital output",
         description="LOW: the default state (e.g. LED off); HIGH: the changed state (e.g. LED on).",
-        response_class=TextResponse,
-        responses={
-            **docs.text_ok("Signal level", _LEVEL_SCHEMA, *_LEVELS),
-            **docs.precondition(MSG_OUTPUT_PORT),
-            **docs.arm_errors(),
-        },
+        ok="Signal level",
+        errors={**docs.precondition(MSG_OUTPUT_PORT), **docs.arm_errors()},
     )
     async def get_output(port: OutputPort) -> TextResponse:
         return string_result(controller.get_output(port).value)
 
-    @router.get(
-        "/signal/input/{port}",
+    @serve(
+        router,
+        "GET /signal/input/{port}",
         summary="Getting the signal level on a digital input",
         description="LOW: the default state; HIGH: the changed state.",
-        response_class=TextResponse,
-        responses={
-            **docs.text_ok("Signal level", _LEVEL_SCHEMA, *_LEVELS),
-            **docs.precondition(MSG_INPUT_PORT),
-            **docs.arm_errors(),
-        },
+        ok="Signal level",
+        errors={**docs.precondition(MSG_INPUT_PORT), **docs.arm_errors()},
     )
     async def get_input(port: InputPort) -> TextResponse:
         return string_result(controller.get_input(port).value)
 
-    output_responses = {**docs.empty_ok(), **docs.precondition(MSG_OUTPUT_PORT), **docs.arm_errors()}
+    output_responses = {**docs.precondition(MSG_OUTPUT_PORT), **docs.arm_errors()}
 
-    @router.put(
-        "/signal/output/{port}/high",
+    @serve(
+        router,
+        "PUT /signal/output/{port}/high",
         summary="Setting high signal level on a digital output",
-        response_class=TextResponse,
-        responses=output_responses,
+        errors=output_responses,
     )
     async def set_output_high(port: OutputPort) -> TextResponse:
         controller.set_output(port, SignalLevel.HIGH)
         return empty_result()
 
-    @router.put(
-        "/signal/output/{port}/low",
+    @serve(
+        router,
+        "PUT /signal/output/{port}/low",
         summary="Setting low signal level on a digital output",
-        response_class=TextResponse,
-        responses=output_responses,
+        errors=output_responses,
     )
     async def set_output_low(port: OutputPort) -> TextResponse:
         controller.set_output(port, SignalLevel.LOW)

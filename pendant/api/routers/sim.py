@@ -10,7 +10,8 @@ from fastapi.responses import JSONResponse
 
 from pendant.api import docs
 from pendant.api.errors import MSG_FAULT, MSG_INPUT_PORT
-from pendant.api.params import POSE, InputPort, json_body, read_body
+from pendant.api.operation_route import body_of, serve
+from pendant.api.params import InputPort, read_body
 from pendant.api.wire import TextResponse, empty_result
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSE
 from pendant.controller.types import SignalLevel
@@ -34,28 +35,29 @@ def sim_router(sim: SimController) -> APIRouter:
         sim.set_input(port, level)
         return empty_result()
 
-    input_responses = {**docs.empty_ok(), **docs.precondition(MSG_INPUT_PORT)}
+    input_responses = docs.precondition(MSG_INPUT_PORT)
 
-    @router.put(
-        "/signal/input/{port}/high",
+    @serve(
+        router,
+        "PUT /sim/signal/input/{port}/high",
         summary="Simulator: set a digital input HIGH",
-        response_class=TextResponse,
-        responses=input_responses,
+        errors=input_responses,
     )
     async def set_input_high(port: InputPort) -> TextResponse:
         return set_input(port, SignalLevel.HIGH)
 
-    @router.put(
-        "/signal/input/{port}/low",
+    @serve(
+        router,
+        "PUT /sim/signal/input/{port}/low",
         summary="Simulator: set a digital input LOW",
-        response_class=TextResponse,
-        responses=input_responses,
+        errors=input_responses,
     )
     async def set_input_low(port: InputPort) -> TextResponse:
         return set_input(port, SignalLevel.LOW)
 
-    @router.put(
-        "/pose",
+    @serve(
+        router,
+        "PUT /sim/pose",
         summary="Simulator: move the relaxed arm by hand",
         description=(
             "Puts the arm at a pose (six angles in degrees) at once, as a hand would; only while the arm is "
@@ -63,9 +65,7 @@ def sim_router(sim: SimController) -> APIRouter:
             "the arm itself or the floor, or putting the arm or its tool into an obstacle (one it did not "
             "touch, or deeper into one it touches) is refused (412) and the arm stays where it was."
         ),
-        response_class=TextResponse,
-        responses={
-            **docs.empty_ok(),
+        errors={
             **docs.bad_format(),
             **docs.precondition(
                 MSG_HAND_NEEDS_RELAX,
@@ -75,18 +75,19 @@ def sim_router(sim: SimController) -> APIRouter:
             ),
             **docs.arm_errors(),
         },
-        openapi_extra=json_body(docs.ref("Pose"), docs.EXAMPLE_POSE, "Where the hand puts the arm"),
+        body_example=docs.EXAMPLE_POSE,
+        body_description="Where the hand puts the arm",
     )
     async def move_by_hand(request: Request) -> TextResponse:
-        pose = await read_body(request, POSE)
+        pose = await read_body(request, body_of("PUT /sim/pose"))
         sim.move_by_hand(pose)
         return empty_result()
 
-    @router.put(
-        "/fault/{fault}",
+    @serve(
+        router,
+        "PUT /sim/fault/{fault}",
         summary="Simulator: inject a fault",
-        response_class=TextResponse,
-        responses={**docs.empty_ok(), **docs.precondition(MSG_FAULT)},
+        errors=docs.precondition(MSG_FAULT),
     )
     async def inject_fault(fault: FaultPath) -> TextResponse:
         kind = FAULT_KINDS_BY_NAME[fault.value]
@@ -96,14 +97,18 @@ def sim_router(sim: SimController) -> APIRouter:
             sim.inject_fault(kind.fault)
         return empty_result()
 
-    @router.get(
-        "/clock",
+    @serve(
+        router,
+        "GET /sim/clock",
         summary="Simulator: its clock",
         description=(
             "The simulated time in seconds (`time`), how many times faster than the wall clock it runs "
             "(`scale`, `pendant --time-scale`), and the Unix time of that instant (`timestamp`). Every "
             "motion, gripper wait and servo temperature follows this clock."
         ),
+        ok="The simulator's clock",
+        example={"time": 12.5, "scale": 1.0, "timestamp": 1795000000.0},
+        response_class=JSONResponse,
     )
     async def get_clock() -> JSONResponse:
         clock = sim.clock
@@ -112,16 +117,15 @@ def sim_router(sim: SimController) -> APIRouter:
             {"time": now, "scale": getattr(clock, "scale", 1.0), "timestamp": clock.unix_time(now)}
         )
 
-    @router.put(
-        "/reset",
+    @serve(
+        router,
+        "PUT /sim/reset",
         summary="Simulator: reset",
         description=(
             "Back to the start: home pose, IDLE, no fault, default tool and base, outputs and inputs LOW, no "
             "obstacle. With keep_cell=true only the fault goes: the arm stays where it stopped, with its "
             "obstacles, tool shape, tool, base and IO (a real arm's emergency stop released and recovered)."
         ),
-        response_class=TextResponse,
-        responses=docs.empty_ok(),
     )
     async def reset(keep_cell: bool = False) -> TextResponse:
         sim.reset(keep_cell=keep_cell)

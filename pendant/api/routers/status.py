@@ -5,37 +5,32 @@ from __future__ import annotations
 from fastapi import APIRouter
 
 from pendant.api import docs
+from pendant.api.operation_route import serve
 from pendant.api.wire import JSONBytesResponse, TextResponse, motors_result, string_result
 from pendant.controller.protocol import Controller
-from pendant.controller.types import MotionStatus, MotorStatus
 
 
 def status_router(controller: Controller) -> APIRouter:
     router = APIRouter(tags=["Status"])
 
-    @router.get(
-        "/status/motion",
+    @serve(
+        router,
+        "GET /status/motion",
         summary="Getting the actual motion status",
         description=(
             "IDLE: ready, not moving. ZERO_GRAVITY: relaxed, can be moved by hand. RUNNING: moving. "
             "MOTION_FAILED: the motion settings were wrong. EMERGENCY: fatal failure, no recovery. "
             "ERROR: stopped and frozen; PUT /recover brings it back."
         ),
-        response_class=TextResponse,
-        responses={
-            **docs.text_ok(
-                "Motion status",
-                {"type": "string", "enum": [status.value for status in MotionStatus]},
-                *(status.value for status in MotionStatus),
-            ),
-            **docs.arm_errors(),
-        },
+        ok="Motion status",
+        errors=docs.arm_errors(),
     )
     async def get_motion_status() -> TextResponse:
         return string_result(controller.get_motion_status().value)
 
-    @router.get(
-        "/status/motors",
+    @serve(
+        router,
+        "GET /status/motors",
         summary="Getting the actual status of servo motors",
         description=(
             "Six objects, base first: angle (degrees), rotorVelocity (RPM), rmsCurrent and phaseCurrent (A), "
@@ -43,11 +38,9 @@ def status_router(controller: Controller) -> APIRouter:
             "velocityFeedback, velocityError (RPM), velocityOutput (A), positionSetpoint, positionFeedback, "
             "positionError (degrees), positionOutput (RPM)."
         ),
-        response_class=JSONBytesResponse,
-        responses={
-            **docs.json_ok(list[MotorStatus], "Motor status array", [docs.EXAMPLE_MOTOR]),
-            **docs.arm_errors(),
-        },
+        ok="Motor status array",
+        example=[docs.EXAMPLE_MOTOR],
+        errors=docs.arm_errors(),
     )
     async def get_motors() -> JSONBytesResponse:
         return motors_result(controller.get_motors())

@@ -9,6 +9,7 @@ from __future__ import annotations
 from fastapi import APIRouter
 
 from pendant.api import docs
+from pendant.api.operation_route import serve
 from pendant.api.wire import (
     JSONBytesResponse,
     TextResponse,
@@ -18,7 +19,7 @@ from pendant.api.wire import (
     string_result,
 )
 from pendant.controller.protocol import Controller
-from pendant.controller.system_types import Failure, RobotInfo, SystemState, Version
+from pendant.controller.system_types import SystemState
 
 _STATE_SCHEMA = {"type": "string", "enum": [state.value for state in SystemState]}
 EXAMPLE_FAILURE = {
@@ -44,96 +45,97 @@ EXAMPLE_INFO = {
 def system_router(controller: Controller) -> APIRouter:
     router = APIRouter(tags=[docs.TAG_SYSTEM])
 
-    @router.get(
-        "/status",
+    @serve(
+        router,
+        "GET /status",
         summary="Getting the actual robot state",
         description=(
             "INITIALIZING, INITIALIZATION_FAILURE, TWISTED, ACTIVE (ready, not moving), MOTION, "
             "ZERO_GRAVITY, JOGGING, BROKEN (failed: an ERROR, PUT /recover), EMERGENCY. A JSON string. "
             "Answers in EMERGENCY too (200), so a script can ask why it failed."
         ),
-        response_class=JSONBytesResponse,
-        responses={
+        errors={
             200: {
                 "description": "Robot state (a JSON string)",
                 "content": {docs.JSON: {"schema": _STATE_SCHEMA, "example": "ACTIVE"}},
             },
             **docs.error(500, "Arm error", docs.MSG_NOT_RESPONDING),
         },
+        response_class=JSONBytesResponse,
     )
     async def get_status() -> JSONBytesResponse:
         return json_result(controller.get_system_state().value)
 
-    @router.get(
-        "/status/failure",
+    @serve(
+        router,
+        "GET /status/failure",
         summary="Getting the recent failures",
         description=(
             "The failures the arm recently had, oldest first: type (SOFTWARE_ERROR, HARDWARE_ERROR, "
             "STOP_2, STOP_1, STOP_0, EMCY), level (FATAL, ERROR, WARN), message, date (ISO 8601, UTC). "
             "Answers in EMERGENCY too."
         ),
-        response_class=JSONBytesResponse,
-        responses={
-            **docs.json_ok(list[Failure], "Recent failures", [EXAMPLE_FAILURE]),
-            **docs.error(500, "Arm error", docs.MSG_NOT_RESPONDING),
-        },
+        ok="Recent failures",
+        example=[EXAMPLE_FAILURE],
+        errors=docs.error(500, "Arm error", docs.MSG_NOT_RESPONDING),
     )
     async def get_failures() -> JSONBytesResponse:
         return models_result(controller.get_failures())
 
-    @router.get(
-        "/robot/info",
+    @serve(
+        router,
+        "GET /robot/info",
         summary="Getting the arm's model and serial numbers",
-        response_class=JSONBytesResponse,
-        responses={
-            **docs.json_ok(RobotInfo, "Model, version, serial numbers", EXAMPLE_INFO),
-            **docs.arm_errors(),
-        },
+        ok="Model, version, serial numbers",
+        example=EXAMPLE_INFO,
+        errors=docs.arm_errors(),
     )
     async def get_robot_info() -> JSONBytesResponse:
         return model_result(controller.get_robot_info())
 
-    @router.get(
-        "/version/hardware",
+    @serve(
+        router,
+        "GET /version/hardware",
         summary="Getting the hardware versions",
         description="Of the motors (base first), the safety board, the USB-CAN adapter and the wrist.",
-        response_class=JSONBytesResponse,
-        responses={**docs.json_ok(Version, "Hardware versions", EXAMPLE_VERSION), **docs.arm_errors()},
+        ok="Hardware versions",
+        example=EXAMPLE_VERSION,
+        errors=docs.arm_errors(),
     )
     async def get_hardware_version() -> JSONBytesResponse:
         return model_result(controller.get_hardware_version())
 
-    @router.get(
-        "/version/software",
+    @serve(
+        router,
+        "GET /version/software",
         summary="Getting the firmware versions",
         description="Of the motors (base first), the safety board, the USB-CAN adapter and the wrist.",
-        response_class=JSONBytesResponse,
-        responses={**docs.json_ok(Version, "Firmware versions", EXAMPLE_VERSION), **docs.arm_errors()},
+        ok="Firmware versions",
+        example=EXAMPLE_VERSION,
+        errors=docs.arm_errors(),
     )
     async def get_software_version() -> JSONBytesResponse:
         return model_result(controller.get_software_version())
 
-    @router.get(
-        "/version/software/robot",
+    @serve(
+        router,
+        "GET /version/software/robot",
         summary="Getting the robot control software version",
-        response_class=TextResponse,
-        responses={**docs.text_ok("Version", {"type": "string"}, "1.8.2"), **docs.arm_errors()},
+        ok="Version",
+        example=["1.8.2"],
+        errors=docs.arm_errors(),
     )
     async def get_robot_software_version() -> TextResponse:
         return string_result(controller.get_robot_software_version())
 
-    @router.post(
-        "/motors-log",
+    @serve(
+        router,
+        "POST /motors-log",
         summary="Reading the motors' logs",
         description="Reads the logs of every motor; answers how many were read (a JSON number).",
-        response_class=JSONBytesResponse,
-        responses={
-            200: {
-                "description": "Number of logs read",
-                "content": {docs.JSON: {"schema": {"type": "integer"}, "example": 6}},
-            },
-            **docs.arm_errors(),
-        },
+        ok="Number of logs read",
+        example=6,
+        errors=docs.arm_errors(),
     )
     async def read_motors_log() -> JSONBytesResponse:
         return json_result(controller.read_motors_log())

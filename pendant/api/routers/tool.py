@@ -5,11 +5,12 @@ from __future__ import annotations
 from fastapi import APIRouter, Request
 
 from pendant.api import docs
-from pendant.api.params import TOOL, json_body, read_body
+from pendant.api.operation_route import body_of, serve
+from pendant.api.params import read_body
 from pendant.api.wire import JSONBytesResponse, model_result
 from pendant.controller.errors import MSG_COLLISION, MSG_UNREACHABLE_POSITION
 from pendant.controller.protocol import Controller
-from pendant.controller.types import TOOL_NAME_MAX, Tool
+from pendant.controller.types import TOOL_NAME_MAX
 
 _TOOL_DESCRIPTION = (
     f"name: up to {TOOL_NAME_MAX} characters; point x, y, z (metres) and rotation roll, pitch, yaw "
@@ -20,31 +21,35 @@ _TOOL_DESCRIPTION = (
 def tool_router(controller: Controller) -> APIRouter:
     router = APIRouter(tags=["Tool"])
 
-    @router.get(
-        "/tool",
+    @serve(
+        router,
+        "GET /tool",
         summary="Getting actual tool properties",
         description=_TOOL_DESCRIPTION,
-        response_class=JSONBytesResponse,
-        responses={**docs.json_ok(Tool, "Actual tool properties", docs.EXAMPLE_TOOL), **docs.arm_errors()},
+        ok="Actual tool properties",
+        example=docs.EXAMPLE_TOOL,
+        errors=docs.arm_errors(),
     )
     async def get_tool() -> JSONBytesResponse:
         return model_result(controller.get_tool())
 
-    @router.post(
-        "/tool",
+    @serve(
+        router,
+        "POST /tool",
         summary="Setting tool properties",
         description=_TOOL_DESCRIPTION + " Answers with the tool now in use.",
-        response_class=JSONBytesResponse,
-        responses={
-            **docs.json_ok(Tool, "The tool now in use", docs.EXAMPLE_TOOL),
+        ok="The tool now in use",
+        example=docs.EXAMPLE_TOOL,
+        errors={
             **docs.bad_format(),
             **docs.precondition(MSG_UNREACHABLE_POSITION, MSG_COLLISION),
             **docs.arm_errors(),
         },
-        openapi_extra=json_body(docs.ref("Tool"), docs.EXAMPLE_TOOL, "The new tool"),
+        body_example=docs.EXAMPLE_TOOL,
+        body_description="The new tool",
     )
     async def set_tool(request: Request) -> JSONBytesResponse:
-        tool = await read_body(request, TOOL)
+        tool = await read_body(request, body_of("POST /tool"))
         return model_result(controller.set_tool(tool))
 
     return router
