@@ -70,7 +70,7 @@ def test_a_pick_and_place_is_taught_and_run_in_at_most_20_actions_on_the_jog_tab
             wait_idle(fresh.api)
             record(operator, kind, name)
         operator.press(page.locator('#teach-bar [data-teach="run"]'), "Run")
-        page.locator("#teach-bar").get_by_text("finished", exact=True).wait_for(timeout=RUN_TIMEOUT_MS)
+        page.locator("#teach-bar").get_by_text("done", exact=True).wait_for(timeout=RUN_TIMEOUT_MS)
         page.screenshot(path=str(ARTIFACTS / f"teach-flow-{screen}.png"))
 
         print(f"{screen}: {operator.actions} actions ({operator.scrolls} scrolls): {operator.log}")

@@ -72,7 +72,7 @@ def render_status(snapshot: Snapshot, mode_line: str, system: str = "", protecti
     system = f" · {system}" if system else ""
     # On a phone the block folds to this first line (touch_layout.js hides the `phone-fold` parts).
     parts = [
-        '<div id="status-line">'
+        '<div id="status-line" class="status-line">'
         f'<div style="font-size:0.85em;color:#495057">{html.escape(mode_line)} · {link}{system}</div>'
         f'<div id="motion-state" style="background:{colour};color:white;font-weight:bold;'
         f'text-align:center;border-radius:6px;margin:6px 0;{big}">{label}</div></div>',

@@ -100,7 +100,7 @@ class TeachBar:
 RUN_WORDS = {
     RunState.RUNNING: "running…",
     RunState.PAUSED: "paused",
-    RunState.FINISHED: "finished",
+    RunState.FINISHED: "done",
     RunState.STOPPED: "stopped",
     RunState.FAILED: "stopped",
 }

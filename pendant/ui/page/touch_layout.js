@@ -23,9 +23,9 @@
       [data-touch] #jog-pad > div { grid-template-columns: ${MIN_PX}px 1fr ${MIN_PX}px !important; gap: 3px !important; }
       [data-touch] #jog-pad > div > div { white-space: normal !important; font-size: 0.85em; line-height: 1.1; }
       .phone-fold { display: none !important; }
-      #status-block #status-line { display: flex; align-items: center; gap: 6px; }
-      #status-block #status-line > div { margin: 0 !important; }
-      #status-block #motion-state { padding: 2px 8px !important; font-size: 1em !important; flex-shrink: 0; }
+      .status-line { display: flex; align-items: center; gap: 6px; }
+      .status-line > div { margin: 0 !important; }
+      .status-line > div + div { padding: 2px 8px !important; font-size: 1em !important; flex-shrink: 0; }
     }
   `;
   const touchScreen = () =>
