@@ -16,6 +16,7 @@
 //    it names (Save of an unnamed program asks for the name there).
 // 7. The jog pad's live values written into its labels in place (the pad itself is not rebuilt on a value).
 // 8. An upload's outcome: viser's "File uploaded successfully." says "File received.", hidden by a refusal.
+// 9. The page's own buttons for hidden viser buttons (`data-click-uuid`: the teach row) send their click.
 (() => {
   "use strict";
   (function tokenIntoWebsocketUrl() {
@@ -279,6 +280,14 @@
     });
   }
   new MutationObserver(pinFreeze).observe(document.documentElement, { childList: true, subtree: true });
+
+  // The page's own buttons that stand for a hidden viser button (the Jog tab's teach row): a click (mouse,
+  // finger, Enter or Space) sends that button's click, as viser's own button would.
+  document.addEventListener("click", (event) => {
+    const button = event.target instanceof Element ? event.target.closest("[data-click-uuid]") : null;
+    if (button === null || button.disabled) return;
+    post({ type: "pendant_release", uuid: button.dataset.clickUuid });
+  }, true);
 
   // Keyboard: Space or Enter held on a focused jog button.
   document.addEventListener("keydown", (event) => {
