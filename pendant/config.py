@@ -25,6 +25,6 @@ class Settings:
     command_timeout: float = 30.0
     remote_control: bool | None = None  # --remote-control on|off; None: on only for the simulator on loopback
     allowed_hosts: tuple[str, ...] = ()  # --allowed-host: names the pendant answers to besides IPs, localhost
-    # Simulated time per wall-clock second (the simulator's clock; --time-scale, with --no-ui only).
+    # Simulated time per wall-clock second (the simulator's clock; --time-scale, not with --robot).
     time_scale: float = 1.0
     fresh_cell: bool = False  # --fresh-cell: the simulator starts with no obstacle, default tool and base
