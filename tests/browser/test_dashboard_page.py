@@ -6,7 +6,14 @@ from __future__ import annotations
 import re
 import time
 
+import pytest
+
+from tests.support.shared_pendants import NOT_REAL_TIME
+
 from .conftest import ARTIFACTS, Pendant
+
+# Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
+pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
 
 PLOTS_FILL_S = 2.0
 TIMEOUT_MS = 30_000

@@ -10,16 +10,20 @@ import os
 import subprocess
 import sys
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 
 import numpy as np
 import pytest
 from playwright.sync_api import Page
 
 from tests.support.launchers import REPO_ROOT
+from tests.support.shared_pendants import NOT_REAL_TIME
 
-from .conftest import ARTIFACTS, Pendant, running_pendant
+from .conftest import ARTIFACTS, Pendant
 from .test_program_page import ANGLE_TOL_DEG, POLL_S, RUN_TIMEOUT_S, UI_TIMEOUT_MS, move_to
+
+# Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
+pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
 
 CORNERS_DEG = (
     [20.0, -90.0, 90.0, -90.0, -90.0, 0.0],
@@ -38,14 +42,6 @@ EXPECTED_STEPS = [
     "Move J to P4 @ 20%",
     "Gripper open (500 ms)",
 ]
-
-
-@pytest.fixture(scope="module")
-def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
-    programs = tmp_path_factory.mktemp("programs")
-    with running_pendant("--programs", str(programs)) as served:
-        served.programs = programs
-        yield served
 
 
 def click(page: Page, name: str) -> None:
