@@ -32,13 +32,14 @@ $(SDK_STAMP):
 run: $(RUN_STAMP)
 	@$(BIN)/pendant $(ARGS)
 
-# Two workers (a 2-core machine) for every test but the browser tests, which drive Chromium in software
-# WebGL and measure what a user feels on a real clock (jog shares, stop times): they run after, one at a
-# time (run in parallel, two of them failed on a loaded machine). Each pass prints its count; `measures`
-# marks the browser tests that assert a real-time figure.
+# Two workers (a 2-core machine) for every test but the browser tests; then the browser tests (Chromium in
+# software WebGL) that assert no real-time figure, on two workers, a module per worker (it shares a Chromium
+# and its pendants, tests/browser/conftest.py); last, alone, the `measures` ones: they time what a user
+# feels (jog shares, stop times) on a real clock. Each pass prints its count.
 test: $(STAMP) $(SDK_STAMP) layers typecheck
 	@$(BIN)/pytest -q -n 2 --ignore=tests/browser $(PYTEST_ARGS)
-	@$(BIN)/pytest -q tests/browser $(PYTEST_ARGS)
+	@$(BIN)/pytest -q -n 2 --dist loadfile -m "not measures" tests/browser $(PYTEST_ARGS)
+	@$(BIN)/pytest -q -m measures tests/browser $(PYTEST_ARGS)
 
 # N simulated pendants + Prometheus + Alertmanager on loopback with deploy/'s files; Ctrl-C stops all.
 N ?= 3
