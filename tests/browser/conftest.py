@@ -22,6 +22,7 @@ from tests.support.shared_pendants import SharedPendants, shared_pendants
 
 ARTIFACTS = Path(__file__).resolve().parents[2] / "test-artifacts"
 HERE = Path(__file__).resolve().parent
+PAGE_LOAD_TIMEOUT_MS = 90_000  # a page drawn in software WebGL on a loaded 2-core machine
 
 __all__ = ["ARTIFACTS", "CHROMIUM", "CHROMIUM_ARGS", "Pendant", "running_pendant"]
 
@@ -87,6 +88,6 @@ def page(browser: Browser, pendant: Pendant) -> Iterator[Page]:
     ARTIFACTS.mkdir(exist_ok=True)
     page = browser.new_page(viewport={"width": 1400, "height": 900})
     page.goto(pendant.ui_url)
-    page.get_by_role("button", name="Freeze").wait_for(timeout=30_000)
+    page.get_by_role("button", name="Freeze").wait_for(timeout=PAGE_LOAD_TIMEOUT_MS)
     yield page
     page.context.close()
