@@ -17,7 +17,7 @@ import pytest
 from playwright.sync_api import Browser, Page
 
 from tests.support.jog_measure import open_as_operator
-from tests.support.launchers import Pendant
+from tests.support.launchers import Pendant, running_pendant_ui
 from tests.support.programs import a_to_b_file
 
 HOME_DEG = [0.0, -90.0, 90.0, -90.0, -90.0, 0.0]
@@ -34,6 +34,16 @@ def program() -> dict[str, object]:
     """Move J to A, close the gripper (20 s), wait 20 s, Move J to B."""
     gripper = {"kind": "gripper", "action": "close", "timeout_ms": 20_000}
     return a_to_b_file("still_steps", A_DEG, B_DEG, gripper, {"kind": "wait", "ms": 20_000})
+
+
+@pytest.fixture(scope="module")
+def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
+    """A pendant of this module's own, with an empty programs folder: no program autosaved by another
+    test stands in the way of the upload. (Not a shared one: with one, a run of the parallel pass timed
+    out bringing the arm home after "another browser's Freeze" in a wait step, not understood yet.)"""
+    programs = tmp_path_factory.mktemp("programs")
+    with running_pendant_ui("--programs", str(programs)) as served:
+        yield served
 
 
 @pytest.fixture(scope="module")
