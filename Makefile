@@ -36,15 +36,16 @@ $(SDK_STAMP):
 run: $(RUN_STAMP)
 	@$(BIN)/pendant $(if $(FOXGLOVE),--foxglove-port $(FOXGLOVE)) $(ARGS)
 
-# Two workers (a 2-core machine) for every test but the browser tests, which drive Chromium in software
-# WebGL and measure what a user feels on a real clock (jog shares, stop times): they run after, one at a
-# time (run in parallel, two of them failed on a loaded machine). Each pass prints its count; `measures`
-# marks the browser tests that assert a real-time figure. --dist worksteal: each worker starts on one half
-# of the collection (a module's tests, and its shared pendant, stay on one worker) and the one done first
-# takes over the other's remaining tests, so both end together.
+# Two workers (a 2-core machine) for every test but the browser tests (--dist worksteal: each worker starts
+# on one half of the collection, so a module's tests and its shared pendant stay on one worker, and the one
+# done first takes over the other's remaining tests); then the browser tests (Chromium in software WebGL)
+# that assert no real-time figure, on two workers, a module per worker (it shares a Chromium and its
+# pendants, tests/browser/conftest.py); last, alone, the `measures` ones: they time what a user feels (jog
+# shares, stop times) on a real clock. Each pass prints its count.
 test: $(STAMP) $(SDK_STAMP) lint layers typecheck
 	@$(BIN)/pytest -q -n 2 --dist worksteal --ignore=tests/browser $(PYTEST_ARGS)
-	@$(BIN)/pytest -q tests/browser $(PYTEST_ARGS)
+	@$(BIN)/pytest -q -n 2 --dist loadfile -m "not measures" tests/browser $(PYTEST_ARGS)
+	@$(BIN)/pytest -q -m measures tests/browser $(PYTEST_ARGS)
 
 # N simulated pendants + Prometheus + Alertmanager on loopback with deploy/'s files; Ctrl-C stops all.
 N ?= 3

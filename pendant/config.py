@@ -25,7 +25,7 @@ class Settings:
     command_timeout: float = 30.0
     remote_control: bool | None = None  # --remote-control on|off; None: on only for the simulator on loopback
     allowed_hosts: tuple[str, ...] = ()  # --allowed-host: names the pendant answers to besides IPs, localhost
-    # Simulated time per wall-clock second (the simulator's clock; --time-scale, with --no-ui only).
+    # Simulated time per wall-clock second (the simulator's clock; --time-scale, not with --robot).
     time_scale: float = 1.0
     # --foxglove-port: the Foxglove live view (the Foxglove WebSocket protocol) on --host; None: off.
     foxglove_port: int | None = None

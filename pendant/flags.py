@@ -115,8 +115,8 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         type=float,
         default=_DEFAULTS.time_scale,
         metavar="K",
-        help="with --no-ui: the simulator's time runs K times the wall clock, e.g. 100 for tests "
-        "(default %(default)g)",
+        help="the simulator's time runs K times the wall clock, e.g. 100 for tests (default %(default)g); "
+        "the page's jog deadman and program wait steps keep wall-clock time",
     )
     args = parser.parse_args(argv)
     for port in (args.api_port, args.ui_port, args.foxglove_port):
@@ -148,9 +148,10 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
 
 
 def _check_time_scale_flag(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
-    if args.robot is not None or not args.no_ui:
-        # A real arm keeps its own time; the page's jog deadman and program waits run on the wall clock.
-        parser.error("--time-scale is for the simulator alone: use it with --no-ui and without --robot")
+    if args.robot is not None:
+        # A real arm keeps its own time. With the page, motions follow the scale while the jog deadman and
+        # a program's wait steps keep the wall clock: fine for tests of the page, not for judging its feel.
+        parser.error("--time-scale is for the simulator alone: use it without --robot")
     from pendant.sim.clock import check_time_scale  # the simulator's package: imported only when needed
 
     try:

@@ -1,7 +1,7 @@
 """The `pendant` command: flags -> Settings -> controller -> the web UI and the API server.
 
     pendant [--host 127.0.0.1] [--ui-port 8080] [--api-port 8081] [--model pulse75|pulse90] [--robot URL]
-            [--connect-timeout 1] [--read-timeout 3] [--no-ui [--time-scale K]] [--foxglove-port PORT]
+            [--connect-timeout 1] [--read-timeout 3] [--no-ui] [--time-scale K] [--foxglove-port PORT]
     pendant check URL [--timeout S]
     pendant run PROGRAM.json [--robot URL] [--loops N]
     pendant diff A.json B.json
@@ -9,8 +9,8 @@
     pendant preflight PROGRAM.json [--robot URL] [--cell CELL.json] [--input N=HIGH ...] [--json]
 
 serves the pendant's page and the PULSE REST API (the simulator's, or a proxy to the real arm at --robot);
-with --no-ui, the API alone on the controller's own port (its clock K times the wall clock with
---time-scale K). `pendant check URL` waits until a PULSE API answers at URL (for CI scripts).
+with --no-ui, the API alone on the controller's own port; the simulator's clock runs K times the wall
+clock with --time-scale K. `pendant check URL` waits until a PULSE API answers at URL (for CI scripts).
 `pendant run PROGRAM.json` runs a saved program without a browser (pendant.program.headless).
 `pendant diff` and `pendant history` show a program's changes and versions (pendant.program.history_cli).
 

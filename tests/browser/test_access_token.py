@@ -4,15 +4,15 @@ move the arm, not from its buttons and not through the API. On loopback with --t
 from __future__ import annotations
 
 import time
-from collections.abc import Iterator
 
 import numpy as np
 import pytest
 from playwright.sync_api import Browser, Page, expect
 
 from pendant.access import TOKEN_HEADER, ui_url
+from tests.support.shared_pendants import SharedPendants
 
-from .conftest import ARTIFACTS, Pendant, running_pendant
+from .conftest import ARTIFACTS, Pendant
 
 TOKEN = "browser-test-token"
 UI_TIMEOUT_MS = 15_000
@@ -21,10 +21,9 @@ ANGLE_TOL_DEG = 0.01
 
 
 @pytest.fixture(scope="module")
-def pendant() -> Iterator[Pendant]:
-    """This module's own pendant, with an access token."""
-    with running_pendant("--token", TOKEN) as served:
-        yield served
+def pendant(pendant_pool: SharedPendants) -> Pendant:
+    """This module's own pendant, with an access token (from the shared ones: it stops in the background)."""
+    return pendant_pool.get("--token", TOKEN)
 
 
 def hold_j1_plus(page: Page) -> None:

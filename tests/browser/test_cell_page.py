@@ -8,13 +8,18 @@ import time
 from typing import Any
 
 import numpy as np
+import pytest
 from PIL import Image
 from playwright.sync_api import Page
 
+from tests.support.shared_pendants import NOT_REAL_TIME
 from tests.support.typed import typed_box
 
 from .conftest import ARTIFACTS, Pendant
 from .test_pendant_page import SETTLE_S, wait_idle
+
+# Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
+pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
 
 SHOWN_WITHIN_S = 15.0  # the page's own check and redraw, on a loaded 2-core machine
 ORANGE_PIXELS_MIN = 2000  # a 30 cm box in the default view covers tens of thousands of pixels

@@ -18,7 +18,12 @@ import pytest
 import viser
 from playwright.sync_api import Browser, Playwright
 
+from tests.support.shared_pendants import NOT_REAL_TIME
+
 from .conftest import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, Pendant
+
+# Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
+pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
 
 RESULT_TIMEOUT_MS = 15_000
 REBOUND = "evil.example"

@@ -4,22 +4,28 @@ event log lists what the API did, and "Join from a tablet" says how to expose a 
 from __future__ import annotations
 
 import re
-import time
+
+import pytest
+from playwright.sync_api import expect
+
+from tests.support.shared_pendants import NOT_REAL_TIME
 
 from .conftest import ARTIFACTS, Pendant
 
-PLOTS_FILL_S = 2.0
+# Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
+pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
+
+JOINT_VALUE = re.compile(r"J1 -?\d+\.\d °")
 TIMEOUT_MS = 30_000
 
 
 def test_dashboard_plots_log_and_join_qr(page, pendant: Pendant) -> None:
     assert pendant.api.put("/signal/output/1/high").status_code == 200  # something for the event log
     page.get_by_role("tab", name="Dashboard").click(no_wait_after=True)
-    time.sleep(PLOTS_FILL_S)
     legend = page.locator(".u-legend").first
-    legend.wait_for(timeout=TIMEOUT_MS)
+    expect(legend).to_contain_text(JOINT_VALUE, timeout=TIMEOUT_MS)  # the plots have filled in
     text = legend.inner_text()
-    assert re.search(r"J1 -?\d+\.\d °", text), text
+    assert JOINT_VALUE.search(text), text
     assert "--" not in text
     logged = page.locator("#event-log").get_by_text("PUT /signal/output/1/high -> 200")
     logged.first.wait_for(timeout=TIMEOUT_MS)  # newest first (the log on disk may hold earlier runs')

@@ -3,13 +3,16 @@ loaded Swagger UI from a CDN and were blank offline). Every request to another h
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from urllib.parse import urlsplit
 
 import pytest
 from playwright.sync_api import Browser, Route
 
-from tests.support.launchers import running_pendant
+from tests.support.launchers import Pendant
+from tests.support.shared_pendants import NOT_REAL_TIME
+
+# Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
+pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
 
 RENDER_TIMEOUT_MS = 30_000
 SHOWN = "Setting a new arm pose"
@@ -17,9 +20,9 @@ REDOCLY_FOOTER_LOGO = "https://cdn.redoc.ly/redoc/logo-mini.svg"
 
 
 @pytest.fixture(scope="module")
-def api_url() -> Iterator[str]:
-    with running_pendant() as url:
-        yield url
+def api_url(pendant: Pendant) -> str:
+    """The API port of the shared pendant: the same API app as `pendant --no-ui` serves."""
+    return str(pendant.api.base_url).rstrip("/")
 
 
 @pytest.mark.parametrize("page_path", ["/docs", "/redoc"])

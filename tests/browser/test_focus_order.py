@@ -12,8 +12,12 @@ from typing import Any
 import pytest
 
 from tests.support.jog_measure import open_as_operator
+from tests.support.shared_pendants import NOT_REAL_TIME
 
 from .conftest import Pendant
+
+# Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
+pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
 
 TABS = ("Jog", "Target", "Program", "Cell", "IO", "Robot", "Simulator", "Dashboard")
 MAX_STOPS = 150  # more than any tab has: the walk ends when focus leaves the page

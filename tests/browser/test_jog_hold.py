@@ -242,24 +242,29 @@ def test_the_panel_leaves_the_arm_in_view(
     try:
         page.goto(pendant.ui_url)
         page.locator("#jog-pad").wait_for(timeout=60_000)
-        page.wait_for_timeout(1_500)  # the arm's meshes arrive after the panel
         settled(page, "Freeze")
         view = page.locator("canvas").first.bounding_box()
         panel_left = button_box(page, "Freeze")["x"]
         assert view is not None and view["x"] + view["width"] <= panel_left + 1, (view, panel_left)
         assert view["width"] >= 0.45 * viewport[0], f"the 3D view is only {view['width']:.0f} px wide"
-        centre = page.screenshot(
-            clip={
-                "x": view["x"] + view["width"] / 4,
-                "y": view["y"] + view["height"] / 4,
-                "width": view["width"] / 2,
-                "height": view["height"] / 2,
-            }
-        )
+        centre = {
+            "x": view["x"] + view["width"] / 4,
+            "y": view["y"] + view["height"] / 4,
+            "width": view["width"] / 2,
+            "height": view["height"] / 2,
+        }
+        # The arm's meshes arrive after the panel: the middle of the view shows the arm once they are drawn.
+        deadline = time.monotonic() + ARM_DRAWN_WITHIN_S
+        while dark_pixels(page.screenshot(clip=centre)) <= ARM_DARK_PIXELS:
+            assert time.monotonic() < deadline, "the arm is not in the middle of the view"
+            time.sleep(0.2)
         page.screenshot(path=str(ARTIFACTS / f"arm-in-view-{viewport[0]}x{viewport[1]}.png"))
-        assert dark_pixels(centre) > 500, "the arm is not in the middle of the view"
     finally:
         page.close()
+
+
+ARM_DRAWN_WITHIN_S = 30.0  # the meshes sent and drawn in software WebGL on a loaded machine
+ARM_DARK_PIXELS = 500
 
 
 def dark_pixels(png: bytes) -> int:

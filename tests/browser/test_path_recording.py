@@ -11,7 +11,6 @@ from __future__ import annotations
 import json
 import re
 import time
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -29,10 +28,11 @@ from tests.support.deviation import (
     max_turn_deg,
     start_index,
 )
+from tests.support.shared_pendants import SharedPendants
 from tests.support.typed import typed_box
 from tests.support.waiting import wait_until
 
-from .conftest import ARTIFACTS, Pendant, running_pendant
+from .conftest import ARTIFACTS, Pendant
 
 # Real-time figures (the played path is read over the API, between readings a loaded machine spaces out):
 # run alone, after the rest.
@@ -53,11 +53,10 @@ J1, J2 = 0, 1
 
 
 @pytest.fixture
-def pendant(tmp_path: Path) -> Iterator[Pendant]:
-    """A pendant of this test's own: a fresh program (and its autosave) in tmp_path."""
-    with running_pendant("--programs", str(tmp_path)) as served:
-        served.programs = tmp_path
-        yield served
+def pendant(pendant_pool: SharedPendants) -> Pendant:
+    """A pendant for this test alone: a fresh program (and its autosave) in `pendant.programs` (a shared
+    pendant is handed out only as fresh as a new one: after the other test's recording, a new one)."""
+    return pendant_pool.get()
 
 
 def system_state(pendant: Pendant) -> str:

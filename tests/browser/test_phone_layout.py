@@ -16,9 +16,13 @@ from typing import Any
 import pytest
 
 from tests.support.arm_view import arm_on_screen, close_notifications, dark_pixels, overlap
+from tests.support.shared_pendants import NOT_REAL_TIME
 
 from .conftest import ARTIFACTS, Pendant
 from .test_jog_hold import on_top, settled
+
+# Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
+pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
 
 SCREENS = {"desktop": (1400, 900), "tablet-portrait": (768, 1024), "phone": (390, 844)}
 PX_TOL = 1

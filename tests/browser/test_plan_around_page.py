@@ -7,14 +7,19 @@ import io
 import time
 
 import numpy as np
+import pytest
 from PIL import Image
 from playwright.sync_api import Page
 
 from pendant.planning.scenes import BOX
 from tests.support.jog_measure import ensure_operator, wait_idle
+from tests.support.shared_pendants import NOT_REAL_TIME
 from tests.support.typed import typed_box
 
 from .conftest import ARTIFACTS, Pendant
+
+# Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
+pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
 
 SHOWN_WITHIN_S = 15.0  # the page's own check and redraw, on a loaded 2-core machine
 MOVE_TIMEOUT_S = 90.0  # around the box at 20 % and 250 mm/s, on the wall clock

@@ -10,16 +10,20 @@ import os
 import subprocess
 import sys
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 
 import numpy as np
 import pytest
-from playwright.sync_api import Page
+from playwright.sync_api import Page, expect
 
 from tests.support.launchers import REPO_ROOT
+from tests.support.shared_pendants import NOT_REAL_TIME
 
-from .conftest import ARTIFACTS, Pendant, running_pendant
+from .conftest import ARTIFACTS, Pendant
 from .test_program_page import ANGLE_TOL_DEG, POLL_S, RUN_TIMEOUT_S, UI_TIMEOUT_MS, move_to
+
+# Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
+pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
 
 CORNERS_DEG = (
     [20.0, -90.0, 90.0, -90.0, -90.0, 0.0],
@@ -40,16 +44,18 @@ EXPECTED_STEPS = [
 ]
 
 
-@pytest.fixture(scope="module")
-def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
-    programs = tmp_path_factory.mktemp("programs")
-    with running_pendant("--programs", str(programs)) as served:
-        served.programs = programs
-        yield served
-
-
 def click(page: Page, name: str) -> None:
     page.get_by_role("button", name=name, exact=True).click()
+
+
+def edit(page: Page, name: str) -> None:
+    """Click an editing button and wait until the page shows its edit (the selected step changes), as the
+    operator looks before the next click: the pendant handles a browser's clicks on a pool of threads, and
+    one sent before the last was done could apply to the step selected before it (a "lost" click)."""
+    selected = page.get_by_label("Step", exact=True).first
+    before = selected.input_value()
+    click(page, name)
+    expect(selected).not_to_have_value(before)
 
 
 def choose(page: Page, current: str, option: str) -> None:
@@ -89,26 +95,26 @@ def test_teach_and_run_a_pallet_pick_and_place(page, pendant: Pendant) -> None:
     # Nested steps are built in place: each new step goes after the selected one (by default: at the end).
     page.get_by_label("Insert after selected step", exact=True).check()
 
-    for angles in CORNERS_DEG:  # the tray's corners: waypoints without a move
+    for k, angles in enumerate(CORNERS_DEG, start=1):  # the tray's corners: waypoints without a move
         move_to(pendant, angles)
         click(page, "Add waypoint here")
-    wait_text(page, "P3 (0 uses)")
-    click(page, "Loop")
+        wait_text(page, f"P{k} (0 uses)")  # taught here, before the arm moves on
+    edit(page, "Loop")
     wait_text(page, "1. Loop 2 times")
     choose(page, "times", "until")  # Input DI1, Level HIGH are the defaults
     wait_text(page, "1. Loop until DI1 HIGH")
-    click(page, "Pallet")  # from the last three waypoints taught
-    click(page, "Indent")  # into the loop
-    click(page, "Gripper close")
-    click(page, "Indent")  # into the pallet: done at each cell
+    edit(page, "Pallet")  # from the last three waypoints taught
+    edit(page, "Indent")  # into the loop
+    edit(page, "Gripper close")
+    edit(page, "Indent")  # into the pallet: done at each cell
     move_to(pendant, PLACE_DEG)
     click(page, "Add waypoint here")
     wait_text(page, "P4 (0 uses)")
-    click(page, "Relative move")  # 50 mm above P4 (the waypoint chosen in the table)
-    click(page, "Outdent")  # after the pallet, in the loop
-    click(page, "Move to waypoint")  # P4 itself, as the selected move
-    click(page, "Gripper open")
-    click(page, "Relative move")  # and back up
+    edit(page, "Relative move")  # 50 mm above P4 (the waypoint chosen in the table)
+    edit(page, "Outdent")  # after the pallet, in the loop
+    edit(page, "Move to waypoint")  # P4 itself, as the selected move
+    edit(page, "Gripper open")
+    edit(page, "Relative move")  # and back up
     for text in EXPECTED_STEPS:
         wait_text(page, text)
     page.screenshot(path=str(ARTIFACTS / "program-cell-taught.png"))

@@ -14,6 +14,7 @@ from pendant.program import ProgramStore
 from pendant.remote import RemoteController
 from tests.planning.scenes import BOX_NAME, LEFT_DEG, box_in_the_way, swing_program
 from tests.support.launchers import running_pendant as running_arm
+from tests.support.shared_pendants import NOT_REAL_TIME
 from tests.support.waiting import wait_until
 
 from .conftest import ARTIFACTS, Pendant, running_pendant
@@ -25,7 +26,8 @@ UI_TIMEOUT_MS = 90_000  # a loaded 2-core machine builds a page slowly
 def rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Pendant, RemoteController]]:
     programs = tmp_path_factory.mktemp("programs")
     ProgramStore(programs).autosave(swing_program(), None, True)  # the page opens with this program
-    with running_arm() as arm_url:
+    # The arm's simulator runs faster: the test is about what the page says, not about real time.
+    with running_arm("--time-scale", str(NOT_REAL_TIME)) as arm_url:
         arm = RemoteController(arm_url)
         arm.set_pose(Pose(angles=list(LEFT_DEG)), MotionParams(speed=100.0))
         wait_until(lambda: arm.get_motion_status() is MotionStatus.IDLE, timeout_s=20)

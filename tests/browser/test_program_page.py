@@ -4,12 +4,11 @@ the arm passed through both: DO1 went HIGH while the arm was at the first, and i
 from __future__ import annotations
 
 import time
-from collections.abc import Iterator
 
 import numpy as np
 import pytest
 
-from .conftest import ARTIFACTS, Pendant, running_pendant
+from .conftest import ARTIFACTS, Pendant
 
 POSE_A_DEG = [25.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 POSE_B_DEG = [-25.0, -80.0, 80.0, -90.0, -90.0, 0.0]
@@ -20,15 +19,6 @@ AT_WAYPOINT_TOL_DEG = 0.5  # two HTTP reads apart, around an arm coming to rest 
 UI_TIMEOUT_MS = 15_000
 RUN_TIMEOUT_S = 60.0
 POLL_S = 0.02  # a real process on a real clock: the test watches it through the API
-
-
-@pytest.fixture(scope="module")
-def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
-    """This module's own pendant, with its programs in a fresh folder (not the checkout's ./programs)."""
-    programs = tmp_path_factory.mktemp("programs")
-    with running_pendant("--programs", str(programs)) as served:
-        served.programs = programs
-        yield served
 
 
 def move_to(pendant: Pendant, angles: list[float]) -> None:

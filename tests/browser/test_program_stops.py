@@ -39,7 +39,8 @@ def program() -> dict[str, object]:
 @pytest.fixture(scope="module")
 def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
     """A pendant of this module's own, with an empty programs folder: no program autosaved by another
-    test stands in the way of the upload."""
+    test stands in the way of the upload. (Not a shared one: with one, a run of the parallel pass timed
+    out bringing the arm home after "another browser's Freeze" in a wait step, not understood yet.)"""
     programs = tmp_path_factory.mktemp("programs")
     with running_pendant_ui("--programs", str(programs)) as served:
         yield served

@@ -17,8 +17,12 @@ from playwright.sync_api import Browser, Locator, Page
 from pendant.kinematics import ArmModel
 from tests.support.jog_measure import open_as_operator
 from tests.support.launchers import Pendant
+from tests.support.shared_pendants import NOT_REAL_TIME
 
 from .conftest import ARTIFACTS
+
+# Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
+pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
 
 POSE_A_DEG = [20.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 POSE_B_DEG = [-20.0, -80.0, 80.0, -90.0, -90.0, 0.0]

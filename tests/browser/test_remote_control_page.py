@@ -8,9 +8,15 @@ import time
 
 import httpx
 import numpy as np
+import pytest
 from playwright.sync_api import Page
 
+from tests.support.shared_pendants import NOT_REAL_TIME
+
 from .conftest import ARTIFACTS, Pendant
+
+# Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
+pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
 
 UI_TIMEOUT_MS = 15_000
 SWITCH_TIMEOUT_S = 10.0

@@ -21,7 +21,7 @@ import zstandard
 from pendant.kinematics import ArmModel
 from tests.telemetry.test_mcap import read_mcap
 
-from .conftest import ARTIFACTS, Pendant, running_pendant
+from .conftest import ARTIFACTS, Pendant
 from .test_program_page import AWAY_DEG, POSE_A_DEG, POSE_B_DEG, move_to
 
 UI_TIMEOUT_MS = 60_000
@@ -29,14 +29,6 @@ RUN_TIMEOUT_MS = 90_000
 GHOST = "/replay_ghost"
 GHOST_TOL_DEG = 0.05  # the slider's box holds tenths of a second; the ghost stands at the sample before
 SETTLE_S = 1.5  # the browser receives the ghost's new pose
-
-
-@pytest.fixture(scope="module")
-def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
-    programs, data = tmp_path_factory.mktemp("programs"), tmp_path_factory.mktemp("data")
-    with running_pendant("--programs", str(programs), env={"PENDANT_DATA_DIR": str(data)}) as served:
-        served.data = data
-        yield served
 
 
 class GhostWatch:

@@ -5,15 +5,18 @@ from __future__ import annotations
 
 import json
 import time
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 from playwright.sync_api import Browser
 
 from tests.support.jog_measure import open_as_operator
+from tests.support.shared_pendants import NOT_REAL_TIME
 
-from .conftest import ARTIFACTS, Pendant, running_pendant
+from .conftest import ARTIFACTS, Pendant
+
+# Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
+pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
 
 UI_TIMEOUT_MS = 30_000
 SAVE_TIMEOUT_S = 10.0
@@ -21,14 +24,9 @@ POLL_S = 0.1
 
 
 @pytest.fixture(scope="module")
-def programs(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    return tmp_path_factory.mktemp("programs")
-
-
-@pytest.fixture(scope="module")
-def pendant(programs: Path) -> Iterator[Pendant]:
-    with running_pendant("--programs", str(programs)) as served:
-        yield served
+def programs(pendant: Pendant) -> Path:
+    """The pendant's programs folder (empty: a shared pendant is handed out only as fresh as a new one)."""
+    return pendant.programs
 
 
 def test_save_of_an_unnamed_program_puts_the_cursor_in_the_name_box(

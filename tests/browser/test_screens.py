@@ -5,19 +5,22 @@ Update moves the chosen obstacle (no second one), and a viewer's controls are gr
 from __future__ import annotations
 
 import time
-from collections.abc import Iterator
 from typing import Any
 
 import pytest
 from axe_playwright_python.sync_playwright import Axe
 
 from pendant.ui.kit.view_only import VIEW_ONLY_HINT
+from tests.support.shared_pendants import NOT_REAL_TIME
 
-from .conftest import ARTIFACTS, Pendant, running_pendant
+from .conftest import ARTIFACTS, Pendant
 from .test_cell_page import obstacles, sent
 from .test_path_recording import take_control
 from .test_program_cell import choose
 from .test_program_page import move_to
+
+# Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
+pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
 
 TABS = ("Jog", "Target", "Program", "Cell", "IO", "Robot", "Simulator", "Dashboard")
 BLOCKING_IMPACTS = ("serious", "critical")
@@ -38,12 +41,6 @@ CRATE = {
 }
 MOVED_X_MM = 450.0
 SHOWN_WITHIN_S = 30.0
-
-
-@pytest.fixture(scope="module")
-def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
-    with running_pendant("--programs", str(tmp_path_factory.mktemp("programs"))) as served:
-        yield served
 
 
 def blocking_violations(page: Any) -> list[str]:

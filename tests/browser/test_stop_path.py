@@ -27,6 +27,9 @@ from tests.support.headless_viewer import CAMERA_HELLO, click_message, decode_wi
 
 from .conftest import Pendant, running_pendant
 
+# A stop time from the click (FREEZE_WITHIN_S + MARGIN_S) on a real clock: run alone, after the rest.
+pytestmark = pytest.mark.measures
+
 CLICKS = 40
 FREEZE_WITHIN_S = 0.1  # the behaviour
 # From the click as the page handled it (Playwright's mouse.up() returns then; the page sends the click from

@@ -59,7 +59,7 @@ def test_gripper_waits_and_motor_heating_follow_simulated_time() -> None:
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (["--time-scale", "10"], "use it with --no-ui and without --robot"),
+        (["--robot", "http://127.0.0.1:9", "--time-scale", "10"], "use it without --robot"),
         (["--no-ui", "--robot", "http://127.0.0.1:9", "--time-scale", "10"], "without --robot"),
         (["--no-ui", "--time-scale", "0.05"], "time scale must be between 0.1 and 1000 (got 0.05)"),
         (["--no-ui", "--time-scale", "5000"], "time scale must be between 0.1 and 1000 (got 5000)"),
@@ -77,4 +77,5 @@ def test_bad_time_scales_are_refused(
 
 def test_time_scale_lands_in_settings() -> None:
     assert parse_settings(["--no-ui", "--time-scale", "250"]).time_scale == 250.0
+    assert parse_settings(["--time-scale", "10"]).time_scale == 10.0  # with the page too (tests/browser)
     assert parse_settings([]).time_scale == 1.0

@@ -20,7 +20,7 @@ from .ports import LOOPBACK, free_port
 from .waiting import answers, wait_until
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
-START_TIMEOUT_S = 60.0
+START_TIMEOUT_S = 120.0  # a pendant with its page, beside Chromiums, on a loaded 2-core machine
 STOP_TIMEOUT_S = 10.0
 
 
