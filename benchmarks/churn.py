@@ -47,6 +47,9 @@ from tests.support.headless_viewer import (
     decode_window,
     gui_update,
     hold_message,
+    line_hold,
+    line_release,
+    open_hold_line,
     open_viewer,
     read_jog_pad,
 )
@@ -209,11 +212,13 @@ async def probe(port: int, until: float, viewers: list[Viewer]) -> None:
 
 
 class Operator:
-    """The first browser (it has control): holds J1+ at HOLD_HZ; after a cut, lets go and holds again."""
+    """The first browser (it has control): holds J1+ at HOLD_HZ; after a cut, lets go and holds again. Over
+    the hold line when its pad names one (as client_page.js does), else over viser's websocket."""
 
     def __init__(self, port: int) -> None:
         self.port = port
         self.ws: websockets.ClientConnection | None = None
+        self.line: websockets.ClientConnection | None = None
         self.pad: JogPad | None = None
         self.regrasp = asyncio.Event()
         self.largest_gap_s = 0.0  # between two confirmations sent: a gap on this side is not the pendant's
@@ -222,26 +227,43 @@ class Operator:
         self.ws = await open_viewer(self.port)
         self.pad = await read_jog_pad(self.ws, START_TIMEOUT_S)
         await self.ws.send(gui_update(self.pad.speed, JOG_SPEED_PERCENT))
+        if self.pad.line is not None:
+            self.line = await open_hold_line(self.pad)
+
+    async def _send_hold(self) -> None:
+        assert self.ws is not None and self.pad is not None
+        if self.line is not None:
+            await self.line.send(line_hold(self.pad.hold))
+        else:
+            await self.ws.send(hold_message(self.pad.hold))
+
+    async def _send_stop(self) -> None:
+        assert self.ws is not None and self.pad is not None
+        if self.line is not None:
+            await self.line.send(line_release(self.pad.stop))
+        else:
+            await self.ws.send(gui_update(self.pad.stop, True))
 
     async def hold(self, until: float) -> None:
         assert self.ws is not None and self.pad is not None
-        hold = hold_message(self.pad.hold)
         drain = asyncio.create_task(self._drain())
         next_at = sent_at = time.monotonic()
         while time.monotonic() < until:
             if self.regrasp.is_set():  # the jog was cut: let go, then press again
                 self.regrasp.clear()
-                await self.ws.send(gui_update(self.pad.stop, True))
+                await self._send_stop()
                 await asyncio.sleep(0.3)
                 next_at = sent_at = time.monotonic()
-            await self.ws.send(hold)
+            await self._send_hold()
             sent_at, last = time.monotonic(), sent_at
             self.largest_gap_s = max(self.largest_gap_s, sent_at - last)
             next_at += 1.0 / HOLD_HZ
             await asyncio.sleep(max(0.0, next_at - time.monotonic()))
-        await self.ws.send(gui_update(self.pad.stop, True))
+        await self._send_stop()
         drain.cancel()
         await self.ws.close()
+        if self.line is not None:
+            await self.line.close()
 
     async def _drain(self) -> None:
         assert self.ws is not None

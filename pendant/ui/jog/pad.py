@@ -103,8 +103,10 @@ def render_pad(
     stop_uuid: str,
     *,
     disabled: bool,
+    line: str = "",
 ) -> str:
-    """The pad; `values` are those it opens with (the script keeps them current: see `render_values`)."""
+    """The pad; `values` are those it opens with (the script keeps them current: see `render_values`);
+    `line`: "PORT KEY" of this browser's hold line (pendant/ui/kit/hold_line.py), "" for none."""
     # A viewer's pad: greyed out, and the tooltip says why (not buttons that look active and do nothing).
     off = ' disabled aria-disabled="true"' if disabled else ""
     look = BUTTON_STYLE + (";opacity:0.45;cursor:not-allowed" if disabled else "")
@@ -125,4 +127,5 @@ def render_pad(
             f'<span style="font-size:0.85em;color:#495057">{name}</span> '
             f'<b data-jog-value="{axis}">{html.escape(values[axis])}</b></div>{buttons[+1]}</div>'
         )
-    return inset(f'<div data-jog-stop="{stop_uuid}" id="jog-pad">{"".join(rows)}</div>')
+    line_attribute = f' data-jog-line="{html.escape(line)}"' if line else ""
+    return inset(f'<div data-jog-stop="{stop_uuid}"{line_attribute} id="jog-pad">{"".join(rows)}</div>')
