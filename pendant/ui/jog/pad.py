@@ -11,6 +11,7 @@ them would fall to the page's body.
 
 from __future__ import annotations
 
+import functools
 import html
 import math
 from dataclasses import dataclass
@@ -62,7 +63,17 @@ def tcp_capped_joint_speeds(
     arm: ArmModel, q: np.ndarray, T_flange_tool: np.ndarray, speed_percent: float
 ) -> list[CapNote]:
     """The joints whose jog at `speed_percent` would move the TCP faster than 250 mm/s here, with the speed
-    the controller will actually give them (it scales the motion down to the TCP limit)."""
+    the controller will actually give them (it scales the motion down to the TCP limit). Every browser's pad
+    asks the same of the same pose several times a second (7 forward kinematics each): worked out once."""
+    q_key = np.asarray(q, dtype=float).tobytes()
+    tool_key = np.asarray(T_flange_tool, dtype=float).tobytes()
+    return list(_capped(arm, q_key, tool_key, float(speed_percent)))
+
+
+@functools.lru_cache(maxsize=32)
+def _capped(arm: ArmModel, q_key: bytes, tool_key: bytes, speed_percent: float) -> tuple[CapNote, ...]:
+    q = np.frombuffer(q_key, dtype=float).copy()
+    T_flange_tool = np.frombuffer(tool_key, dtype=float).reshape(4, 4)
     tcp = (arm.fk(q) @ T_flange_tool)[:3, 3]
     notes = []
     for axis in range(6):
@@ -73,7 +84,7 @@ def tcp_capped_joint_speeds(
         if metres_per_rad * asked > JOG_TCP_MAX_VELOCITY_M_S:
             capped = JOG_TCP_MAX_VELOCITY_M_S / metres_per_rad
             notes.append(CapNote(axis, math.degrees(capped), math.degrees(asked)))
-    return notes
+    return tuple(notes)
 
 
 def cap_line(notes: list[CapNote]) -> str:
