@@ -82,6 +82,7 @@ class Outcome:
     cores: float
     plans: int
     moved_deg: float
+    hold_gap_s: float  # the operator's largest gap between two confirmations sent (its side)
 
 
 async def measure(ui: int, api: str, pid: int, n: int, seconds: float, plans: bool) -> Outcome:
@@ -108,10 +109,10 @@ async def measure(ui: int, api: str, pid: int, n: int, seconds: float, plans: bo
     cores = (cpu_seconds(pid) - cpu1) / (time.monotonic() - t1)
     stop.set()
     rates = await asyncio.to_thread(rated.get, True, 120.0)
-    cuts, _gap, moved = await asyncio.to_thread(operated.get, True, 120.0)
+    cuts, gap, moved = await asyncio.to_thread(operated.get, True, 120.0)
     for process in (watchers, operator):
         await asyncio.to_thread(process.join, 10.0)
-    return Outcome("", cuts, rates, newcomers, alone, cores, done[0], moved)
+    return Outcome("", cuts, rates, newcomers, alone, cores, done[0], moved, gap)
 
 
 def run(label: str, source: Path, n: int, seconds: float, plans: bool) -> Outcome:
@@ -166,6 +167,7 @@ def report(outcomes: list[Outcome], n: int, seconds: float, plans: bool) -> None
         [f"{o.alone_cores:.2f} / {o.cores:.2f}" for o in outcomes],
     )
     row("pendant CPU per viewer (cores)", [f"{(o.cores - o.alone_cores) / n:.4f}" for o in outcomes])
+    row("operator: largest gap between holds sent ms", [f"{o.hold_gap_s * 1000:.0f}" for o in outcomes])
     if plans:
         row("plans + pre-flights answered", [str(o.plans) for o in outcomes])
     for o in outcomes:
