@@ -83,6 +83,7 @@ class Outcome:
     plans: int
     moved_deg: float
     hold_gap_s: float  # the operator's largest gap between two confirmations sent (its side)
+    operator_late_cuts: int  # cuts within 1 s after the operator itself sent >= 150 ms late
 
 
 async def measure(ui: int, api: str, pid: int, n: int, seconds: float, plans: bool) -> Outcome:
@@ -109,10 +110,10 @@ async def measure(ui: int, api: str, pid: int, n: int, seconds: float, plans: bo
     cores = (cpu_seconds(pid) - cpu1) / (time.monotonic() - t1)
     stop.set()
     rates = await asyncio.to_thread(rated.get, True, 120.0)
-    cuts, gap, moved = await asyncio.to_thread(operated.get, True, 120.0)
+    cuts, gap, moved, own = await asyncio.to_thread(operated.get, True, 120.0)
     for process in (watchers, operator):
         await asyncio.to_thread(process.join, 10.0)
-    return Outcome("", cuts, rates, newcomers, alone, cores, done[0], moved, gap)
+    return Outcome("", cuts, rates, newcomers, alone, cores, done[0], moved, gap, own)
 
 
 def run(label: str, source: Path, n: int, seconds: float, plans: bool) -> Outcome:
@@ -149,6 +150,7 @@ def report(outcomes: list[Outcome], n: int, seconds: float, plans: bool) -> None
         print(f"{name:44}" + "".join(f"{c:>24}" for c in cells))
 
     row("held jog cut (times)", [str(len(o.cuts)) for o in outcomes])
+    row("… of which the operator had sent late (its own)", [str(o.operator_late_cuts) for o in outcomes])
     row("J1 moved while held (deg)", [f"{o.moved_deg:.1f}" for o in outcomes])
     row(
         "arm updates per viewer /s: min / median",
