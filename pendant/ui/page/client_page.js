@@ -101,7 +101,8 @@
     // The hold line (pendant/ui/kit/hold_line.py): a socket of its own for a press's confirmations and
     // release, read on a thread of its own, not behind every viewer's traffic on viser's. A press uses
     // it only when it is open as the press starts, and then for its release too (never both for one press).
-    let line = null, lineUrl = null, pressLine = null;
+    // pressUuid: the press under way (until its release): a hold asked again after a stall keeps its channel.
+    let line = null, lineUrl = null, pressLine = null, pressUuid = null;
     const openLine = () => {
       if (lineUrl === null || (line !== null && line.readyState <= 1)) return;
       try {
@@ -124,7 +125,8 @@
       } else if (d.type === "pendant_hold") {
         stop();
         lastAlive = performance.now();
-        pressLine = line !== null && line.readyState === 1 ? line : null;
+        if (d.uuid !== pressUuid) pressLine = line !== null && line.readyState === 1 ? line : null;
+        pressUuid = d.uuid;
         const via = pressLine;
         const hold = { type: "GuiButtonHoldMessage", uuid: d.uuid, frequency: d.hz };
         const confirm = via !== null ? () => via.send("hold " + d.uuid) : () => send(hold);
@@ -142,6 +144,7 @@
         if (pressLine !== null && pressLine.readyState === 1) pressLine.send("release " + d.uuid);
         else send({ type: "GuiUpdateMessage", uuid: d.uuid, updates: { value: true } });
         pressLine = null;
+        pressUuid = null;
       }
     });
   }
