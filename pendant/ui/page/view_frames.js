@@ -39,6 +39,7 @@
       context.putImageData(new ImageData(d.pixels, d.width, d.height), 0, 0);
     };
   `;
+  const FENCE_POLL_MS = 5;
   const DRAWS = ["clear", "drawArrays", "drawElements", "drawArraysInstanced", "drawElementsInstanced", "drawRangeElements"];
 
   let view = null; // { gl, offscreen, worker, drawn, fence }
@@ -127,6 +128,10 @@
     view.fence = gl.fenceSync(gl.SYNC_GPU_COMMANDS_COMPLETE, 0);
     view.pending = { width, height };
     gl.flush();
+    // Chromium learns that a fence has passed only from polls a task apart: poll often (a cheap read), so
+    // the frame is shown, and the next one drawn, soon after the renderer is done (the view's frames rate).
+    const poll = () => { if (busy()) setTimeout(poll, FENCE_POLL_MS); };
+    setTimeout(poll, FENCE_POLL_MS);
   }
   // The renderer still busy with the last frame: the next one waits (without blocking) for it. Done: its
   // pixels go to the worker.
@@ -146,12 +151,17 @@
     return false;
   }
 
+  // Only the callbacks that draw the view wait for the renderer (three.js's loop passes the same function
+  // each frame); the page's other frame callbacks (panel transitions, touch decisions) never wait for it.
+  const drawers = new WeakSet();
   const raf = window.requestAnimationFrame.bind(window);
   window.requestAnimationFrame = (callback) => {
     const run = (t) => {
-      if (busy()) { raf(run); return; }
+      if (busy() && drawers.has(callback)) { raf(run); return; }
+      const before = view !== null && view.drawn;
       callback(t);
-      present(); // what this callback drew (viser draws its whole scene in one)
+      if (view !== null && view.drawn && !before) drawers.add(callback);
+      present();
     };
     return raf(run);
   };
