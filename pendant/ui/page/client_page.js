@@ -17,6 +17,7 @@
 // 7. The jog pad's live values written into its labels in place (the pad itself is not rebuilt on a value).
 // 8. An upload's outcome: viser's "File uploaded successfully." says "File received.", hidden by a refusal.
 // 9. The jog's confirmations and release over the hold line, a socket of their own (see section 1).
+// 10. The page's own buttons for hidden viser buttons (`data-click-uuid`: the teach row) send their click.
 (() => {
   "use strict";
   (function tokenIntoWebsocketUrl() {
@@ -317,6 +318,14 @@
     post({ type: "pendant_line", url: `${scheme}://${location.hostname}:${port}/?key=${encodeURIComponent(key)}` });
   }
   new MutationObserver(lineFromPad).observe(document.documentElement, { childList: true, subtree: true });
+
+  // The page's own buttons that stand for a hidden viser button (the Jog tab's teach row): a click (mouse,
+  // finger, Enter or Space) sends that button's click, as viser's own button would.
+  document.addEventListener("click", (event) => {
+    const button = event.target instanceof Element ? event.target.closest("[data-click-uuid]") : null;
+    if (button === null || button.disabled) return;
+    post({ type: "pendant_release", uuid: button.dataset.clickUuid });
+  }, true);
 
   // Keyboard: Space or Enter held on a focused jog button.
   document.addEventListener("keydown", (event) => {

@@ -31,6 +31,7 @@ BANNER_SCRIPT_PATH = Path(__file__).with_name("banner_pin.js")  # the banner sta
 ACCESSIBILITY_PATH = Path(__file__).with_name("accessibility.js")  # labels and contrast: a script of its own
 PHONE_LAYOUT_PATH = Path(__file__).with_name("phone_layout.js")  # the bottom sheet on a phone
 TYPED_FIELDS_PATH = Path(__file__).with_name("typed_fields.js")  # a box's text is sent when committed
+TOUCH_LAYOUT_PATH = Path(__file__).with_name("touch_layout.js")  # 44 px targets; the phone's pad and status
 VISER_PAGE = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
 
 ProcessRequest = Callable[[ServerConnection, Request], "Response | Awaitable[Response | None] | None"]
@@ -49,6 +50,7 @@ def page_html() -> bytes:
             ACCESSIBILITY_PATH,
             PHONE_LAYOUT_PATH,
             TYPED_FIELDS_PATH,
+            TOUCH_LAYOUT_PATH,
         )
     )
     head = page.index(b"<head>") + len(b"<head>")

@@ -10,7 +10,7 @@
 (() => {
   "use strict";
   const PHONE = "(max-width: 480px)";
-  const USUAL = 0.57; // of the screen's height: the sheet; the view keeps the rest
+  const USUAL = 0.64; // of the screen's height: the sheet (the jog pad and the teach row in full); the view keeps the rest
   const SMALL = 0.34; // Freeze, the status and the start of a tab
   const MIN = 0.25;
   const MAX = 0.75; // the view keeps a quarter of the screen

@@ -312,7 +312,9 @@ class ControlPanel:
         you = html.escape(self._desk.name(self.client_id)) if self.client_id is not None else ""
         title = f' title="You are {you}"' if you else ""
         one_line = "font-size:0.85em;white-space:nowrap;overflow:hidden;text-overflow:ellipsis"
-        line = f'<div style="{one_line}"{title}>'
+        # On a phone, "You have control (operator)" folds away (Release control under it says as much).
+        fold = ' class="phone-fold"' if mine and self.asked_by is None else ""
+        line = f'<div style="{one_line}"{title}{fold}>'
         content = inset(f"{line}{text}</div>")
         if self.role.content != content:
             self.role.content = content

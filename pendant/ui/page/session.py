@@ -36,6 +36,7 @@ from pendant.ui.page.banner import Banner
 from pendant.ui.page.recovery import Recovery
 from pendant.ui.page.roles import ControlDesk, ControlPanel
 from pendant.ui.page.status_panel import StatusPanel
+from pendant.ui.page.teach_bar import TeachBar
 from pendant.ui.program.panel import ProgramPanel
 from pendant.ui.robot.io_panel import IoPanel
 from pendant.ui.robot.safety_panel import RobotSafetyPanel, render_failures
@@ -112,6 +113,14 @@ class ClientSession:
         self.tabs = target.gui.add_tab_group()
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
             self.jog = JogPanel(target, jogger, runner, arm, current_tool, line)
+            # Right under the pad (before its settings): the Program tab's Record and Run, wired below.
+            self.teach = TeachBar(
+                target,
+                programs,
+                record=lambda client, gripper: self.program.record_here(client, gripper),
+                run=lambda client: self.program.start_run("Run", client),
+                order=self.jog.pad.order + 0.5,
+            )
             self.record = RecordPanel(target, recorder or PathRecorder(), programs, runner)
         with self.tabs.add_tab("Target", viser.Icon.TARGET):
             self.target_panel = TargetPanel(target, arm, runner, current_q, current_tool, current_cell)
@@ -171,6 +180,7 @@ class ClientSession:
         yield from self.robot_buttons.values()
         yield from self.cell.controls
         yield from self.record.controls
+        yield from self.teach.controls
         s = self.settings
         yield from (
             s.tool_name,
@@ -202,6 +212,7 @@ class ClientSession:
             self._view_only.apply(handle, self.locked)  # greyed out, the tooltip saying why
         self.target_panel.locked = self.locked
         self.jog.locked = self.locked
+        self.teach.set_locked(self.locked)
         self.cell.set_locked(self.locked)
         self.robot_safety.set_locked(self.locked)
         self.tool_shape.set_locked(self.locked)
@@ -215,6 +226,7 @@ class ClientSession:
     def close(self) -> None:
         """The browser left: stop following the shared program."""
         self.program.close()
+        self.teach.close()
         self.dashboard.close()
         self.jog.close()
 

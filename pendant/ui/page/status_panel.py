@@ -70,10 +70,12 @@ def render_status(snapshot: Snapshot, mode_line: str, system: str = "", protecti
             f" · {snapshot.latency_s * 1000:.0f} ms"  # sub-millisecond (in-process) is not worth a flicker
         )
     system = f" · {system}" if system else ""
+    # On a phone the block folds to this first line (touch_layout.js hides the `phone-fold` parts).
     parts = [
-        f'<div style="font-size:0.85em;color:#495057">{html.escape(mode_line)} · {link}{system}</div>',
+        '<div id="status-line" class="status-line">'
+        f'<div style="font-size:0.85em;color:#495057">{html.escape(mode_line)} · {link}{system}</div>'
         f'<div id="motion-state" style="background:{colour};color:white;font-weight:bold;'
-        f'text-align:center;border-radius:6px;margin:6px 0;{big}">{label}</div>',
+        f'text-align:center;border-radius:6px;margin:6px 0;{big}">{label}</div></div>',
     ]
     if protective:
         parts.append(
@@ -82,18 +84,18 @@ def render_status(snapshot: Snapshot, mode_line: str, system: str = "", protecti
         )
     if snapshot.error:
         parts.append(f'<div style="color:#e03131">{html.escape(snapshot.error)}</div>')
-    parts.append(_where(snapshot))
+    parts.append(f'<div class="phone-fold">{_where(snapshot)}</div>')
     opening = snapshot.gripper_opening
     gripper = "unknown" if opening is None else "open" if opening > 0.5 else "closed"
     parts.append(
-        f'<div style="font-size:0.85em">Tool <b>{html.escape(snapshot.tool_name)}</b> · '
+        f'<div class="phone-fold" style="font-size:0.85em">Tool <b>{html.escape(snapshot.tool_name)}</b> · '
         f"gripper <b>{gripper}</b> · id {html.escape(snapshot.robot_id)}</div>"
     )
     if snapshot.outputs or snapshot.inputs:
         leds = "".join(_led(level, f"DO{p}") for p, level in snapshot.outputs.items())
         leds += "".join(_led(level, f"DI{p}") for p, level in snapshot.inputs.items())
-        parts.append(f'<div style="font-size:0.85em">{leds}</div>')
-    return inset("".join(parts))
+        parts.append(f'<div class="phone-fold" style="font-size:0.85em">{leds}</div>')
+    return inset(f'<div id="status-block">{"".join(parts)}</div>')
 
 
 def _where(snapshot: Snapshot) -> str:

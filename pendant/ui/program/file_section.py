@@ -4,7 +4,7 @@ Save never refuses a program without a file: it saves under the name typed in "S
 new one, and otherwise asks for a name there (the box focused) until it gets one.
 
 Nothing is lost without a question: New, Load and Upload over unsaved changes, and Delete file always, wait
-for the operator to confirm (a row of buttons in the folder, so every browser and the tests see it).
+for the operator to confirm in a dialog that takes the focus (kit/confirm.py).
 """
 
 from __future__ import annotations
@@ -36,7 +36,6 @@ class FileSection:
             self.saved = gui.add_dropdown("Saved programs", options=[NO_FILE], initial_value=NO_FILE)
             self.files = gui.add_button_group("File", options=FILE_OPTIONS)
             self.confirmation = Confirmation(host.target)
-            self.question, self.confirm = self.confirmation.question, self.confirmation.buttons
             self.download = gui.add_button("Download .json", icon=viser.Icon.DOWNLOAD)
             self.export = gui.add_button("Export Python script", icon=viser.Icon.CODE)
             self.upload = gui.add_upload_button(
@@ -50,6 +49,16 @@ class FileSection:
             lambda e: host.edit("Export", e.client, lambda: self._send(e.client, *shared.export()))
         )
         self.upload.on_upload(self._on_upload)
+
+    @property
+    def question(self) -> viser.GuiMarkdownHandle:
+        """The last question's text (in its dialog)."""
+        return self.confirmation.question
+
+    @property
+    def confirm(self) -> viser.GuiButtonGroupHandle:
+        """The open question's Cancel / Yes."""
+        return self.confirmation.buttons
 
     # --- asking first -------------------------------------------------------------------------------
     def _ask(

@@ -18,7 +18,7 @@ from viser.extras import ViserUrdf
 from pendant.cell.geometry import CellModel
 from pendant.controller import Controller
 from pendant.kinematics import ArmModel
-from pendant.program import Change, EditError, ProgramWorkspace
+from pendant.program import Change, EditError, GripperAction, GripperStep, ProgramWorkspace
 from pendant.program.tree import Line
 from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
@@ -206,6 +206,20 @@ class ProgramPanel:
 
     def _record(self, controller: Controller) -> None:
         self.select_line(self.shared.record_from(controller, after=self._insert_at()))
+
+    def record_here(
+        self, client: viser.ClientHandle | None, gripper: GripperAction | None = None
+    ) -> Future[object]:
+        """Record where the arm is and, with `gripper`, a gripper step after it (the Jog tab's teach row)."""
+        label = "Record" if gripper is None else f"Record + {gripper.value.lower()} gripper"
+
+        def record(controller: Controller) -> None:
+            line = self.shared.record_from(controller, after=self._insert_at())
+            if gripper is not None:
+                line = self.shared.insert_step(GripperStep(action=gripper), after=line)
+            self.select_line(line)
+
+        return self.with_controller(label, client, record)
 
     def _add(self, option: str) -> None:
         line = self.selected_line()
