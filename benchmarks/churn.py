@@ -47,6 +47,9 @@ from tests.support.headless_viewer import (
     decode_window,
     gui_update,
     hold_message,
+    line_hold,
+    line_release,
+    open_hold_line,
     open_viewer,
     read_jog_pad,
 )
@@ -63,6 +66,7 @@ PROBE_EVERY_S = 2.0  # a new viewer every 2 s, each measured on its own (up to P
 PROBES_AT_ONCE = 10
 JOG_SPEED_PERCENT = 2.0  # J1 at 2.4 °/s: no joint limit within any run
 LAG_PERIOD_S = 0.05
+LATE_GAP_S = 0.15  # the operator's own gap between two confirmations that can end in a cut (200 ms deadman)
 WARM_UP_S = 3.0
 EVENTS_POLL_S = 0.5
 SCENE_NODES = ("/tcp_frame", "/arm/visual/base_link_visual")
@@ -209,39 +213,62 @@ async def probe(port: int, until: float, viewers: list[Viewer]) -> None:
 
 
 class Operator:
-    """The first browser (it has control): holds J1+ at HOLD_HZ; after a cut, lets go and holds again."""
+    """The first browser (it has control): holds J1+ at HOLD_HZ; after a cut, lets go and holds again. Over
+    the hold line when its pad names one (as client_page.js does), else over viser's websocket."""
 
     def __init__(self, port: int) -> None:
         self.port = port
         self.ws: websockets.ClientConnection | None = None
+        self.line: websockets.ClientConnection | None = None
         self.pad: JogPad | None = None
         self.regrasp = asyncio.Event()
         self.largest_gap_s = 0.0  # between two confirmations sent: a gap on this side is not the pendant's
+        self.late_sends: list[float] = []  # wall times of confirmations sent after a gap >= LATE_GAP_S
+        self.cut_times: list[float] = []  # wall times of the cuts (the events' own)
 
     async def connect(self) -> None:
         self.ws = await open_viewer(self.port)
         self.pad = await read_jog_pad(self.ws, START_TIMEOUT_S)
         await self.ws.send(gui_update(self.pad.speed, JOG_SPEED_PERCENT))
+        if self.pad.line is not None:
+            self.line = await open_hold_line(self.pad)
+
+    async def _send_hold(self) -> None:
+        assert self.ws is not None and self.pad is not None
+        if self.line is not None:
+            await self.line.send(line_hold(self.pad.hold))
+        else:
+            await self.ws.send(hold_message(self.pad.hold))
+
+    async def _send_stop(self) -> None:
+        assert self.ws is not None and self.pad is not None
+        if self.line is not None:
+            await self.line.send(line_release(self.pad.stop))
+        else:
+            await self.ws.send(gui_update(self.pad.stop, True))
 
     async def hold(self, until: float) -> None:
         assert self.ws is not None and self.pad is not None
-        hold = hold_message(self.pad.hold)
         drain = asyncio.create_task(self._drain())
         next_at = sent_at = time.monotonic()
         while time.monotonic() < until:
             if self.regrasp.is_set():  # the jog was cut: let go, then press again
                 self.regrasp.clear()
-                await self.ws.send(gui_update(self.pad.stop, True))
+                await self._send_stop()
                 await asyncio.sleep(0.3)
                 next_at = sent_at = time.monotonic()
-            await self.ws.send(hold)
+            await self._send_hold()
             sent_at, last = time.monotonic(), sent_at
             self.largest_gap_s = max(self.largest_gap_s, sent_at - last)
+            if sent_at - last >= LATE_GAP_S:
+                self.late_sends.append(time.time())
             next_at += 1.0 / HOLD_HZ
             await asyncio.sleep(max(0.0, next_at - time.monotonic()))
-        await self.ws.send(gui_update(self.pad.stop, True))
+        await self._send_stop()
         drain.cancel()
         await self.ws.close()
+        if self.line is not None:
+            await self.line.close()
 
     async def _drain(self) -> None:
         assert self.ws is not None
@@ -264,6 +291,7 @@ async def watch_cuts(api: str, until: float, operator: Operator, cuts: list[str]
             if found:
                 since = max(e["time"] for e in found) + 1e-3
                 cuts.extend(e["message"] for e in found)
+                operator.cut_times.extend(e["time"] for e in found)
                 operator.regrasp.set()
 
 
@@ -293,7 +321,10 @@ async def operate(ui_port: int, api: str, seconds: float, ready: multiprocessing
         cuts: list[str] = []
         await asyncio.gather(operator.hold(until), watch_cuts(api, until, operator, cuts))
         moved = (await client.get("/pose")).json()["angles"][0] - j1_before
-    return cuts, operator.largest_gap_s, moved
+    # A cut within a second after the operator itself sent late is this side's (a loaded machine), not the
+    # pendant's: counted apart.
+    own = sum(any(0 <= cut - late <= 1.0 for late in operator.late_sends) for cut in operator.cut_times)
+    return cuts, operator.largest_gap_s, moved, own
 
 
 def operator_process(ui_port: int, api: str, seconds: float, results: multiprocessing.Queue) -> None:  # type: ignore[type-arg]
@@ -327,7 +358,7 @@ async def measure(ui_port: int, api: str, pid: int, churners: int, seconds: floa
     await probe(ui_port, until, result)
     cpu = (cpu_seconds(pid) - cpu0) / (time.monotonic() - t0)
     await lag
-    cuts, hold_gap, moved = await asyncio.to_thread(operated.get, True, 60.0)
+    cuts, hold_gap, moved, _own = await asyncio.to_thread(operated.get, True, 60.0)
     counts, churn_lag, churn_cores = await asyncio.to_thread(results.get, True, 60.0)
     for process in (churner, operator):
         await asyncio.to_thread(process.join, 10.0)

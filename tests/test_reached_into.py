@@ -14,6 +14,7 @@ from importlib.metadata import version
 from pathlib import Path
 from typing import Any
 
+import msgspec
 import numpy as np
 import pytest
 import uvicorn
@@ -22,6 +23,7 @@ import viser._assignable_props_api
 import viser._gui_api
 import viser._gui_handles
 import viser._icons
+import zstandard
 from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
 from uvicorn.server import ServerState
 from viser import _messages
@@ -29,6 +31,7 @@ from viser.infra import ClientId
 
 from pendant.api.quitting import QuitAwareServer
 from pendant.api.serving import GuardedHttpProtocol
+from pendant.ui.kit import viser_broadcast
 from pendant.ui.page.ws_guard import ProcessRequest, guarded_viser_server
 from tests.support.ports import free_port
 
@@ -191,3 +194,29 @@ def test_the_icon_and_type_hint_lookups_the_page_caches_are_there() -> None:
     for module in (viser._icons, viser._gui_api, viser._gui_handles):
         assert callable(getattr(module, "svg_from_icon", None)), f"{module.__name__}.svg_from_icon"
     assert "_prop_hints" in vars(viser._assignable_props_api.AssignablePropsBase)
+
+
+def test_the_broadcast_producer_the_page_replaces_has_its_shape() -> None:
+    """pendant/ui/kit/viser_broadcast.py: viser's per-browser producer, called by name from its handler."""
+    assert viser_broadcast.viser_has_the_expected_shape(), (
+        "viser's _message_producer changed: broadcasts would be serialised per browser again"
+    )
+
+
+def test_a_broadcast_frame_carries_what_viser_would_send() -> None:
+    """The frame made once for all browsers decodes to the messages viser's own serialisation gives."""
+    outgoing = [
+        _messages.SetPositionMessage("/a", (0.1, 0.2, 0.3)),
+        _messages.SetOrientationMessage("/a", (1.0, 0.0, 0.0, 0.0)),
+        _messages.SetPositionMessage("/b", (0.4, 0.5, 0.6)),
+    ]
+    frame = viser_broadcast.broadcast_frame(outgoing)
+    again = viser_broadcast.broadcast_frame(outgoing)
+    inner_size = int.from_bytes(frame[:8], "little")
+    compressed = int.from_bytes(frame[8:16], "little")
+    inner = zstandard.ZstdDecompressor().decompress(frame[16 : 16 + compressed], max_output_size=inner_size)
+    decoded = msgspec.msgpack.decode(inner)
+    expected = msgspec.msgpack.decode(msgspec.msgpack.encode([m.as_serializable_dict([]) for m in outgoing]))
+    assert decoded["messages"] == expected
+    assert decoded["binaryBufferLengths"] == []
+    assert again is frame  # the same window for the next browser: not made again

@@ -39,6 +39,7 @@ from pendant.ui.kit.cell_state import CellState
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.kit.controller_reader import ControllerReader
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.hold_line import HoldLine
 from pendant.ui.kit.jobs import PageJobs
 from pendant.ui.kit.motion_gate import PROGRAM_RUNNING
 from pendant.ui.kit.snapshot import Snapshot, carry_last_known
@@ -98,6 +99,7 @@ class PendantUI:
         self.events = events if events is not None else EventLog()
         # A closing page's stop goes to the jogger made below.
         self.server = serve_page(host, port, origins, self._page_closed_mid_jog)
+        self.line = HoldLine(host, origins=origins)  # the operator's holds beside viser's loop and pool
         self.join_urls = join_urls(host, self.server.get_port())  # the QR code people in the room scan
         self.desk = ControlDesk(self.events, token=token, attempts=attempts)
         self.remote = remote if remote is not None else RemoteControl(enabled=True)
@@ -200,6 +202,7 @@ class PendantUI:
             on_recording=self.activity.recording,
             freeze=freeze,
             jobs=self.jobs,
+            line=self.line,
         )
 
     def start(self) -> PendantUI:
@@ -223,6 +226,7 @@ class PendantUI:
         self.browsers.builder.stop()
         self.telemetry.stop_recording()  # SIGTERM or Ctrl-C: a running recording's file is finished
         self.server.stop()
+        self.line.stop()
 
     def refresh(self, *, with_io: bool = True, flush: bool = False) -> Snapshot:
         """Read the controller once and show what it says (IO and tool only when `with_io`); `flush` sends

@@ -17,6 +17,7 @@ import zstandard
 HOLD_HZ = 20.0  # client_page.js HOLD_HZ
 JOG_PAD_J1_PLUS = re.compile(r'data-jog-uuid="([0-9a-f-]+)" aria-label="J1\+"')
 JOG_STOP = re.compile(r'data-jog-stop="([0-9a-f-]+)"')
+JOG_LINE = re.compile(r'data-jog-line="(\d+) ([A-Za-z0-9_-]+)"')  # the hold line: "PORT KEY"
 
 CAMERA_HELLO = msgspec.msgpack.encode(
     {
@@ -72,12 +73,14 @@ class JogPad:
     hold: str
     stop: str
     speed: str
+    line: tuple[int, str] | None = None  # the browser's hold line (pendant/ui/kit/hold_line.py): port, key
 
 
 async def read_jog_pad(ws: websockets.ClientConnection, timeout_s: float) -> JogPad:
     """Read the page's messages until its jog pad and speed box have come."""
     zstd = zstandard.ZstdDecompressor()
     hold = stop = speed = ""
+    line: tuple[int, str] | None = None
     async with asyncio.timeout(timeout_s):
         while not (hold and speed):
             frame = await ws.recv()
@@ -89,7 +92,26 @@ async def read_jog_pad(ws: websockets.ClientConnection, timeout_s: float) -> Jog
                 content = str(props.get("content", ""))
                 if (pad := JOG_PAD_J1_PLUS.search(content)) and (pad_stop := JOG_STOP.search(content)):
                     hold, stop = pad.group(1), pad_stop.group(1)
-    return JogPad(hold, stop, speed)
+                    if found := JOG_LINE.search(content):
+                        line = (int(found.group(1)), found.group(2))
+    return JogPad(hold, stop, speed, line)
+
+
+async def open_hold_line(pad: JogPad, host: str = "127.0.0.1") -> websockets.ClientConnection:
+    """The hold line the page's worker opens (client_page.js): it sends `line_hold` and `line_release`."""
+    assert pad.line is not None, "the jog pad names no hold line"
+    port, key = pad.line
+    return await websockets.connect(f"ws://{host}:{port}/?key={key}", compression=None)
+
+
+def line_hold(uuid: str) -> str:
+    """A confirmation over the hold line."""
+    return f"hold {uuid}"
+
+
+def line_release(uuid: str) -> str:
+    """A press's release (its button's uuid) or cancel (the pad's stop uuid) over the hold line."""
+    return f"release {uuid}"
 
 
 def click_message(uuid: str) -> bytes:

@@ -11,6 +11,7 @@ them would fall to the page's body.
 
 from __future__ import annotations
 
+import functools
 import html
 import math
 from dataclasses import dataclass
@@ -62,7 +63,17 @@ def tcp_capped_joint_speeds(
     arm: ArmModel, q: np.ndarray, T_flange_tool: np.ndarray, speed_percent: float
 ) -> list[CapNote]:
     """The joints whose jog at `speed_percent` would move the TCP faster than 250 mm/s here, with the speed
-    the controller will actually give them (it scales the motion down to the TCP limit)."""
+    the controller will actually give them (it scales the motion down to the TCP limit). Every browser's pad
+    asks the same of the same pose several times a second (7 forward kinematics each): worked out once."""
+    q_key = np.asarray(q, dtype=float).tobytes()
+    tool_key = np.asarray(T_flange_tool, dtype=float).tobytes()
+    return list(_capped(arm, q_key, tool_key, float(speed_percent)))
+
+
+@functools.lru_cache(maxsize=32)
+def _capped(arm: ArmModel, q_key: bytes, tool_key: bytes, speed_percent: float) -> tuple[CapNote, ...]:
+    q = np.frombuffer(q_key, dtype=float).copy()
+    T_flange_tool = np.frombuffer(tool_key, dtype=float).reshape(4, 4)
     tcp = (arm.fk(q) @ T_flange_tool)[:3, 3]
     notes = []
     for axis in range(6):
@@ -73,7 +84,7 @@ def tcp_capped_joint_speeds(
         if metres_per_rad * asked > JOG_TCP_MAX_VELOCITY_M_S:
             capped = JOG_TCP_MAX_VELOCITY_M_S / metres_per_rad
             notes.append(CapNote(axis, math.degrees(capped), math.degrees(asked)))
-    return notes
+    return tuple(notes)
 
 
 def cap_line(notes: list[CapNote]) -> str:
@@ -103,8 +114,10 @@ def render_pad(
     stop_uuid: str,
     *,
     disabled: bool,
+    line: str = "",
 ) -> str:
-    """The pad; `values` are those it opens with (the script keeps them current: see `render_values`)."""
+    """The pad; `values` are those it opens with (the script keeps them current: see `render_values`);
+    `line`: "PORT KEY" of this browser's hold line (pendant/ui/kit/hold_line.py), "" for none."""
     # A viewer's pad: greyed out, and the tooltip says why (not buttons that look active and do nothing).
     off = ' disabled aria-disabled="true"' if disabled else ""
     look = BUTTON_STYLE + (";opacity:0.45;cursor:not-allowed" if disabled else "")
@@ -125,4 +138,5 @@ def render_pad(
             f'<span style="font-size:0.85em;color:#495057">{name}</span> '
             f'<b data-jog-value="{axis}">{html.escape(values[axis])}</b></div>{buttons[+1]}</div>'
         )
-    return inset(f'<div data-jog-stop="{stop_uuid}" id="jog-pad">{"".join(rows)}</div>')
+    line_attribute = f' data-jog-line="{html.escape(line)}"' if line else ""
+    return inset(f'<div data-jog-stop="{stop_uuid}"{line_attribute} id="jog-pad">{"".join(rows)}</div>')

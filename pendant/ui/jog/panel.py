@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import math
+import threading
 import time
 from collections.abc import Callable
 
@@ -25,6 +26,7 @@ from pendant.ui.jog.pad import (
 )
 from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.hold_line import HoldLine
 from pendant.ui.kit.snapshot import Snapshot
 from pendant.ui.kit.typed_field import FieldInvalid, NumberField
 
@@ -54,6 +56,7 @@ class JogPanel:
         runner: CommandRunner,
         arm: ArmModel,
         current_tool: Callable[[], np.ndarray],
+        line: HoldLine | None = None,
     ) -> None:
         self._jogger = jogger
         self._runner = runner
@@ -82,6 +85,11 @@ class JogPanel:
         self._shown_at = -math.inf
         self._refused_at = -math.inf
         self._told_stop = False  # this press's stop was told to the page (once per press)
+        # A browser's own pad: its holds may come over the hold line (hold_line.py), under this key.
+        self._client = target if isinstance(target, viser.ClientHandle) else None
+        self._line = line if self._client is not None else None
+        self._line_key = self._line.register(self) if self._line is not None else ""
+        self._line_busy = threading.Lock()  # one controller conversation of this pad's queued at a time
         self.frame.on_update(lambda _: self._relabel())
         self.speed.on_commit(lambda _: self._render())
         self._render()
@@ -138,7 +146,51 @@ class JogPanel:
         key = (frame, self._locked)
         if key != self._pad_key:  # not on a value: the pad's buttons keep their focus (see pad.py)
             self._pad_key = key
-            self.pad.content = render_pad(frame, values, uuids, self.stop._impl.uuid, disabled=self._locked)
+            line = f"{self._line.port} {self._line_key}" if self._line is not None else ""
+            self.pad.content = render_pad(
+                frame, values, uuids, self.stop._impl.uuid, disabled=self._locked, line=line
+            )
+
+    def close(self) -> None:
+        """The browser left: its key opens the line no more."""
+        if self._line is not None:
+            self._line.forget(self._line_key)
+
+    # --- the hold line (its connection's thread): never waits for viser's loop nor its callback pool -----
+    def held(self, uuid: str) -> None:
+        """A confirmation: the deadman hears it now; the controller is asked on the line's worker."""
+        button = self._button(uuid)
+        if button is None or self._line is None:
+            return
+        axis, direction = button
+        releases = self._jogger.releases  # read in the line's order: a later release makes this one stale
+        holder = self._client.client_id if self._client is not None else None
+        self._jogger.still_held(releases, holder)
+        if not self._line_busy.acquire(blocking=False):
+            return  # the previous one is still queued or talking: this one has confirmed, that is enough
+
+        def work() -> None:
+            try:
+                self._hold(self._client, axis, direction, releases)
+            finally:
+                self._line_busy.release()
+
+        self._line.work(work)
+
+    def let_go(self, uuid: str) -> None:
+        """The press's release (a click) or its cancel ("Stop jog"), in order after its confirmations."""
+        if uuid == self.stop._impl.uuid:
+            self._cancelled()
+            return
+        button = self._button(uuid)
+        if button is not None:
+            self._clicked(self._client, *button)
+
+    def _button(self, uuid: str) -> tuple[int, int] | None:
+        for key, button in self.buttons.items():
+            if button._impl.uuid == uuid:
+                return key
+        return None
 
     def _relabel(self) -> None:
         if self.frame.value not in {f.value for f in JogFrame}:
@@ -205,19 +257,23 @@ class JogPanel:
 
         @button.on_click
         def _(event: viser.GuiEvent) -> None:
-            self._refused_at = -math.inf  # a press ended: the next one is told its refusal again
-            self._told_stop = False
-            try:
-                if self.step.value == CONTINUOUS:  # the click arrives on release: stop at once, whatever
-                    self._jogger.release("released")  # else the page sent
-                    return
-                request = self.request(axis, direction)
-                if self._runner.refusal(event.client, request.label(), motion=True) is None and not (
-                    self._jogger.step(request)
-                ):
-                    notify_refusal(event.client, request.label(), "Cannot move further that way")
-            except ControllerError as error:
-                notify_refusal(event.client, f"{button.label} refused", self._runner.explain(error.message))
+            self._clicked(event.client, axis, direction)
+
+    def _clicked(self, client: viser.ClientHandle | None, axis: int, direction: int) -> None:
+        self._refused_at = -math.inf  # a press ended: the next one is told its refusal again
+        self._told_stop = False
+        try:
+            if self.step.value == CONTINUOUS:  # the click arrives on release: stop at once, whatever
+                self._jogger.release("released")  # else the page sent
+                return
+            request = self.request(axis, direction)
+            if self._runner.refusal(client, request.label(), motion=True) is None and not (
+                self._jogger.step(request)
+            ):
+                notify_refusal(client, request.label(), "Cannot move further that way")
+        except ControllerError as error:
+            label = self.buttons[(axis, direction)].label
+            notify_refusal(client, f"{label} refused", self._runner.explain(error.message))
 
 
 def _log_failure(future: asyncio.Future[None]) -> None:

@@ -16,7 +16,8 @@
 //    it names (Save of an unnamed program asks for the name there).
 // 7. The jog pad's live values written into its labels in place (the pad itself is not rebuilt on a value).
 // 8. An upload's outcome: viser's "File uploaded successfully." says "File received.", hidden by a refusal.
-// 9. The page's own buttons for hidden viser buttons (`data-click-uuid`: the teach row) send their click.
+// 9. The jog's confirmations and release over the hold line, a socket of their own (see section 1).
+// 10. The page's own buttons for hidden viser buttons (`data-click-uuid`: the teach row) send their click.
 (() => {
   "use strict";
   (function tokenIntoWebsocketUrl() {
@@ -98,6 +99,19 @@
   // same encoding), so the server sees exactly the messages viser's button would send.
   const WORKER_PREAMBLE = `{
     let holdTimer = null, lastAlive = 0;
+    // The hold line (pendant/ui/kit/hold_line.py): a socket of its own for a press's confirmations and
+    // release, read on a thread of its own, not behind every viewer's traffic on viser's. A press uses
+    // it only when it is open as the press starts, and then for its release too (never both for one press).
+    // pressUuid: the press under way (until its release): a hold asked again after a stall keeps its channel.
+    let line = null, lineUrl = null, pressLine = null, pressUuid = null;
+    const openLine = () => {
+      if (lineUrl === null || (line !== null && line.readyState <= 1)) return;
+      try {
+        const socket = new WebSocket(lineUrl);
+        socket.onclose = () => { if (line === socket) line = null; };
+        line = socket;
+      } catch (error) { line = null; }
+    };
     const send = (message) => {
       if (typeof self.onmessage === "function") self.onmessage({ data: { type: "send", message } });
     };
@@ -106,21 +120,32 @@
       const d = event.data;
       if (!d || typeof d.type !== "string" || !d.type.startsWith("pendant_")) return;
       event.stopImmediatePropagation();
-      if (d.type === "pendant_hold") {
+      if (d.type === "pendant_line") {
+        if (d.url !== lineUrl) { if (line !== null) line.close(); line = null; lineUrl = d.url; }
+        openLine();
+      } else if (d.type === "pendant_hold") {
         stop();
         lastAlive = performance.now();
+        if (d.uuid !== pressUuid) pressLine = line !== null && line.readyState === 1 ? line : null;
+        pressUuid = d.uuid;
+        const via = pressLine;
         const hold = { type: "GuiButtonHoldMessage", uuid: d.uuid, frequency: d.hz };
-        send(hold);
+        const confirm = via !== null ? () => via.send("hold " + d.uuid) : () => send(hold);
+        if (via === null) openLine(); // for the next press
+        confirm();
         holdTimer = setInterval(() => {
           // The page hung: stop until it asks again (it does once it runs and the button is still held).
           if (performance.now() - lastAlive > ${MAIN_STALL_MS}) { stop(); return; }
-          send(hold);
+          confirm();
         }, 1000 / d.hz);
       } else if (d.type === "pendant_alive") {
         lastAlive = performance.now();
       } else if (d.type === "pendant_release") {
         stop();
-        send({ type: "GuiUpdateMessage", uuid: d.uuid, updates: { value: true } });
+        if (pressLine !== null && pressLine.readyState === 1) pressLine.send("release " + d.uuid);
+        else send({ type: "GuiUpdateMessage", uuid: d.uuid, updates: { value: true } });
+        pressLine = null;
+        pressUuid = null;
       }
     });
   }
@@ -280,6 +305,19 @@
     });
   }
   new MutationObserver(pinFreeze).observe(document.documentElement, { childList: true, subtree: true });
+
+  // The jog pad names this browser's hold line ("PORT KEY"): the worker opens it before the first press.
+  let lineShown = null;
+  function lineFromPad() {
+    const pad = document.querySelector("[data-jog-line]");
+    const line = pad === null ? null : pad.dataset.jogLine;
+    if (line === null || line === lineShown || socketWorker === null) return;
+    lineShown = line;
+    const [port, key] = line.split(" ");
+    const scheme = location.protocol === "https:" ? "wss" : "ws";
+    post({ type: "pendant_line", url: `${scheme}://${location.hostname}:${port}/?key=${encodeURIComponent(key)}` });
+  }
+  new MutationObserver(lineFromPad).observe(document.documentElement, { childList: true, subtree: true });
 
   // The page's own buttons that stand for a hidden viser button (the Jog tab's teach row): a click (mouse,
   // finger, Enter or Space) sends that button's click, as viser's own button would.

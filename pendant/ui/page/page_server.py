@@ -7,6 +7,7 @@ from collections.abc import Callable
 import viser
 
 from pendant.access.origin import OriginPolicy
+from pendant.ui.kit.viser_broadcast import serialise_broadcasts_once
 from pendant.ui.kit.viser_caches import cache_viser_lookups
 from pendant.ui.page.client_page import page_first
 from pendant.ui.page.ws_guard import guarded_viser_server
@@ -18,6 +19,7 @@ def serve_page(
     """Listening on `host:port`; `origins` the Host and Origin rules (None: none); a closing page's stop goes
     to `stop_jog`."""
     cache_viser_lookups()  # each browser's panels: icons and property types looked up once, not per browser
+    serialise_broadcasts_once()  # the shared scene's messages serialised once for all browsers
     with guarded_viser_server(origins, wrap=lambda inner: page_first(inner, stop_jog)):
         server = viser.ViserServer(host=host, port=port, label="PULSE pendant", verbose=False)
     server.gui.configure_theme(control_width="large", show_logo=False)

@@ -28,6 +28,7 @@ from pendant.ui.jog.record_panel import RecordPanel
 from pendant.ui.kit.cell_state import CellState
 from pendant.ui.kit.commands import CommandRunner, add_freeze_button, add_robot_commands
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.kit.hold_line import HoldLine
 from pendant.ui.kit.jobs import PageJobs
 from pendant.ui.kit.snapshot import Snapshot
 from pendant.ui.kit.view_only import ViewOnly
@@ -92,6 +93,7 @@ class ClientSession:
         recovery: Recovery | None = None,
         freeze: viser.GuiButtonHandle | None = None,
         jobs: PageJobs | None = None,
+        line: HoldLine | None = None,
     ) -> None:
         self.target = target
         self.client_id = client_id
@@ -110,7 +112,7 @@ class ClientSession:
         self.control = ControlPanel(target, desk, client_id, url_token, remote)
         self.tabs = target.gui.add_tab_group()
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
-            self.jog = JogPanel(target, jogger, runner, arm, current_tool)
+            self.jog = JogPanel(target, jogger, runner, arm, current_tool, line)
             # Right under the pad (before its settings): the Program tab's Record and Run, wired below.
             self.teach = TeachBar(
                 target,
@@ -226,6 +228,7 @@ class ClientSession:
         self.program.close()
         self.teach.close()
         self.dashboard.close()
+        self.jog.close()
 
     def show(self, snapshot: Snapshot, *, with_io: bool) -> None:
         if self.banner is not None:

@@ -17,6 +17,7 @@ from pendant.kinematics import ArmModel
 from pendant.program import EditError, MoveStep, Step, Waypoint
 from pendant.ui.program.host import ProgramHost
 from pendant.ui.scene.refused import RefusedPose
+from pendant.ui.scene.shared_urdf import SharedUrdf
 
 GHOST_RGBA = (0.2, 0.75, 0.35, 0.35)
 GO_TO_SPEED_PERCENT = 20.0
@@ -48,7 +49,7 @@ class WaypointSection:
         self._picked = False  # the operator chose a waypoint in the table (or taught one) to look at
         self._selected: Step | None = None  # the step the last redraw showed the waypoint of
         self._ghost = (
-            ViserUrdf(
+            SharedUrdf(
                 host.target, arm.urdf_path, root_node_name="/program_ghost", mesh_color_override=GHOST_RGBA
             )
             if arm is not None and arm.urdf_path is not None

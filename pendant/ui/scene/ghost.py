@@ -6,9 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from viser.extras import ViserUrdf
 
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.scene.shared_urdf import SharedUrdf
 
 N_JOINTS = 6
 
@@ -19,7 +19,7 @@ class GhostArm:
     def __init__(
         self, target: GuiTarget, urdf_path: Path, name: str, rgba: tuple[float, float, float, float]
     ) -> None:
-        self._urdf = ViserUrdf(target, urdf_path, root_node_name=name, mesh_color_override=rgba)
+        self._urdf = SharedUrdf(target, urdf_path, root_node_name=name, mesh_color_override=rgba)
         self._urdf.show_visual = False
         self._n_actuated = len(self._urdf.get_actuated_joint_names())
         self.q: np.ndarray | None = None  # where it stands while shown

@@ -12,6 +12,7 @@ from viser.extras import ViserUrdf
 from pendant.controller.cell_types import Obstacle
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.scene.cell import ObstacleDrawing
+from pendant.ui.scene.shared_urdf import SharedUrdf
 
 REFUSED_RGBA = (0.95, 0.15, 0.15, 0.45)  # the Target tab's red ghost
 
@@ -34,7 +35,7 @@ class RefusedPose:
         self.shown_q, self.hits = q.copy(), tuple(touching)
         self._hits.show(obstacles, touching)
         if self._ghost is None and self._urdf_path is not None:
-            self._ghost = ViserUrdf(
+            self._ghost = SharedUrdf(
                 self._target, self._urdf_path, root_node_name=self._root, mesh_color_override=REFUSED_RGBA
             )
         if self._ghost is not None:

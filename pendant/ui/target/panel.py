@@ -10,7 +10,6 @@ from concurrent.futures import Future
 import numpy as np
 import viser
 import viser.transforms as vtf
-from viser.extras import ViserUrdf
 
 from pendant.cell.geometry import CellModel
 from pendant.controller import Controller, MotionParams, MotionType, Pose, Position
@@ -20,6 +19,7 @@ from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.typed_field import FieldInvalid, NumberField, read_all
 from pendant.ui.scene.cell import ObstacleDrawing
+from pendant.ui.scene.shared_urdf import SharedUrdf
 from pendant.ui.target.check import TargetCheck, check_flange_target, check_joint_target
 from pendant.ui.target.hand_guide import HandGuide
 from pendant.ui.target.plan_section import PlanSection, needs_plan
@@ -55,7 +55,7 @@ class TargetPanel:
         self._current_q = current_q
         self._current_tool = current_tool  # T_flange_tcp: the gizmo holds the tool's TCP, as /position does
         self._ghosts = {
-            ok: ViserUrdf(
+            ok: SharedUrdf(
                 target,
                 arm.urdf_path,
                 root_node_name=f"/ghost_{'ok' if ok else 'bad'}",

@@ -1,0 +1,220 @@
+"""A classroom: N steady viewers watch while the operator holds a jog; does the hold ever notice them?
+
+A real `pendant` process (simulator, UI and API on loopback). The operator (a process of its own, the first
+browser: it has control) holds J1+ at 2 % for the whole run, a confirmation every 50 ms as the page sends
+them (over the hold line when the pad names one, else over viser's websocket: see benchmarks/churn.py).
+Meanwhile, in another process, N viewers (viser's websocket as a browser opens it, every frame read) count
+the arm's updates (`/tcp_frame`); in this process a newcomer every 2 s times its Freeze and its whole panel
+(every tab: a panel build each), and with `--plans` a thread keeps POST /pendant/plan and /pendant/preflight
+busy. A cut is a "Jog J1+ stopped: ..." event (the operator then presses again).
+
+Prints: deadman cuts, updates a second per viewer (min / median), the newcomers' Freeze and whole panel
+(median / p95), the pendant's CPU with the operator alone and with the viewers, and the difference per
+viewer. `--baseline REV` measures the pendant of git revision REV first, then this checkout, side by side.
+
+Run: .venv/bin/python benchmarks/classroom.py [--viewers 60] [--seconds 60] [--plans] [--baseline REV]
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import contextlib
+import multiprocessing
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import httpx
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from benchmarks.churn import Viewer, operator_process, percentile, probe
+from benchmarks.preflight_bodies import PLAN, SMALL
+from benchmarks.viewers import ViewerCounts, cpu_seconds, viewer
+from tests.support.ports import free_port
+from tests.support.waiting import answers, wait_until
+
+REPO = Path(__file__).resolve().parents[1]
+START_TIMEOUT_S = 60.0
+WARM_UP_S = 5.0
+ALONE_S = 5.0  # the operator alone first: the pendant's CPU without viewers
+
+
+def viewers_process(port: int, n: int, seconds: float, results: multiprocessing.Queue) -> None:  # type: ignore[type-arg]
+    """N viewers for `seconds` (after WARM_UP_S to connect); their update rates over the last `seconds`."""
+
+    async def run() -> list[float]:
+        stop = asyncio.Event()
+        counts = [ViewerCounts() for _ in range(n)]
+        tasks = [asyncio.create_task(viewer(f"ws://127.0.0.1:{port}/", c, stop)) for c in counts]
+        await asyncio.sleep(WARM_UP_S)
+        t0 = time.monotonic()
+        await asyncio.sleep(seconds)
+        t1 = time.monotonic()
+        stop.set()
+        await asyncio.gather(*tasks, return_exceptions=True)
+        return [len([t for t in c.state_times if t0 <= t < t1]) / (t1 - t0) for c in counts]
+
+    results.put(asyncio.run(run()))
+
+
+def keep_planning(api: str, stop: threading.Event, done: list[int]) -> None:
+    with httpx.Client(base_url=api, timeout=120) as http:
+        while not stop.is_set():
+            http.post("/pendant/plan", json=PLAN)
+            http.post("/pendant/preflight", json=SMALL)
+            done[0] += 2
+
+
+@dataclass
+class Outcome:
+    label: str
+    cuts: list[str]
+    rates: list[float]
+    newcomers: list[Viewer]
+    alone_cores: float
+    cores: float
+    plans: int
+    moved_deg: float
+    hold_gap_s: float  # the operator's largest gap between two confirmations sent (its side)
+    operator_late_cuts: int  # cuts within 1 s after the operator itself sent >= 150 ms late
+
+
+async def measure(ui: int, api: str, pid: int, n: int, seconds: float, plans: bool) -> Outcome:
+    spawn = multiprocessing.get_context("spawn")
+    total = ALONE_S + WARM_UP_S + seconds
+    operated: multiprocessing.Queue = spawn.Queue()  # type: ignore[type-arg]
+    operator = spawn.Process(target=operator_process, args=(ui, api, total, operated), daemon=True)
+    operator.start()
+    assert await asyncio.to_thread(operated.get, True, START_TIMEOUT_S) == "ready"
+    t0, cpu0 = time.monotonic(), cpu_seconds(pid)
+    await asyncio.sleep(ALONE_S)
+    alone = (cpu_seconds(pid) - cpu0) / (time.monotonic() - t0)
+    rated: multiprocessing.Queue = spawn.Queue()  # type: ignore[type-arg]
+    watchers = spawn.Process(target=viewers_process, args=(ui, n, seconds, rated), daemon=True)
+    watchers.start()
+    stop, done = threading.Event(), [0]
+    planner = threading.Thread(target=keep_planning, args=(api, stop, done), daemon=True)
+    await asyncio.sleep(WARM_UP_S)
+    if plans:
+        planner.start()
+    t1, cpu1 = time.monotonic(), cpu_seconds(pid)
+    newcomers: list[Viewer] = []
+    await probe(ui, t1 + seconds, newcomers)
+    cores = (cpu_seconds(pid) - cpu1) / (time.monotonic() - t1)
+    stop.set()
+    rates = await asyncio.to_thread(rated.get, True, 120.0)
+    cuts, gap, moved, own = await asyncio.to_thread(operated.get, True, 120.0)
+    for process in (watchers, operator):
+        await asyncio.to_thread(process.join, 10.0)
+    return Outcome("", cuts, rates, newcomers, alone, cores, done[0], moved, gap, own)
+
+
+def run(label: str, source: Path, n: int, seconds: float, plans: bool) -> Outcome:
+    ui, api_port = free_port(), free_port()
+    api = f"http://127.0.0.1:{api_port}"
+    with tempfile.TemporaryDirectory(prefix="pendant-classroom-") as data:
+        process = subprocess.Popen(
+            [sys.executable, "-m", "pendant", "--ui-port", str(ui), "--api-port", str(api_port)],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            cwd=source,
+            env={**os.environ, "PYTHONPATH": str(source), "PENDANT_DATA_DIR": data},
+        )
+        try:
+            wait_until(lambda: answers(f"{api}/pose"), START_TIMEOUT_S, what="the API answering")
+            wait_until(lambda: answers(f"http://127.0.0.1:{ui}/"), START_TIMEOUT_S, what="the page")
+            outcome = asyncio.run(measure(ui, api, process.pid, n, seconds, plans))
+        finally:
+            process.terminate()
+            try:
+                process.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                process.kill()
+    outcome.label = label
+    return outcome
+
+
+def report(outcomes: list[Outcome], n: int, seconds: float, plans: bool) -> None:
+    load = "plans and pre-flights kept running, " if plans else ""
+    print(f"{n} steady viewers + a newcomer every 2 s, {load}the operator holding J1+, {seconds:.0f} s")
+    print(f"{'':44}" + "".join(f"{o.label:>24}" for o in outcomes))
+
+    def row(name: str, cells: list[str]) -> None:
+        print(f"{name:44}" + "".join(f"{c:>24}" for c in cells))
+
+    row("held jog cut (times)", [str(len(o.cuts)) for o in outcomes])
+    row("… of which the operator had sent late (its own)", [str(o.operator_late_cuts) for o in outcomes])
+    row("J1 moved while held (deg)", [f"{o.moved_deg:.1f}" for o in outcomes])
+    row(
+        "arm updates per viewer /s: min / median",
+        [f"{min(o.rates):.1f} / {statistics.median(o.rates):.1f}" for o in outcomes],
+    )
+    for part in ("freeze", "panel"):
+        cells = []
+        for o in outcomes:
+            times = [t for v in o.newcomers if (t := getattr(v, part)) is not None]
+            missing = len(o.newcomers) - len(times)
+            text = f"{percentile(times, 0.5):.2f} / {percentile(times, 0.95):.2f}" if times else "-"
+            cells.append(text + (f" ({missing} never)" if missing else ""))
+        row(f"newcomer {part} median / p95 s", cells)
+    row(
+        "pendant CPU: operator alone / with viewers",
+        [f"{o.alone_cores:.2f} / {o.cores:.2f}" for o in outcomes],
+    )
+    row("pendant CPU per viewer (cores)", [f"{(o.cores - o.alone_cores) / n:.4f}" for o in outcomes])
+    row("operator: largest gap between holds sent ms", [f"{o.hold_gap_s * 1000:.0f}" for o in outcomes])
+    if plans:
+        row("plans + pre-flights answered", [str(o.plans) for o in outcomes])
+    for o in outcomes:
+        for cut in sorted(set(o.cuts))[:3]:
+            print(f"  {o.label}: {cut}")
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+    after = outcomes[-1]
+    panels = [v.panel if v.panel is not None else 99.0 for v in after.newcomers]
+    freeze = [v.freeze if v.freeze is not None else 99.0 for v in after.newcomers]
+    ok = (
+        not after.cuts
+        and min(after.rates) >= 20
+        and percentile(freeze, 0.95) <= 0.5
+        and percentile(panels, 0.95) <= 3.0
+        and (after.cores - after.alone_cores) / n <= 0.005
+    )
+    print(
+        ("PASS" if ok else "MISS")
+        + " (targets: 0 cuts, every viewer >= 20/s, Freeze p95 <= 0.5 s, panel p95 <= 3 s,"
+        " <= 0.005 core/viewer)"
+    )
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--viewers", type=int, default=60)
+    parser.add_argument("--seconds", type=float, default=60.0)
+    parser.add_argument("--plans", action="store_true", help="keep plans and pre-flights running too")
+    parser.add_argument("--baseline", help="a git revision to measure first (before), e.g. main")
+    args = parser.parse_args()
+    outcomes = []
+    with tempfile.TemporaryDirectory(prefix="pendant-baseline-") as baseline:
+        if args.baseline:
+            archive = subprocess.run(
+                ["git", "archive", args.baseline], cwd=REPO, check=True, capture_output=True
+            ).stdout
+            subprocess.run(["tar", "-x", "-C", baseline], input=archive, check=True)
+            outcomes.append(
+                run(f"before ({args.baseline})", Path(baseline), args.viewers, args.seconds, args.plans)
+            )
+        outcomes.append(run("this checkout", REPO, args.viewers, args.seconds, args.plans))
+    report(outcomes, args.viewers, args.seconds, args.plans)
+    return 0
+
+
+if __name__ == "__main__":
+    with contextlib.suppress(KeyboardInterrupt):
+        raise SystemExit(main())
