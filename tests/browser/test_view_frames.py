@@ -13,6 +13,7 @@ from __future__ import annotations
 import itertools
 import time
 
+import pytest
 from playwright.sync_api import Page
 
 from tests.support.jog_measure import (
@@ -32,6 +33,9 @@ MIN_MOVED_DEG = 5.0  # 10 s at the jog speed moves J1 far more than this
 VIEW_CATCHES_UP_S = 5.0  # a software renderer on a loaded machine: a frame or two behind the arm
 HANG_S = 2.0
 STILL_AFTER_HANG_S = 1.0  # the page's 400 ms without a sign of life + the server's 200 ms deadman, with room
+# A 10 s hold and stop times on a real clock: alone, after the other browser tests.
+pytestmark = pytest.mark.measures
+
 VIEW_SHOWN = "() => window.__pendant && window.__pendant.viewFrames && window.__pendant.viewFrames() > 0"
 
 
