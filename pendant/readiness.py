@@ -45,6 +45,9 @@ def wait_for_pulse_api(url: str, timeout_s: float) -> tuple[bool, str]:
     probe = url.rstrip("/") + PROBE_PATH
     deadline = time.monotonic() + timeout_s
     last = "nothing tried"
+    # What a server that answered said, kept when a later probe fails: "it is not a PULSE API" is the news,
+    # not the one probe that timed out after it.
+    answered = ""
     with httpx.Client(timeout=PROBE_TIMEOUT_S) as client:
         while True:
             try:
@@ -52,11 +55,13 @@ def wait_for_pulse_api(url: str, timeout_s: float) -> tuple[bool, str]:
                 answer = pulse_answer(response)
                 if answer is not None:
                     return True, answer
-                last = f"HTTP {response.status_code} {response.text[:MAX_QUOTED_CHARS]!r}, not a PULSE answer"
+                last = answered = (
+                    f"HTTP {response.status_code} {response.text[:MAX_QUOTED_CHARS]!r}, not a PULSE answer"
+                )
             except httpx.HTTPError as error:
                 last = f"{type(error).__name__}: {error}"[:MAX_QUOTED_CHARS]
             if time.monotonic() + POLL_S >= deadline:
-                return False, last
+                return False, last if last == answered or not answered else f"{last}; before that {answered}"
             time.sleep(POLL_S)  # a real server starting up, on the wall clock
 
 

@@ -10,6 +10,7 @@ from collections.abc import Iterator
 
 import pytest
 
+from pendant.readiness import PROBE_TIMEOUT_S
 from pendant.simserver import SimServer
 from tests.support.launchers import REPO_ROOT, running_pendant
 from tests.support.ports import LOOPBACK, free_port
@@ -96,6 +97,37 @@ def test_another_http_server_is_not_a_pulse_api(not_pulse: str) -> None:
     done = check(not_pulse, "--timeout", "0.5")
     assert done.returncode == 1
     assert "HTTP 404" in done.stderr and "not a PULSE answer" in done.stderr
+
+
+class _AnswersOnceThenStalls(http.server.BaseHTTPRequestHandler):
+    """Says 404 to the first probe, then keeps every later one waiting past the probe's timeout."""
+
+    answered = threading.Event()
+
+    def do_GET(self) -> None:
+        if self.answered.is_set():
+            threading.Event().wait(PROBE_TIMEOUT_S + 1.0)
+        self.answered.set()
+        self.send_error(404)
+
+    def log_message(self, format: str, *args: object) -> None:
+        """Quiet: the test reads the checker's words, not the server's."""
+
+
+def test_a_probe_that_times_out_after_a_non_pulse_answer_still_names_that_answer() -> None:
+    """Seen in CI on a loaded machine: the one late probe hid that the server is not a PULSE API."""
+    _AnswersOnceThenStalls.answered.clear()
+    server = http.server.ThreadingHTTPServer((LOOPBACK, 0), _AnswersOnceThenStalls)
+    server.daemon_threads = True
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        done = check(f"http://{LOOPBACK}:{server.server_address[1]}", "--timeout", "0.5")
+    finally:
+        server.shutdown()
+        server.server_close()
+    assert done.returncode == 1
+    assert "ReadTimeout" in done.stderr and "before that HTTP 404" in done.stderr, done.stderr
 
 
 @pytest.mark.parametrize(
