@@ -15,16 +15,13 @@ from pathlib import Path
 import pytest
 from playwright.sync_api import Browser, Page, Playwright
 
+from tests.support.browser_pages import ARTIFACTS
 from tests.support.chromium import CHROMIUM, CHROMIUM_ARGS
 from tests.support.launchers import Pendant
-from tests.support.launchers import running_pendant_ui as running_pendant
 from tests.support.shared_pendants import SharedPendants, shared_pendants
 
-ARTIFACTS = Path(__file__).resolve().parents[2] / "test-artifacts"
 HERE = Path(__file__).resolve().parent
 PAGE_LOAD_TIMEOUT_MS = 90_000  # a page drawn in software WebGL on a loaded 2-core machine
-
-__all__ = ["ARTIFACTS", "CHROMIUM", "CHROMIUM_ARGS", "Pendant", "running_pendant"]
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:

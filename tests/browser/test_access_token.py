@@ -10,9 +10,9 @@ import pytest
 from playwright.sync_api import Browser, Page, expect
 
 from pendant.access import TOKEN_HEADER, ui_url
+from tests.support.browser_pages import ARTIFACTS
+from tests.support.launchers import Pendant
 from tests.support.shared_pendants import SharedPendants
-
-from .conftest import ARTIFACTS, Pendant
 
 TOKEN = "browser-test-token"
 UI_TIMEOUT_MS = 15_000

@@ -5,18 +5,16 @@ from __future__ import annotations
 
 import io
 import time
-from typing import Any
 
 import numpy as np
 import pytest
 from PIL import Image
 from playwright.sync_api import Page
 
+from tests.support.browser_pages import ARTIFACTS, SETTLE_S, obstacles, sent, wait_idle
+from tests.support.launchers import Pendant
 from tests.support.shared_pendants import NOT_REAL_TIME
 from tests.support.typed import typed_box
-
-from .conftest import ARTIFACTS, Pendant
-from .test_pendant_page import SETTLE_S, wait_idle
 
 # Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
 pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
@@ -26,7 +24,6 @@ ORANGE_PIXELS_MIN = 2000  # a 30 cm box in the default view covers tens of thous
 SIDE_M = 0.3
 SCENE_WIDTH_PX = 950  # the page is 1400 px wide; the control panel takes its right side
 BOX_CENTRE_M = (0.35, -0.45, SIDE_M / 2)  # in front of the arm, in the default camera's view
-PAGE_THROTTLE_FLUSH_MS = 100  # longer than viser's page-side 50 ms send throttle (see `sent`)
 # Where the flange passes when joint 1 turns 45° from home (whole mm: the Cell tab's fields step by 1 mm).
 WALL_MM = (-244.0, -415.0, 485.0)
 WALL_SIDE_MM = 120.0
@@ -49,21 +46,6 @@ def box(name: str, centre: tuple[float, float, float], side: float) -> dict[str,
         "sides": {"x": side, "y": side, "z": side},
         "centerPosition": {"point": {"x": x, "y": y, "z": z}, "rotation": {"roll": 0, "pitch": 0, "yaw": 0}},
     }
-
-
-def obstacles(pendant: Pendant) -> list[dict[str, Any]]:
-    return pendant.api.get("/environment").json()
-
-
-def sent(page: Page) -> None:
-    """Wait until the page has sent the last edit to the pendant.
-
-    viser's page sends every control's edits through one 50 ms throttle that keeps only the latest message:
-    a second control edited inside that window (stretched to a whole frame while software WebGL draws)
-    replaces the first one's pending edit, which never reaches the pendant although the field shows it.
-    A page timer longer than the throttle's fires after it (timers fire in order), so the edit has gone.
-    """
-    page.evaluate(f"() => new Promise(done => setTimeout(done, {PAGE_THROTTLE_FLUSH_MS}))")
 
 
 def fill_after(page: Page, label: str, values: tuple[object, ...]) -> None:

@@ -18,9 +18,10 @@ import pytest
 import viser
 from playwright.sync_api import Browser, Playwright
 
+from tests.support.browser_pages import ARTIFACTS
+from tests.support.chromium import CHROMIUM, CHROMIUM_ARGS
+from tests.support.launchers import Pendant
 from tests.support.shared_pendants import NOT_REAL_TIME
-
-from .conftest import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, Pendant
 
 # Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
 pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)

@@ -12,9 +12,8 @@ from typing import Any
 import pytest
 
 from tests.support.jog_measure import open_as_operator
+from tests.support.launchers import Pendant
 from tests.support.shared_pendants import NOT_REAL_TIME
-
-from .conftest import Pendant
 
 # Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
 pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)

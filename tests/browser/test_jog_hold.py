@@ -17,6 +17,7 @@ from collections.abc import Iterator
 import pytest
 from playwright.sync_api import Browser, Page
 
+from tests.support.browser_pages import ARTIFACTS
 from tests.support.jog_measure import (
     PoseSampler,
     api_hold,
@@ -26,13 +27,15 @@ from tests.support.jog_measure import (
     ensure_operator,
     key_hold,
     mouse_hold,
+    on_top,
     open_as_operator,
+    settled,
     touch_hold,
     touch_swipe,
     wait_idle,
 )
-
-from .conftest import ARTIFACTS, Pendant, running_pendant
+from tests.support.launchers import Pendant
+from tests.support.launchers import running_pendant_ui as running_pendant
 
 HOLD_S = 1.0
 PRESSES = 3
@@ -276,30 +279,3 @@ def dark_pixels(png: bytes) -> int:
 
     grey = np.asarray(Image.open(io.BytesIO(png)).convert("L"))
     return int(np.count_nonzero(grey < 110))
-
-
-def settled(page: Page, label: str, timeout_s: float = 15.0) -> None:
-    """Wait until `label` stays put: while the page loads, the docked panel opens and its text wraps narrower
-    for a moment (on a loaded machine, J1 was seen 400 px lower for a second)."""
-    deadline = time.monotonic() + timeout_s
-    last = button_box(page, label)
-    while time.monotonic() < deadline:
-        time.sleep(0.3)
-        now = button_box(page, label)
-        if abs(now["x"] - last["x"]) < 0.5 and abs(now["y"] - last["y"]) < 0.5:
-            return
-        last = now
-
-
-def on_top(page: Page, name: str) -> bool:
-    """The button is inside the viewport and nothing covers its centre."""
-    return bool(
-        page.get_by_role("button", name=name, exact=True).evaluate(
-            """(b) => {
-                const r = b.getBoundingClientRect(), x = r.left + r.width / 2, y = r.top + r.height / 2;
-                if (x < 0 || y < 0 || x > innerWidth || y > innerHeight) return false;
-                const hit = document.elementFromPoint(x, y);
-                return hit !== null && b.contains(hit);
-            }"""
-        )
-    )

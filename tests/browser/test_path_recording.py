@@ -21,6 +21,7 @@ from playwright.sync_api import Page
 from pendant.controller import Position
 from pendant.kinematics.transforms import position_to_matrix
 from pendant.program.motion import ARRIVAL_TOL_M
+from tests.support.browser_pages import ARTIFACTS, take_control
 from tests.support.deviation import (
     coverage_mm,
     distances_to_polyline,
@@ -28,18 +29,16 @@ from tests.support.deviation import (
     max_turn_deg,
     start_index,
 )
+from tests.support.launchers import Pendant
 from tests.support.shared_pendants import SharedPendants
 from tests.support.typed import typed_box
 from tests.support.waiting import wait_until
-
-from .conftest import ARTIFACTS, Pendant
 
 # Real-time figures (the played path is read over the API, between readings a loaded machine spaces out):
 # run alone, after the rest.
 pytestmark = pytest.mark.measures
 
 UI_TIMEOUT_MS = 15_000
-CONTROL_TIMEOUT_S = 60.0
 HAND_TIMEOUT_S = 10.0
 RUN_TIMEOUT_S = 40.0
 POLL_S = 0.005
@@ -66,20 +65,6 @@ def system_state(pendant: Pendant) -> str:
 def tcp(pendant: Pendant) -> np.ndarray:
     """T_zero_tcp, as GET /position reports it."""
     return position_to_matrix(Position.model_validate(pendant.api.get("/position").json()))
-
-
-def take_control(page: Page) -> None:
-    """On loopback the first page gets control; a loaded machine may take a while to say so (and to draw
-    the page): take it if the page shows the button meanwhile, then start once the page draws."""
-    mine = page.get_by_text("You have control").first
-    take = page.get_by_role("button", name="Take control")
-    deadline = time.monotonic() + CONTROL_TIMEOUT_S
-    while not mine.is_visible():
-        assert time.monotonic() < deadline, "this page never got control"
-        if take.is_visible():
-            take.click()
-        time.sleep(0.2)
-    page.evaluate("new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)))")
 
 
 def toggle_free_drive(page: Page, pendant: Pendant, on: bool) -> None:

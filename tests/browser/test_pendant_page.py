@@ -8,22 +8,14 @@ import time
 import numpy as np
 import pytest
 
-from .conftest import ARTIFACTS, Pendant
+from tests.support.browser_pages import ARTIFACTS, MOVE_TIMEOUT_S, SETTLE_S, wait_idle
+from tests.support.launchers import Pendant
 
 HOLD_S = 1.2
-SETTLE_S = 0.6
 ANGLE_TOL_DEG = 0.01
-MOVE_TIMEOUT_S = 30.0
 FREEZE_TIMEOUT_S = 5.0
 SLOW_SPEED_PERCENT = 5  # a 60° move takes several seconds: time to press Esc in the middle of it
 VIEWPORT_CENTRE = (500, 450)
-
-
-def wait_idle(pendant: Pendant, timeout_s: float = MOVE_TIMEOUT_S) -> None:
-    deadline = time.monotonic() + timeout_s
-    while pendant.status() != "IDLE":
-        assert time.monotonic() < deadline, "the arm did not come to rest"
-        time.sleep(0.1)
 
 
 @pytest.mark.measures  # degrees turned in a 1.2 s hold

@@ -16,10 +16,10 @@ from typing import Any
 import pytest
 
 from tests.support.arm_view import arm_on_screen, close_notifications, dark_pixels, overlap
+from tests.support.browser_pages import ARTIFACTS
+from tests.support.jog_measure import on_top, settled
+from tests.support.launchers import Pendant
 from tests.support.shared_pendants import NOT_REAL_TIME
-
-from .conftest import ARTIFACTS, Pendant
-from .test_jog_hold import on_top, settled
 
 # Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
 pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)

@@ -12,11 +12,11 @@ from PIL import Image
 from playwright.sync_api import Page
 
 from pendant.planning.scenes import BOX
+from tests.support.browser_pages import ARTIFACTS
 from tests.support.jog_measure import ensure_operator, wait_idle
+from tests.support.launchers import Pendant
 from tests.support.shared_pendants import NOT_REAL_TIME
 from tests.support.typed import typed_box
-
-from .conftest import ARTIFACTS, Pendant
 
 # Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
 pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)

@@ -16,11 +16,17 @@ import numpy as np
 import pytest
 from playwright.sync_api import Page, expect
 
-from tests.support.launchers import REPO_ROOT
+from tests.support.browser_pages import (
+    ANGLE_TOL_DEG,
+    ARTIFACTS,
+    POLL_S,
+    RUN_TIMEOUT_S,
+    UI_TIMEOUT_MS,
+    choose,
+    move_to,
+)
+from tests.support.launchers import REPO_ROOT, Pendant
 from tests.support.shared_pendants import NOT_REAL_TIME
-
-from .conftest import ARTIFACTS, Pendant
-from .test_program_page import ANGLE_TOL_DEG, POLL_S, RUN_TIMEOUT_S, UI_TIMEOUT_MS, move_to
 
 # Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
 pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
@@ -56,12 +62,6 @@ def edit(page: Page, name: str) -> None:
     before = selected.input_value()
     click(page, name)
     expect(selected).not_to_have_value(before)
-
-
-def choose(page: Page, current: str, option: str) -> None:
-    """Pick `option` in the visible dropdown now showing `current`."""
-    page.locator(f"input[value='{current}']:visible").first.click()
-    page.get_by_role("option", name=option, exact=True).click()
 
 
 def wait_text(page: Page, text: str) -> None:

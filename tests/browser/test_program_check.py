@@ -12,12 +12,13 @@ from playwright.sync_api import Browser, Page
 from pendant.controller.types import MotionParams, MotionStatus, Pose
 from pendant.program import ProgramStore
 from pendant.remote import RemoteController
-from tests.planning.scenes import BOX_NAME, LEFT_DEG, box_in_the_way, swing_program
+from tests.support.browser_pages import ARTIFACTS
+from tests.support.launchers import Pendant
 from tests.support.launchers import running_pendant as running_arm
+from tests.support.launchers import running_pendant_ui as running_pendant
+from tests.support.preflight_scene import BOX_NAME, LEFT_DEG, box_in_the_way, swing_program
 from tests.support.shared_pendants import NOT_REAL_TIME
 from tests.support.waiting import wait_until
-
-from .conftest import ARTIFACTS, Pendant, running_pendant
 
 UI_TIMEOUT_MS = 90_000  # a loaded 2-core machine builds a page slowly
 

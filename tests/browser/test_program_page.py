@@ -8,26 +8,20 @@ import time
 import numpy as np
 import pytest
 
-from .conftest import ARTIFACTS, Pendant
+from tests.support.browser_pages import (
+    ANGLE_TOL_DEG,
+    ARTIFACTS,
+    AWAY_DEG,
+    POLL_S,
+    POSE_A_DEG,
+    POSE_B_DEG,
+    RUN_TIMEOUT_S,
+    UI_TIMEOUT_MS,
+    move_to,
+)
+from tests.support.launchers import Pendant
 
-POSE_A_DEG = [25.0, -90.0, 90.0, -90.0, -90.0, 0.0]
-POSE_B_DEG = [-25.0, -80.0, 80.0, -90.0, -90.0, 0.0]
-AWAY_DEG = [0.0, -100.0, 100.0, -90.0, -90.0, 0.0]
-MOVE_SPEED_PERCENT = 60
-ANGLE_TOL_DEG = 0.01
 AT_WAYPOINT_TOL_DEG = 0.5  # two HTTP reads apart, around an arm coming to rest at P1 and leaving it
-UI_TIMEOUT_MS = 15_000
-RUN_TIMEOUT_S = 60.0
-POLL_S = 0.02  # a real process on a real clock: the test watches it through the API
-
-
-def move_to(pendant: Pendant, angles: list[float]) -> None:
-    """Put the arm somewhere through the API (as jogging would) and wait until it is there."""
-    pendant.api.put("/pose", params={"speed": MOVE_SPEED_PERCENT}, json={"angles": angles}).raise_for_status()
-    deadline = time.monotonic() + RUN_TIMEOUT_S
-    while pendant.status() != "IDLE" or not np.allclose(pendant.pose(), angles, atol=ANGLE_TOL_DEG):
-        assert time.monotonic() < deadline, "the arm did not get there"
-        time.sleep(POLL_S)
 
 
 def output(pendant: Pendant, port: int) -> str:

@@ -12,7 +12,9 @@ from typing import Any
 
 import pytest
 
-from .conftest import ARTIFACTS, Pendant, running_pendant
+from tests.support.browser_pages import ARTIFACTS
+from tests.support.launchers import Pendant
+from tests.support.launchers import running_pendant_ui as running_pendant
 
 UI_TIMEOUT_MS = 20_000
 FOCUS_IN_DIALOG = "() => document.querySelector('[role=dialog]')?.contains(document.activeElement) === true"

@@ -13,11 +13,11 @@ import pytest
 from playwright.sync_api import Browser
 
 from pendant.telemetry.repair import finished
-from tests.support.launchers import STOP_TIMEOUT_S
+from tests.support.browser_pages import ARTIFACTS
+from tests.support.launchers import STOP_TIMEOUT_S, Pendant
+from tests.support.launchers import running_pendant_ui as running_pendant
+from tests.support.mcap_reading import read_mcap
 from tests.support.waiting import wait_until
-from tests.telemetry.test_mcap import read_mcap
-
-from .conftest import ARTIFACTS, Pendant, running_pendant
 
 # A recording's samples a second on a real clock: run alone, after the rest.
 pytestmark = [pytest.mark.slow, pytest.mark.measures]

@@ -15,11 +15,10 @@ import pytest
 from playwright.sync_api import Browser, Locator, Page
 
 from pendant.kinematics import ArmModel
+from tests.support.browser_pages import ARTIFACTS
 from tests.support.jog_measure import open_as_operator
 from tests.support.launchers import Pendant
 from tests.support.shared_pendants import NOT_REAL_TIME
-
-from .conftest import ARTIFACTS
 
 # Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
 pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from playwright.sync_api import Page
 
+from tests.support.browser_pages import ARTIFACTS
+from tests.support.launchers import Pendant
 from tests.support.shared_pendants import NOT_REAL_TIME
-
-from .conftest import ARTIFACTS, Pendant
 
 # Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
 pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)

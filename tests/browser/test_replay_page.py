@@ -19,10 +19,9 @@ import yourdfpy
 import zstandard
 
 from pendant.kinematics import ArmModel
-from tests.telemetry.test_mcap import read_mcap
-
-from .conftest import ARTIFACTS, Pendant
-from .test_program_page import AWAY_DEG, POSE_A_DEG, POSE_B_DEG, move_to
+from tests.support.browser_pages import ARTIFACTS, AWAY_DEG, POSE_A_DEG, POSE_B_DEG, move_to
+from tests.support.launchers import Pendant
+from tests.support.mcap_reading import read_mcap
 
 UI_TIMEOUT_MS = 60_000
 RUN_TIMEOUT_MS = 90_000

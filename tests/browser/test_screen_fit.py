@@ -16,7 +16,9 @@ import pytest
 from playwright.sync_api import Browser
 from playwright.sync_api import Error as PlaywrightError
 
-from .conftest import ARTIFACTS, Pendant, running_pendant
+from tests.support.browser_pages import ARTIFACTS
+from tests.support.launchers import Pendant
+from tests.support.launchers import running_pendant_ui as running_pendant
 
 SCREENS = {
     "desktop": (1400, 900),

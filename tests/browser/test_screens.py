@@ -11,13 +11,9 @@ import pytest
 from axe_playwright_python.sync_playwright import Axe
 
 from pendant.ui.kit.view_only import VIEW_ONLY_HINT
+from tests.support.browser_pages import ARTIFACTS, choose, move_to, obstacles, sent, take_control
+from tests.support.launchers import Pendant
 from tests.support.shared_pendants import NOT_REAL_TIME
-
-from .conftest import ARTIFACTS, Pendant
-from .test_cell_page import obstacles, sent
-from .test_path_recording import take_control
-from .test_program_cell import choose
-from .test_program_page import move_to
 
 # Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
 pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)

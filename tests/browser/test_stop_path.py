@@ -24,8 +24,8 @@ from websockets.sync.client import ClientConnection, connect
 
 from tests.support.big_recordings import write_long_recording
 from tests.support.headless_viewer import CAMERA_HELLO, click_message, decode_window, notification
-
-from .conftest import Pendant, running_pendant
+from tests.support.launchers import Pendant
+from tests.support.launchers import running_pendant_ui as running_pendant
 
 # A stop time from the click (FREEZE_WITHIN_S + MARGIN_S) on a real clock: run alone, after the rest.
 pytestmark = pytest.mark.measures

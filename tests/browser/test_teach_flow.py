@@ -15,10 +15,11 @@ from typing import Any
 import numpy as np
 import pytest
 
+from tests.support.browser_pages import ARTIFACTS
 from tests.support.jog_measure import ensure_operator, wait_idle
+from tests.support.launchers import Pendant
+from tests.support.launchers import running_pendant_ui as running_pendant
 from tests.support.teach_flow import SCREENS, TOUCH_SCREENS, Operator, open_screen
-
-from .conftest import ARTIFACTS, Pendant, running_pendant
 
 MAX_ACTIONS = 20  # issue 33
 HOLD_S = 0.8  # a jog long enough to make each waypoint its own (10 % speed: several degrees)

@@ -10,9 +10,8 @@ from typing import Any
 
 import pytest
 
+from tests.support.launchers import Pendant
 from tests.support.teach_flow import in_view, open_screen
-
-from .conftest import Pendant
 
 MIN_PX = 44  # WCAG 2.5.5
 ONE_LINE_PX = 40  # the folded status: one line of text beside the state's badge

@@ -19,10 +19,9 @@ import pytest
 from playwright.sync_api import Browser, Page
 
 from tests.support.jog_measure import ensure_operator
+from tests.support.launchers import Pendant
 from tests.support.typed import type_into
 from tests.support.waiting import wait_until
-
-from .conftest import Pendant
 
 TYPED_DEG = -69.3
 ANGLE_TOL_DEG = 0.01

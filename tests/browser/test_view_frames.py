@@ -24,8 +24,7 @@ from tests.support.jog_measure import (
     wait_idle,
     wait_settled,
 )
-
-from .conftest import Pendant
+from tests.support.launchers import Pendant
 
 LONG_HOLD_S = 10.0
 STOP_WITHIN_S = 1.5  # as test_jog_hold: well inside the 3 s a continuous jog plans ahead

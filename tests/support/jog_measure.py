@@ -215,6 +215,33 @@ def close_while_held(page: Any, api: httpx.Client, label: str, hold_s: float) ->
     return timed_press(api, page.mouse.down, lambda: page.close(run_before_unload=True), hold_s)
 
 
+def settled(page: Any, label: str, timeout_s: float = 15.0) -> None:
+    """Wait until `label` stays put: while the page loads, the docked panel opens and its text wraps narrower
+    for a moment (on a loaded machine, J1 was seen 400 px lower for a second)."""
+    deadline = time.monotonic() + timeout_s
+    last = button_box(page, label)
+    while time.monotonic() < deadline:
+        time.sleep(0.3)
+        now = button_box(page, label)
+        if abs(now["x"] - last["x"]) < 0.5 and abs(now["y"] - last["y"]) < 0.5:
+            return
+        last = now
+
+
+def on_top(page: Any, name: str) -> bool:
+    """The button is inside the viewport and nothing covers its centre."""
+    return bool(
+        page.get_by_role("button", name=name, exact=True).evaluate(
+            """(b) => {
+                const r = b.getBoundingClientRect(), x = r.left + r.width / 2, y = r.top + r.height / 2;
+                if (x < 0 || y < 0 || x > innerWidth || y > innerHeight) return false;
+                const hit = document.elementFromPoint(x, y);
+                return hit !== null && b.contains(hit);
+            }"""
+        )
+    )
+
+
 def touch(cdp: Any, kind: str, x: float, y: float) -> None:
     points = [] if kind == "touchEnd" else [{"x": x, "y": y, "id": 1}]
     cdp.send("Input.dispatchTouchEvent", {"type": kind, "touchPoints": points})
