@@ -36,7 +36,7 @@ def hold_j1_plus(page: Page) -> None:
     page.mouse.up()
 
 
-def test_without_the_token_a_page_cannot_take_control_or_move_the_arm(page, pendant: Pendant) -> None:
+def test_without_the_token_a_page_cannot_take_control_or_move_the_arm(page: Page, pendant: Pendant) -> None:
     before = pendant.pose()
     expect(page.get_by_role("button", name="J1+", exact=True)).to_be_disabled(timeout=UI_TIMEOUT_MS)
     page.get_by_role("button", name="Take control").click()

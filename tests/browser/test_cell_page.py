@@ -57,7 +57,7 @@ def fill_after(page: Page, label: str, values: tuple[object, ...]) -> None:
     sent(page)
 
 
-def test_an_obstacle_added_through_the_api_appears_in_the_scene(page, pendant: Pendant) -> None:
+def test_an_obstacle_added_through_the_api_appears_in_the_scene(page: Page, pendant: Pendant) -> None:
     wait_idle(pendant)
     time.sleep(SETTLE_S)
     before = orange_pixels(page)
@@ -79,7 +79,7 @@ def test_an_obstacle_added_through_the_api_appears_in_the_scene(page, pendant: P
         time.sleep(0.2)
 
 
-def test_an_obstacle_added_in_the_page_refuses_a_move_through_it(page, pendant: Pendant) -> None:
+def test_an_obstacle_added_in_the_page_refuses_a_move_through_it(page: Page, pendant: Pendant) -> None:
     wait_idle(pendant)
     home = np.array(pendant.pose())
     # The box goes where the flange passes when joint 1 turns 45° from home: it blocks turning it 90°.
@@ -120,7 +120,7 @@ def test_an_obstacle_added_in_the_page_refuses_a_move_through_it(page, pendant: 
         page.get_by_role("button", name="Target = current").click()
 
 
-def test_a_protective_stop_bound_to_di1_fires_when_di1_goes_high(page, pendant: Pendant) -> None:
+def test_a_protective_stop_bound_to_di1_fires_when_di1_goes_high(page: Page, pendant: Pendant) -> None:
     wait_idle(pendant)
     page.get_by_role("tab", name="Robot").click()
     page.get_by_text("Protective stop on input").click()

@@ -6,7 +6,7 @@ from __future__ import annotations
 import re
 
 import pytest
-from playwright.sync_api import expect
+from playwright.sync_api import Page, expect
 
 from tests.support.browser_pages import ARTIFACTS
 from tests.support.launchers import Pendant
@@ -19,7 +19,7 @@ JOINT_VALUE = re.compile(r"J1 -?\d+\.\d °")
 TIMEOUT_MS = 30_000
 
 
-def test_dashboard_plots_log_and_join_qr(page, pendant: Pendant) -> None:
+def test_dashboard_plots_log_and_join_qr(page: Page, pendant: Pendant) -> None:
     assert pendant.api.put("/signal/output/1/high").status_code == 200  # something for the event log
     page.get_by_role("tab", name="Dashboard").click(no_wait_after=True)
     legend = page.locator(".u-legend").first

@@ -15,7 +15,7 @@ import time
 from collections.abc import Iterator
 
 import pytest
-from playwright.sync_api import Browser, Page
+from playwright.sync_api import Browser, FloatRect, Page
 
 from tests.support.browser_pages import ARTIFACTS
 from tests.support.jog_measure import (
@@ -65,7 +65,9 @@ def still_after(pendant: Pendant) -> None:
 
 
 @pytest.mark.measures  # a share of the API's motion, a stop time
-def test_holding_j1_by_mouse_moves_it_as_far_as_the_api_and_stops_on_release(page, pendant: Pendant) -> None:
+def test_holding_j1_by_mouse_moves_it_as_far_as_the_api_and_stops_on_release(
+    page: Page, pendant: Pendant
+) -> None:
     ensure_operator(page)
     api = [api_hold(pendant.api, HOLD_S, +1 if i % 2 == 0 else -1).moved_deg for i in range(PRESSES)]
     held, stalls = [], 0
@@ -83,7 +85,9 @@ def test_holding_j1_by_mouse_moves_it_as_far_as_the_api_and_stops_on_release(pag
 
 
 @pytest.mark.measures  # a share of the API's motion, a stop time
-def test_a_finger_held_on_j1_jogs_it_and_lifting_the_finger_stops_it(touch_page, pendant: Pendant) -> None:
+def test_a_finger_held_on_j1_jogs_it_and_lifting_the_finger_stops_it(
+    touch_page: Page, pendant: Pendant
+) -> None:
     api = [api_hold(pendant.api, HOLD_S, +1 if i % 2 == 0 else -1).moved_deg for i in range(PRESSES)]
     held = []
     cdp = touch_page.context.new_cdp_session(touch_page)
@@ -96,7 +100,9 @@ def test_a_finger_held_on_j1_jogs_it_and_lifting_the_finger_stops_it(touch_page,
 
 
 @pytest.mark.measures  # a share of the API's motion, a stop time
-def test_space_or_enter_held_on_a_focused_jog_button_jogs_and_release_stops(page, pendant: Pendant) -> None:
+def test_space_or_enter_held_on_a_focused_jog_button_jogs_and_release_stops(
+    page: Page, pendant: Pendant
+) -> None:
     ensure_operator(page)
     api = [api_hold(pendant.api, HOLD_S, +1 if i % 2 == 0 else -1).moved_deg for i in range(2)]
     held = []
@@ -151,7 +157,7 @@ def test_a_page_that_hangs_while_a_jog_is_held_stops_the_arm_until_the_button_is
     still_after(pendant)
 
 
-def test_a_swipe_that_starts_on_a_jog_button_never_moves_the_arm(touch_page, pendant: Pendant) -> None:
+def test_a_swipe_that_starts_on_a_jog_button_never_moves_the_arm(touch_page: Page, pendant: Pendant) -> None:
     cdp = touch_page.context.new_cdp_session(touch_page)
     for _ in range(3):
         assert touch_swipe(touch_page, cdp, pendant.api, "J1+").moved_deg < STILL_TOL_DEG
@@ -250,7 +256,7 @@ def test_the_panel_leaves_the_arm_in_view(
         panel_left = button_box(page, "Freeze")["x"]
         assert view is not None and view["x"] + view["width"] <= panel_left + 1, (view, panel_left)
         assert view["width"] >= 0.45 * viewport[0], f"the 3D view is only {view['width']:.0f} px wide"
-        centre = {
+        centre: FloatRect = {
             "x": view["x"] + view["width"] / 4,
             "y": view["y"] + view["height"] / 4,
             "width": view["width"] / 2,

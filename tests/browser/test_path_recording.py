@@ -193,11 +193,11 @@ def test_a_hand_drawn_curve_plays_back_within_the_tolerance(
     played = run_and_sample(page, pendant, recorded[-1])
     page.screenshot(path=str(ARTIFACTS / "path-curve-played.png"))
 
-    start = start_index(played[:, :3, 3], recorded[0], AT_POINT_M)  # the approach to the start left out
-    along = played[start:, :3, 3]
+    first = start_index(played[:, :3, 3], recorded[0], AT_POINT_M)  # the approach to the start left out
+    along = played[first:, :3, 3]
     _, strayed = max_deviation_mm(recorded, along)
     missed = coverage_mm(recorded, along)
-    turned = max_turn_deg(recorded_poses, played[start:])
+    turned = max_turn_deg(recorded_poses, played[first:])
     print(
         f"recorded {len(recorded)} samples, {len(step['points'])} waypoints; played {len(along)} samples: "
         f"at most {strayed:.3f} mm and {turned:.3f}° from the recorded path, missed a recorded sample by "

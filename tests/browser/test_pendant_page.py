@@ -7,6 +7,7 @@ import time
 
 import numpy as np
 import pytest
+from playwright.sync_api import Page
 
 from tests.support.browser_pages import ARTIFACTS, MOVE_TIMEOUT_S, SETTLE_S, wait_idle
 from tests.support.launchers import Pendant
@@ -19,7 +20,7 @@ VIEWPORT_CENTRE = (500, 450)
 
 
 @pytest.mark.measures  # degrees turned in a 1.2 s hold
-def test_hold_j1_plus_moves_the_arm_and_release_stops_it(page, pendant: Pendant) -> None:
+def test_hold_j1_plus_moves_the_arm_and_release_stops_it(page: Page, pendant: Pendant) -> None:
     wait_idle(pendant)
     before = np.array(pendant.pose())
     page.get_by_role("tab", name="Jog").click()
@@ -44,7 +45,7 @@ def test_hold_j1_plus_moves_the_arm_and_release_stops_it(page, pendant: Pendant)
 
 
 @pytest.mark.measures  # a freeze within 5 s, before a move at 5 % ends
-def test_escape_anywhere_on_the_page_freezes_a_moving_arm(page, pendant: Pendant) -> None:
+def test_escape_anywhere_on_the_page_freezes_a_moving_arm(page: Page, pendant: Pendant) -> None:
     wait_idle(pendant)
     start = np.array(pendant.pose())
     far = (start + np.array([60.0, 0.0, 0.0, 0.0, 0.0, 0.0])).tolist()

@@ -14,6 +14,7 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
+from playwright.sync_api import Browser
 
 from tests.support.arm_view import arm_on_screen, close_notifications, dark_pixels, overlap
 from tests.support.browser_pages import ARTIFACTS
@@ -70,8 +71,8 @@ def check_arm_in_view(page: Any, where: str) -> dict[str, Any]:
 
 @pytest.mark.parametrize("screen", SCREENS)
 def test_the_whole_arm_in_view_clear_of_the_panel_and_freeze_on_screen(
-    browser, pendant: Pendant, screen: str
-):  # type: ignore[no-untyped-def]
+    browser: Browser, pendant: Pendant, screen: str
+) -> None:
     width, height = SCREENS[screen]
     page = open_page(browser, pendant, (width, height))
     try:

@@ -35,7 +35,9 @@ def course_pixels(page: Page) -> int:
     return int(np.count_nonzero((b > 200) & (r < 80) & (g > 70) & (g < 150)))
 
 
-def test_plan_around_a_box_shows_the_path_and_move_runs_it_to_the_target(page, pendant: Pendant) -> None:
+def test_plan_around_a_box_shows_the_path_and_move_runs_it_to_the_target(
+    page: Page, pendant: Pendant
+) -> None:
     wait_idle(pendant.api)
     went = pendant.api.put("/pose", params={"speed": 100}, json={"angles": list(BOX.start_deg)})
     assert went.status_code == 200, went.text

@@ -85,7 +85,7 @@ def near_place_then_sensor(pendant: Pendant, done: Callable[[], bool]) -> None:
         time.sleep(POLL_S)
 
 
-def test_teach_and_run_a_pallet_pick_and_place(page, pendant: Pendant) -> None:
+def test_teach_and_run_a_pallet_pick_and_place(page: Page, pendant: Pendant) -> None:
     # Some thirty clicks on a page drawn by software WebGL: a loaded machine may take a while per click.
     page.set_default_timeout(CLICK_TIMEOUT_MS)
     take_control = page.get_by_role("button", name="Take control")

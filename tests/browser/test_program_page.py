@@ -7,6 +7,7 @@ import time
 
 import numpy as np
 import pytest
+from playwright.sync_api import Page
 
 from tests.support.browser_pages import (
     ANGLE_TOL_DEG,
@@ -29,7 +30,7 @@ def output(pendant: Pendant, port: int) -> str:
 
 
 @pytest.mark.measures  # where the arm is between two API reads
-def test_record_two_waypoints_and_play_them_back(page, pendant: Pendant) -> None:
+def test_record_two_waypoints_and_play_them_back(page: Page, pendant: Pendant) -> None:
     pendant.api.put("/signal/output/1/low").raise_for_status()
     take_control = page.get_by_role("button", name="Take control")
     if take_control.is_visible():  # on loopback the first browser already has control

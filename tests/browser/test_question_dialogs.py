@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from playwright.sync_api import Page
 
 from tests.support.browser_pages import ARTIFACTS
 from tests.support.launchers import Pendant
@@ -66,7 +67,7 @@ def steps_listed(page: Any, text: str) -> None:
     page.get_by_text(text).first.wait_for(timeout=UI_TIMEOUT_MS)
 
 
-def test_new_load_and_delete_ask_in_a_dialog_that_takes_the_focus(page, pendant: Pendant) -> None:
+def test_new_load_and_delete_ask_in_a_dialog_that_takes_the_focus(page: Page, pendant: Pendant) -> None:
     page.get_by_role("tab", name="Program").click()
     page.get_by_role("button", name="Record", exact=True).click()
     steps_listed(page, "1. Move J to P1 @ 20%")

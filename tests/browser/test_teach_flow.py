@@ -44,7 +44,7 @@ def record(operator: Operator, kind: str, waypoint: str) -> None:
     bar.get_by_text(f"last {waypoint}", exact=True).wait_for(timeout=UI_TIMEOUT_MS)
 
 
-def taught(pendant: Pendant) -> list[dict[str, Any]]:
+def taught(pendant: Pendant) -> dict[str, Any]:
     return json.loads((pendant.programs / ".autosave.json").read_text())["program"]
 
 
