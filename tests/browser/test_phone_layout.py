@@ -16,7 +16,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import Browser
 
-from tests.support.arm_view import arm_on_screen, close_notifications, dark_pixels, overlap
+from tests.support.arm_view import arm_on_screen, close_notifications, drawn_dark_pixels, overlap
 from tests.support.browser_pages import ARTIFACTS
 from tests.support.jog_measure import on_top, settled
 from tests.support.launchers import Pendant
@@ -62,7 +62,8 @@ def check_arm_in_view(page: Any, where: str) -> dict[str, Any]:
     assert state["covered"] == [], f"something over the arm in {where}: {state['covered']}"
     share = (bottom - top) / (c_bottom - c_top)
     assert share >= MIN_ARM_SHARE, f"the arm is {share:.0%} of the view's height in {where}: {state['arm']}"
-    assert dark_pixels(page, state["arm"]) >= MIN_DARK_PIXELS, f"the arm is not drawn in {where}"
+    drawn = drawn_dark_pixels(page, state["arm"], MIN_DARK_PIXELS)
+    assert drawn >= MIN_DARK_PIXELS, f"the arm is not drawn in {where} ({drawn} dark pixels)"
     f_left, f_top, f_right, f_bottom = state["freeze"]
     assert f_left >= 0 and f_top >= 0 and f_right <= state["width"] and f_bottom <= state["height"], where
     assert on_top(page, "Freeze"), f"Freeze covered in {where}"

@@ -18,6 +18,8 @@ from typing import Any
 
 ARM_NODE = "/arm"
 MESHES_WITHIN_S = 60.0
+# The arm drawn within this of its meshes arriving (a frame of software WebGL on a loaded machine, read back).
+DRAWN_WITHIN_S = 10.0
 GRID = 7
 # Darker than the floor's grid lines: the arm's joint caps and shading (as test_jog_hold's arm check).
 DARK_GREY = 110
@@ -108,6 +110,18 @@ def dark_pixels(page: Any, box: list[float]) -> int:
     png = page.screenshot(clip={"x": left, "y": top, "width": right - left, "height": bottom - top})
     grey = np.asarray(Image.open(io.BytesIO(png)).convert("L"))
     return int(np.count_nonzero(grey < DARK_GREY))
+
+
+def drawn_dark_pixels(page: Any, box: list[float], at_least: int, within_s: float = DRAWN_WITHIN_S) -> int:
+    """`dark_pixels` of `box` once they reach `at_least`, or their count after `within_s`: the view shows
+    a frame once the renderer has drawn it and its pixels are read back (off the main thread, a frame or
+    two behind the scene on a loaded machine), so the first look can come before the arm's first frame."""
+    deadline = time.monotonic() + within_s
+    while True:
+        count = dark_pixels(page, box)
+        if count >= at_least or time.monotonic() > deadline:
+            return count
+        time.sleep(0.25)
 
 
 def overlap(a: list[float], b: list[float] | None) -> bool:
