@@ -41,11 +41,12 @@ run: $(RUN_STAMP)
 # done first takes over the other's remaining tests); then the browser tests (Chromium in software WebGL)
 # that assert no real-time figure, on two workers, a module per worker (it shares a Chromium and its
 # pendants, tests/browser/conftest.py); last, alone, the `measures` ones: they time what a user feels (jog
-# shares, stop times) on a real clock. Each pass prints its count.
+# shares, stop times) on a real clock, and the `alone` ones (they failed beside another worker). Each pass
+# prints its count.
 test: $(STAMP) $(SDK_STAMP) lint layers typecheck
 	@$(BIN)/pytest -q -n 2 --dist worksteal --ignore=tests/browser $(PYTEST_ARGS)
-	@$(BIN)/pytest -q -n 2 --dist loadfile -m "not measures" tests/browser $(PYTEST_ARGS)
-	@$(BIN)/pytest -q -m measures tests/browser $(PYTEST_ARGS)
+	@$(BIN)/pytest -q -n 2 --dist loadfile -m "not measures and not alone" tests/browser $(PYTEST_ARGS)
+	@$(BIN)/pytest -q -m "measures or alone" tests/browser $(PYTEST_ARGS)
 
 # N simulated pendants + Prometheus + Alertmanager on loopback with deploy/'s files; Ctrl-C stops all.
 N ?= 3

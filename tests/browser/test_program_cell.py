@@ -29,7 +29,8 @@ from tests.support.launchers import REPO_ROOT, Pendant
 from tests.support.shared_pendants import NOT_REAL_TIME
 
 # Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
-pytestmark = pytest.mark.time_scale(NOT_REAL_TIME)
+# alone: beside another worker the run did not reach "Finished" in time (CI, 27 Nov; not yet understood).
+pytestmark = [pytest.mark.time_scale(NOT_REAL_TIME), pytest.mark.alone]
 
 CORNERS_DEG = (
     [20.0, -90.0, 90.0, -90.0, -90.0, 0.0],

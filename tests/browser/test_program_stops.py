@@ -20,6 +20,10 @@ from tests.support.jog_measure import open_as_operator
 from tests.support.launchers import Pendant, running_pendant_ui
 from tests.support.programs import a_to_b_file
 
+# alone: beside another worker, a case timed out bringing the arm home after another browser's Freeze (CI,
+# 27 Nov; not yet understood).
+pytestmark = pytest.mark.alone
+
 HOME_DEG = [0.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 A_DEG = [30.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 B_DEG = [-30.0, -90.0, 90.0, -90.0, -90.0, 0.0]
