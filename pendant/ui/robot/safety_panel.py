@@ -134,9 +134,11 @@ class RobotSafetyPanel:
 
     def set_free_drive(self, on: bool, client: viser.ClientHandle | None = None) -> Future[object]:
         label, action = ("Free drive on", _zg_on) if on else ("Free drive off", _zg_off)
-        future = self.free_drive_availability.learn(self._runner.submit(label, action, client))
+        future = self._runner.submit(label, action, client)
+        # A refused switch springs back before the control is greyed out for a missing feature: whoever sees
+        # it greyed sees it off (the arm is not in free drive).
         future.add_done_callback(lambda f: self._show_free_drive(not on) if f.exception() else None)
-        return future
+        return self.free_drive_availability.learn(future)
 
     def _show_free_drive(self, on: bool) -> None:
         """The toggle as the controller has it (a refused switch springs back)."""
