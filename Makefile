@@ -42,11 +42,12 @@ run: $(RUN_STAMP)
 # that assert no real-time figure, on two workers, a module per worker (it shares a Chromium and its
 # pendants, tests/browser/conftest.py); last, alone, the `measures` ones: they time what a user feels (jog
 # shares, stop times) on a real clock, and the `alone` ones (they failed beside another worker). Each pass
-# prints its count.
+# prints its count. A browser test that fails is run once more (pytest-rerunfailures; R in the output):
+# some fail now and then in a full run and pass alone (docs/development.md lists them).
 test: $(STAMP) $(SDK_STAMP) lint layers typecheck
 	@$(BIN)/pytest -q -n 2 --dist worksteal --ignore=tests/browser $(PYTEST_ARGS)
-	@$(BIN)/pytest -q -n 2 --dist loadfile -m "not measures and not alone" tests/browser $(PYTEST_ARGS)
-	@$(BIN)/pytest -q -m "measures or alone" tests/browser $(PYTEST_ARGS)
+	@$(BIN)/pytest -q -n 2 --dist loadfile -m "not measures and not alone" --reruns 1 tests/browser $(PYTEST_ARGS)
+	@$(BIN)/pytest -q -m "measures or alone" --reruns 1 tests/browser $(PYTEST_ARGS)
 
 # N simulated pendants + Prometheus + Alertmanager on loopback with deploy/'s files; Ctrl-C stops all.
 N ?= 3
