@@ -36,18 +36,15 @@ $(SDK_STAMP):
 run: $(RUN_STAMP)
 	@$(BIN)/pendant $(if $(FOXGLOVE),--foxglove-port $(FOXGLOVE)) $(ARGS)
 
-# Two workers (a 2-core machine) for every test but the browser tests (--dist worksteal: each worker starts
-# on one half of the collection, so a module's tests and its shared pendant stay on one worker, and the one
-# done first takes over the other's remaining tests); then the browser tests (Chromium in software WebGL)
-# that assert no real-time figure, on two workers, a module per worker (it shares a Chromium and its
-# pendants, tests/browser/conftest.py); last, alone, the `measures` ones: they time what a user feels (jog
-# shares, stop times) on a real clock, and the `alone` ones (they failed beside another worker). Each pass
-# prints its count. A browser test that fails is run once more (pytest-rerunfailures; R in the output):
-# some fail now and then in a full run and pass alone (docs/development.md lists them).
+# The suite in three passes, two at once (scripts/test_passes.sh says why): in front, one at a time, the
+# browser tests that time what a user feels on a real clock (`measures`: jog shares, stop times) and the
+# `alone` ones (they failed beside another worker); behind them, at nice 19 so they never take a core the
+# timed tests want, every other test on two workers (--dist worksteal), then the other browser tests on two
+# workers, a module per worker (it shares a Chromium and its pendants, tests/browser/conftest.py). A browser
+# test that fails is run once more (pytest-rerunfailures; R in the output): some fail now and then in a full
+# run and pass alone (docs/development.md lists them).
 test: $(STAMP) $(SDK_STAMP) lint layers typecheck
-	@$(BIN)/pytest -q -n 2 --dist worksteal --ignore=tests/browser $(PYTEST_ARGS)
-	@$(BIN)/pytest -q -n 2 --dist loadfile -m "not measures and not alone" --reruns 1 tests/browser $(PYTEST_ARGS)
-	@$(BIN)/pytest -q -m "measures or alone" --reruns 1 tests/browser $(PYTEST_ARGS)
+	@BIN=$(BIN) PYTEST_ARGS="$(PYTEST_ARGS)" bash scripts/test_passes.sh
 
 # N simulated pendants + Prometheus + Alertmanager on loopback with deploy/'s files; Ctrl-C stops all.
 N ?= 3
