@@ -10,6 +10,7 @@ import pytest
 from playwright.sync_api import Page
 
 from tests.support.browser_pages import ARTIFACTS, MOVE_TIMEOUT_S, SETTLE_S, wait_idle
+from tests.support.jog_measure import ensure_operator
 from tests.support.launchers import Pendant
 
 HOLD_S = 1.2
@@ -24,6 +25,9 @@ def test_hold_j1_plus_moves_the_arm_and_release_stops_it(page: Page, pendant: Pe
     wait_idle(pendant)
     before = np.array(pendant.pose())
     page.get_by_role("tab", name="Jog").click()
+    # In control, and the page's frames steady: a page still building its scene stalls its main thread for
+    # seconds, and the deadman rightly cuts a hold it cannot confirm (CI: the arm did not turn at all).
+    ensure_operator(page)
     button = page.get_by_role("button", name="J1+", exact=True)
     box = button.bounding_box()
     assert box is not None

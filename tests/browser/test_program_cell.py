@@ -29,7 +29,8 @@ from tests.support.launchers import REPO_ROOT, Pendant
 from tests.support.shared_pendants import NOT_REAL_TIME
 
 # Not about real time: the shared pendant's simulator runs faster (tests/browser/conftest.py).
-# alone: beside another worker the run did not reach "Finished" in time (CI, 27 Nov; not yet understood).
+# alone: beside another worker the run did not reach "Finished" in time (CI, 27 Nov; not yet understood; in
+# the serial pass the run was taken for finished before it started: mended below).
 pytestmark = [pytest.mark.time_scale(NOT_REAL_TIME), pytest.mark.alone]
 
 CORNERS_DEG = (
@@ -120,7 +121,11 @@ def test_teach_and_run_a_pallet_pick_and_place(page: Page, pendant: Pendant) -> 
         wait_text(page, text)
     page.screenshot(path=str(ARTIFACTS / "program-cell-taught.png"))
 
+    # Away from P4 first (it was taught there): the run must bring the arm to the place waypoint itself. And
+    # a pendant shared with an earlier module may still show its last run's "Finished" until this run starts.
+    move_to(pendant, CORNERS_DEG[0])
     click(page, "Run")
+    wait_text(page, "Running step")
     near_place_then_sensor(pendant, lambda: page.get_by_text("Finished").first.is_visible())
     page.screenshot(path=str(ARTIFACTS / "program-cell-finished.png"))
     p4 = tcp(pendant) - np.array([0.0, 0.0, 0.05])
