@@ -32,6 +32,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -366,10 +367,13 @@ async def measure(ui_port: int, api: str, pid: int, churners: int, seconds: floa
     return result, cuts, cpu, counts, churn_lag, churn_cores, probe_lag, moved, hold_gap
 
 
-def run(label: str, source: Path, churners: int, seconds: float) -> Outcome:
+@contextlib.contextmanager
+def pendant_from(source: Path, prefix: str) -> Iterator[tuple[int, str, int]]:
+    """A pendant run from the checkout at `source` with a data folder of its own, started and answering:
+    (page port, API URL, process id); stopped on the way out (SIGTERM, then kill)."""
     ui_port, api_port = free_port(), free_port()
     api = f"http://127.0.0.1:{api_port}"
-    with tempfile.TemporaryDirectory(prefix="pendant-churn-") as data:
+    with tempfile.TemporaryDirectory(prefix=prefix) as data:
         process = subprocess.Popen(
             [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
             stdout=subprocess.DEVNULL,
@@ -380,13 +384,18 @@ def run(label: str, source: Path, churners: int, seconds: float) -> Outcome:
         try:
             wait_until(lambda: answers(f"{api}/pose"), START_TIMEOUT_S, what="the API answering")
             wait_until(lambda: answers(f"http://127.0.0.1:{ui_port}/"), START_TIMEOUT_S, what="the page")
-            outcome = asyncio.run(measure(ui_port, api, process.pid, churners, seconds))
+            yield ui_port, api, process.pid
         finally:
             process.terminate()
             try:
                 process.wait(timeout=10)
             except subprocess.TimeoutExpired:
                 process.kill()
+
+
+def run(label: str, source: Path, churners: int, seconds: float) -> Outcome:
+    with pendant_from(source, "pendant-churn-") as (ui_port, api, pid):
+        outcome = asyncio.run(measure(ui_port, api, pid, churners, seconds))
     return Outcome(label, *outcome)
 
 

@@ -34,11 +34,9 @@ from pathlib import Path
 import httpx
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from benchmarks.churn import Viewer, operator_process, percentile, probe
+from benchmarks.churn import Viewer, operator_process, pendant_from, percentile, probe
 from benchmarks.preflight_bodies import PLAN, SMALL
 from benchmarks.viewers import ViewerCounts, cpu_seconds, viewer
-from tests.support.ports import free_port
-from tests.support.waiting import answers, wait_until
 
 REPO = Path(__file__).resolve().parents[1]
 START_TIMEOUT_S = 60.0
@@ -117,26 +115,8 @@ async def measure(ui: int, api: str, pid: int, n: int, seconds: float, plans: bo
 
 
 def run(label: str, source: Path, n: int, seconds: float, plans: bool) -> Outcome:
-    ui, api_port = free_port(), free_port()
-    api = f"http://127.0.0.1:{api_port}"
-    with tempfile.TemporaryDirectory(prefix="pendant-classroom-") as data:
-        process = subprocess.Popen(
-            [sys.executable, "-m", "pendant", "--ui-port", str(ui), "--api-port", str(api_port)],
-            stdout=subprocess.DEVNULL,
-            stderr=subprocess.DEVNULL,
-            cwd=source,
-            env={**os.environ, "PYTHONPATH": str(source), "PENDANT_DATA_DIR": data},
-        )
-        try:
-            wait_until(lambda: answers(f"{api}/pose"), START_TIMEOUT_S, what="the API answering")
-            wait_until(lambda: answers(f"http://127.0.0.1:{ui}/"), START_TIMEOUT_S, what="the page")
-            outcome = asyncio.run(measure(ui, api, process.pid, n, seconds, plans))
-        finally:
-            process.terminate()
-            try:
-                process.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                process.kill()
+    with pendant_from(source, "pendant-classroom-") as (ui, api, pid):
+        outcome = asyncio.run(measure(ui, api, pid, n, seconds, plans))
     outcome.label = label
     return outcome
 

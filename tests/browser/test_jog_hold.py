@@ -9,7 +9,6 @@ tab at every scroll position: test_screen_fit.py.)
 
 from __future__ import annotations
 
-import itertools
 import statistics
 import time
 from collections.abc import Iterator
@@ -25,10 +24,12 @@ from tests.support.jog_measure import (
     button_centre,
     close_while_held,
     ensure_operator,
+    hang_main_thread,
     key_hold,
     mouse_hold,
     on_top,
     open_as_operator,
+    pose_changes,
     settled,
     touch_hold,
     touch_swipe,
@@ -132,21 +133,12 @@ def test_a_page_that_hangs_while_a_jog_is_held_stops_the_arm_until_the_button_is
     sampler.start()
     page.mouse.down()
     time.sleep(0.5)
-    page.evaluate(
-        """(ms) => setTimeout(() => {
-            window.__hungAt = performance.timeOrigin + performance.now();
-            while (performance.timeOrigin + performance.now() - window.__hungAt < ms) {}
-        }, 0)""",
-        HANG_S * 1000,
-    )
-    page.evaluate("window.__hungAt")  # answered once the page runs again
+    hung = hang_main_thread(page, sampler, HANG_S)
     time.sleep(1.0)  # the button still held
     released = sampler.mark()
     page.mouse.up()
     timeline = sampler.stop(released)
-    # The page's clock is the wall clock; the sampler's is monotonic, from its start.
-    hung = page.evaluate("window.__hungAt") / 1000 - (time.time() - time.monotonic()) - sampler.t0
-    changes = [t for (t, a), (_, b) in itertools.pairwise(timeline.samples) if a != b]
+    changes = pose_changes(timeline)
     assert any(t < hung for t in changes), "the held button did not jog before the page hung"
     # Under load the page may have stalled (and the arm stopped) just before: then nothing moves in the hang.
     in_hang = [t for t in changes if hung < t < hung + HANG_S]

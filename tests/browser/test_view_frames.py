@@ -10,7 +10,6 @@ frames a second): on this shared 2-core machine at load 25-30 the deadman cut ho
 
 from __future__ import annotations
 
-import itertools
 import time
 
 import pytest
@@ -20,7 +19,9 @@ from tests.support.jog_measure import (
     PoseSampler,
     button_centre,
     ensure_operator,
+    hang_main_thread,
     mouse_hold,
+    pose_changes,
     wait_idle,
     wait_settled,
 )
@@ -70,19 +71,10 @@ def test_a_page_whose_main_thread_hangs_still_stops_the_held_arm(page: Page, pen
     sampler.start()
     page.mouse.down()
     time.sleep(1.0)
-    page.evaluate(
-        """(ms) => setTimeout(() => {
-            window.__hungAt = performance.timeOrigin + performance.now();
-            while (performance.timeOrigin + performance.now() - window.__hungAt < ms) {}
-        }, 0)""",
-        HANG_S * 1000,
-    )
-    page.evaluate("window.__hungAt")  # answered once the page runs again
+    hung = hang_main_thread(page, sampler, HANG_S)
     released = sampler.mark()
     page.mouse.up()
-    timeline = sampler.stop(released)
-    hung = page.evaluate("window.__hungAt") / 1000 - (time.time() - time.monotonic()) - sampler.t0
-    changes = [t for (t, a), (_, b) in itertools.pairwise(timeline.samples) if a != b]
+    changes = pose_changes(sampler.stop(released))
     assert any(t < hung for t in changes), "the held button did not jog before the page hung"
     late = [t for t in changes if hung + STILL_AFTER_HANG_S < t < hung + HANG_S]
     assert not late, (

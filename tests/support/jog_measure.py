@@ -6,6 +6,7 @@ Used by tests/browser/test_jog_hold.py (behaviour, generous bounds) and benchmar
 
 from __future__ import annotations
 
+import itertools
 import threading
 import time
 from collections.abc import Callable
@@ -192,6 +193,26 @@ def wait_settled(page: Any, quiet_ms: int = 1_500, max_gap_ms: int = 250, timeou
     """Wait until the page has drawn for `quiet_ms` with no frame gap over `max_gap_ms` (at most `timeout_ms`;
     False if it never settled: a machine that busy is the test's to report, not this wait's)."""
     return bool(page.evaluate(SETTLED, [quiet_ms, max_gap_ms, timeout_ms]))
+
+
+HANG_MAIN_THREAD = """(ms) => setTimeout(() => {
+    window.__hungAt = performance.timeOrigin + performance.now();
+    while (performance.timeOrigin + performance.now() - window.__hungAt < ms) {}
+}, 0)"""
+
+
+def hang_main_thread(page: Any, sampler: PoseSampler, seconds: float) -> float:
+    """Hang the page's main thread for `seconds` (a busy loop, as a stuck script does) and return when it
+    began on the sampler's clock; returns once the page runs again."""
+    page.evaluate(HANG_MAIN_THREAD, seconds * 1000)
+    hung_wall_ms = page.evaluate("window.__hungAt")  # answered once the page runs again
+    # The page's clock is the wall clock; the sampler's is monotonic, from its start.
+    return float(hung_wall_ms) / 1000 - (time.time() - time.monotonic()) - sampler.t0
+
+
+def pose_changes(timeline: Timeline) -> list[float]:
+    """The times at which J1 read differently from the sample before."""
+    return [t for (t, a), (_, b) in itertools.pairwise(timeline.samples) if a != b]
 
 
 def mouse_hold(page: Any, api: httpx.Client, label: str, hold_s: float) -> Timeline:
