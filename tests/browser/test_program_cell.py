@@ -21,7 +21,6 @@ from tests.support.browser_pages import (
     ARTIFACTS,
     POLL_S,
     RUN_TIMEOUT_S,
-    UI_TIMEOUT_MS,
     choose,
     move_to,
 )
@@ -67,7 +66,7 @@ def edit(page: Page, name: str) -> None:
 
 
 def wait_text(page: Page, text: str) -> None:
-    page.get_by_text(text).first.wait_for(timeout=UI_TIMEOUT_MS)
+    page.get_by_text(text).first.wait_for(timeout=CLICK_TIMEOUT_MS)  # as long as a click may take
 
 
 def tcp(pendant: Pendant) -> np.ndarray:
