@@ -36,10 +36,10 @@ $(SDK_STAMP):
 run: $(RUN_STAMP)
 	@$(BIN)/pendant $(if $(FOXGLOVE),--foxglove-port $(FOXGLOVE)) $(ARGS)
 
-# The suite in three passes, two at once (scripts/test_passes.sh says why): in front, one at a time, the
-# browser tests that time what a user feels on a real clock (`measures`: jog shares, stop times) and the
-# `alone` ones (they failed beside another worker); behind them, at nice 19 so they never take a core the
-# timed tests want, every other test on two workers (--dist worksteal), then the other browser tests on two
+# The suite in three passes (scripts/test_passes.sh says why): the browser tests that time what a user feels
+# on a real clock (`measures`: jog shares, stop times) and the `alone` ones (they failed beside another
+# worker), one at a time, while every test outside tests/browser runs behind them at nice 19 on two workers
+# (--dist worksteal), so it never takes a core the timed tests want; then the other browser tests on two
 # workers, a module per worker (it shares a Chromium and its pendants, tests/browser/conftest.py). A browser
 # test that fails is run once more (pytest-rerunfailures; R in the output): some fail now and then in a full
 # run and pass alone (docs/development.md lists them).

@@ -11,8 +11,9 @@ from pendant.monitoring import DATA_DIR_ENV
 from pendant.program import PROGRAMS_DIR_ENV
 from pendant.sim import FakeClock, SimController
 
-# The test kit's fixtures (pendant_ui, ui, remote, controller, launch) for every test directory.
-pytest_plugins = ["tests.support.fixtures"]
+# The test kit's fixtures (pendant_ui, ui, remote, controller, launch) for every test directory, and
+# `--cpu-report FILE` (each test's CPU seconds).
+pytest_plugins = ["tests.support.fixtures", "tests.support.cpu_report"]
 
 
 @pytest.fixture(autouse=True)
