@@ -20,6 +20,7 @@ import viser
 from pendant.controller import Controller, ControllerError
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import position_to_matrix
+from pendant.planning.budget import Budget
 from pendant.planning.gate import RunGate, current_fingerprint
 from pendant.planning.preflight import PreflightRefused, preflight
 from pendant.planning.report import PreflightReport
@@ -101,7 +102,11 @@ class CheckSection:
         model = self._arm.name if self._arm is not None else "pulse75"
         print_ = current_fingerprint(program, controller, workspace.store.load)
         try:
-            report = preflight(program, read_seed(controller), model=model, load=workspace.store.load)
+            # Quitting ends it at once (the API's pre-flights: their process is ended; this one: its budget).
+            budget = Budget(cancel=self._host.commands.quitting)
+            report = preflight(
+                program, read_seed(controller), model=model, load=workspace.store.load, budget=budget
+            )
         except PreflightRefused as error:
             raise ValueError(str(error)) from error  # told to the browser that asked (USER_ERRORS)
         with self.shared.lock:
