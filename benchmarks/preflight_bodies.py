@@ -31,7 +31,7 @@ from tests.support.ports import LOOPBACK
 
 FREEZE = b"PUT /freeze HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\n\r\n"
 ORIGIN = {"point": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": {"roll": 0.0, "pitch": 0.0, "yaw": 0.0}}
-SIZES = (10_000, 20_000, 30_000)  # waypoints: ~1.6 / 3.3 / 4.9 MB, as the audit sent
+SIZES = (10_000, 20_000, 30_000, 36_000)  # waypoints: 1.4 / 2.8 / 4.2 / 5.0 MB (the issue says 5 MB)
 SMALL = {
     "schema_version": 2,
     "name": "small",
@@ -137,6 +137,7 @@ def main() -> int:
     parser.add_argument("--rounds", type=int, default=10)
     parser.add_argument("--round-s", type=float, default=5.0)
     parser.add_argument("--clients", type=int, default=8)
+    parser.add_argument("--sizes", type=int, nargs="+", default=list(SIZES), help="waypoints per body")
     args = parser.parse_args()
     with pendant_process() as (process, url):
         # Its log goes to a pipe: read it, or a full pipe stops the server (every refusal is a line).
@@ -145,7 +146,7 @@ def main() -> int:
         httpx.post(f"{url}/pendant/preflight", json=SMALL, timeout=120)  # the worker started (since the fix)
         idle = freeze_latencies_ms(port, args.seconds, args.period_ms / 1e3)
         print(f"{'idle':<22}{summary(idle)}")
-        for size in SIZES:
+        for size in args.sizes:
             body = big_program(size)
             stop, answers = threading.Event(), []
             sender = threading.Thread(target=keep_sending, args=(url, body, stop, answers))
@@ -155,7 +156,7 @@ def main() -> int:
             sender.join()
             label = f"{size:,} wp ({len(body) / 1e6:.1f} MB)"
             print(f"{label:<22}{summary(times)}  refusals: {', '.join(answers[:3])}")
-        big = big_program(30_000)
+        big = big_program(36_000)  # 5.0 MB
         print(f"RSS start: server {rss_mb(process.pid):.0f} MB")
         for number in range(1, args.rounds + 1):
             statuses = load_round(url, args.clients, args.round_s, big)

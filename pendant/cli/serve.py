@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 from starlette.types import ASGIApp
 
 from pendant.banner import announce
+from pendant.cli import heap
 from pendant.cli.apps import (
     access_rules,
     make_api_app,
@@ -160,6 +161,7 @@ def serve(argv: Sequence[str] | None = None) -> int:
 
     on_main_thread = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, _exit_on_sigterm) if on_main_thread else None
+    heap.settle()  # no full garbage collection walks the start-up's objects again: nothing waits on one
     try:
         freeze = freeze_on_quit(controller.freeze, events)  # quitting stops the arm, and any pre-flight
 
@@ -169,6 +171,7 @@ def serve(argv: Sequence[str] | None = None) -> int:
 
         serve_api(settings, api_app, on_quit)
     finally:
+        heap.unsettle()
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
         if ui is not None:

@@ -19,6 +19,7 @@ from typing import TypeVar, cast
 from pydantic import ValidationError
 
 from pendant.paths import programs_dir
+from pendant.program import gentle_json
 from pendant.program.migrate import migrate
 from pendant.program.models import PROGRAM_NAME_MAX, SCHEMA_VERSION, Program, describe_problems
 
@@ -61,7 +62,7 @@ def parse_program(data: bytes, source: str) -> Program:
     if len(data) > MAX_FILE_BYTES:
         raise ProgramFileError(f"{source} is too big to be a program ({len(data)} bytes)")
     try:
-        document = json.loads(data)
+        document = gentle_json.loads(data)  # a big file a bit at a time: a Freeze never waits behind it
     except (UnicodeDecodeError, json.JSONDecodeError) as error:
         raise ProgramFileError(f"{source} is not a JSON document: {error}") from error
     except RecursionError as error:

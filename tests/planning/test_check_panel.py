@@ -12,9 +12,12 @@ import viser
 
 from pendant.controller.types import MotionParams, MotionStatus, Pose
 from pendant.kinematics import ArmModel
+from pendant.planning.report import PreflightReport
 from pendant.program import ProgramRunner, ProgramStore, ProgramWorkspace, RunState
+from pendant.program.models import LoopStep
 from pendant.remote import RemoteController
 from pendant.ui.kit.commands import CommandRunner
+from pendant.ui.program.check_section import MSG_RUNNING
 from pendant.ui.program.panel import ProgramPanel
 from tests.support.doubles import FakeBrowser, fire
 from tests.support.launchers import running_pendant
@@ -23,6 +26,7 @@ from tests.support.preflight_scene import BOX_NAME, LEFT_DEG, box_in_the_way, sw
 from tests.support.waiting import wait_until
 
 WAIT_S = 30.0
+PASSES = 100  # 300 moves: seconds of checking on the twin
 
 
 @pytest.fixture(scope="module")
@@ -103,3 +107,24 @@ def test_playback_moves_the_ghost_and_the_step_list_follows(
     assert panel.selected == 2
     ghost = panel.waypoints.ghost
     assert ghost is not None and ghost.show_visual
+
+
+def test_a_second_check_while_one_runs_is_refused_and_the_first_one_reports(
+    checked: tuple[ProgramPanel, ProgramWorkspace, RemoteController],
+) -> None:
+    """One check at a time (issue #32): a click on Check while one runs is refused with a message, not queued
+    as one more pre-flight of up to 30 s ahead of the operator's next commands."""
+    panel, workspace, arm = checked
+    arm.remove_obstacles()
+    swings = LoopStep(times=PASSES, body=swing_program().steps)
+    workspace.open_uploaded(swing_program().model_copy(update={"steps": (swings,)}))
+    browser = FakeBrowser(1)
+    fire(panel.check_section.check, browser)
+    first = panel.pending
+    fire(panel.check_section.check, browser)
+    assert browser.notifications[-1] == f"Check refused: {MSG_RUNNING}"
+    assert panel.pending is first  # nothing more was queued
+    assert first is not None
+    report = first.result(timeout=WAIT_S)
+    assert isinstance(report, PreflightReport) and report.ok
+    assert check(panel, browser).ok  # once it has ended, Check runs again

@@ -140,3 +140,26 @@ def test_a_zstd_bomb_is_decompressed_no_further_than_a_chunk(tmp_path: Path) -> 
     finally:
         tracemalloc.stop()
     assert peak < MEMORY_BOUND, f"{peak / 1e6:.0f} MB"
+
+
+@pytest.mark.parametrize("which", ["finished", "unfinished"])
+def test_replay_of_a_recording_cut_at_every_4_kib_boundary_plays_or_says_why(
+    which: str, real: bytes, unfinished: bytes, tmp_path: Path
+) -> None:
+    """The replay reader alone, before any repair (a file copied in by hand, a recording cut under it): every
+    cut plays (one cut inside a finished file's summary still holds all its data) or is refused in one line
+    naming the file, never another exception; the whole file plays if it was finished."""
+    data = real if which == "finished" else unfinished
+    path = tmp_path / NAME
+    for cut in range(0, len(data), CUT_STEP):
+        path.write_bytes(data[:cut])
+        try:
+            load_replay(path)
+        except ReplayError as refused:
+            assert NAME in str(refused) and "\n" not in str(refused), f"cut at {cut}: {refused}"
+    path.write_bytes(data)
+    if which == "finished":
+        assert load_replay(path).duration_s > 0.0
+    else:
+        with pytest.raises(ReplayError, match="is not finished"):
+            load_replay(path)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import threading
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 
@@ -63,6 +64,9 @@ class CommandRunner:
         # A stop button's press, handed over from viser's event loop (stop_path.py): never viser's shared
         # callback pool, which any browser's clicks can fill.
         self._presses = ThreadPoolExecutor(max_workers=1, thread_name_prefix="pendant-stop-press")
+        # Set when the page closes (SIGTERM, Ctrl-C): long work on the workers (the page's pre-flight) ends
+        # at its next look instead of keeping the process alive until it is done (Python joins the workers).
+        self.quitting = threading.Event()
 
     @property
     def controller(self) -> Controller:
@@ -131,6 +135,7 @@ class CommandRunner:
         return future
 
     def shutdown(self) -> None:
+        self.quitting.set()
         self._pool.shutdown(wait=False, cancel_futures=True)
         self._urgent.shutdown(wait=False, cancel_futures=True)
         self._presses.shutdown(wait=False, cancel_futures=True)

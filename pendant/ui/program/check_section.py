@@ -20,6 +20,7 @@ import viser
 from pendant.controller import Controller, ControllerError
 from pendant.kinematics import ArmModel
 from pendant.kinematics.transforms import position_to_matrix
+from pendant.planning.budget import Budget
 from pendant.planning.gate import RunGate, current_fingerprint
 from pendant.planning.preflight import PreflightRefused, preflight
 from pendant.planning.report import PreflightReport
@@ -36,6 +37,7 @@ FAILURE_RADIUS_M = 0.02
 PATH_THICKNESS_PX = 3.0
 GATED = ("Run", "Run from", "Step")  # what starts the arm on a program (Resume and Retry continue one)
 MSG_OVERRIDE = "Run without a passing pre-flight"
+MSG_RUNNING = "a check is already running (up to 30 s): its result comes first"
 
 
 class SharedCheck:
@@ -46,6 +48,9 @@ class SharedCheck:
         self.lock = threading.Lock()
         self.program: Program | None = None  # the program the last report is of
         self.report: PreflightReport | None = None
+        # One check at a time (issue #32): another click would queue one more pre-flight of up to 30 s on
+        # the command worker, ahead of the operator's next commands.
+        self.running = False
 
 
 _SHARED: weakref.WeakKeyDictionary[ProgramWorkspace, SharedCheck] = weakref.WeakKeyDictionary()
@@ -93,7 +98,24 @@ class CheckSection:
         return tuple(self._nodes)
 
     def _start_check(self, client: viser.ClientHandle | None) -> None:
-        self._host.with_controller("Check", client, self._check)  # off the UI thread; `pending` to wait on
+        may_command = client is None or self._host.commands.gate(client) is None  # else refused as ever
+        with self.shared.lock:
+            busy = may_command and self.shared.running
+            self.shared.running = self.shared.running or may_command
+        if busy:
+            notify_refusal(client, "Check refused", MSG_RUNNING)
+            return
+        try:  # off the UI thread; `pending` to wait on
+            started = self._host.with_controller("Check", client, self._check)
+        except BaseException:  # the page is closing: nothing runs
+            self._check_ended()
+            raise
+        if may_command:
+            started.add_done_callback(lambda _: self._check_ended())
+
+    def _check_ended(self) -> None:
+        with self.shared.lock:
+            self.shared.running = False
 
     def _check(self, controller: Controller) -> PreflightReport | None:
         workspace = self._host.shared
@@ -101,7 +123,11 @@ class CheckSection:
         model = self._arm.name if self._arm is not None else "pulse75"
         print_ = current_fingerprint(program, controller, workspace.store.load)
         try:
-            report = preflight(program, read_seed(controller), model=model, load=workspace.store.load)
+            # Quitting ends it at once (the API's pre-flights: their process is ended; this one: its budget).
+            budget = Budget(cancel=self._host.commands.quitting)
+            report = preflight(
+                program, read_seed(controller), model=model, load=workspace.store.load, budget=budget
+            )
         except PreflightRefused as error:
             raise ValueError(str(error)) from error  # told to the browser that asked (USER_ERRORS)
         with self.shared.lock:
