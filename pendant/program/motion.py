@@ -111,8 +111,10 @@ class NodeExecutor:
         blended: BlendedPath | None = None,
         notice: Callable[[str], None] = lambda text: None,
         planner: PathPlanner | None = None,
+        before_send: Callable[[], None] = lambda: None,
     ) -> None:
         self._controller = controller
+        self._before_send = before_send  # collects stops on their way (`pendant run`'s poll)
         self._t = timing
         self._interrupted = interrupted
         self._freeze = freeze
@@ -127,6 +129,7 @@ class NodeExecutor:
 
     def command(self, target: int, send: Callable[[], object]) -> None:
         """Send a command unless interrupted; if an interrupt raced it, freeze again so it does not run."""
+        self._before_send()
         self.check(target)
         send()
         if self._interrupted():

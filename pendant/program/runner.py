@@ -108,8 +108,9 @@ class ProgramRunner:
         # A failed step's reason in the page's words (a bare "Collision detected" gets the obstacle named):
         # given the program, the failed lines (first, last: a blended group refused whole) and the reason.
         self.explain_failure: Callable[[Program, int, int, str], str] = lambda program, first, last, why: why
-        # Collects a stop still on its way before a failed step is judged (`pendant run` polls a pendant's
-        # stops: its protective stop may show as the step failing before the poll hears it).
+        # Collects a stop still on its way, before a failed step is judged and before every command is
+        # sent (`pendant run` polls a pendant's stops: a stop the pendant heard since the last poll must
+        # keep the next command from going out, and its protective stop may show as the step failing).
         self.hear_stops_now: Callable[[], None] = lambda: None
         self._executor = NodeExecutor(
             controller,
@@ -119,6 +120,7 @@ class ProgramRunner:
             blended,
             notice=lambda text: self._publish(notice=text),
             planner=planner,
+            before_send=lambda: self.hear_stops_now(),
         )
 
     # --- observing ---------------------------------------------------------------------------------
@@ -341,6 +343,9 @@ class ProgramRunner:
             cause = f" by {self._heard.cause}" if self._heard.since_start else ""
             return self._finish(state=RunState.STOPPED, message=f"Stopped at step {line + 1}{cause}")
         if self._heard.since_start:
+            # Frozen here too: a stop heard late (`pendant run` polls its pendant's stops) may have come
+            # after the next command went out, and that command's motion must not run on.
+            self._freeze_quietly()
             return self._stopped_by(run)
         because = self._paused_because
         message = f"Paused before step {line + 1}" + (f": {because}" if because else "")
