@@ -292,6 +292,8 @@ class ProgramRunner:
             self.hear_stops_now()
             if self._heard.since_start:  # the stop landed between two looks: the arm stopped short for it
                 return self._interrupted(run)
+            if failure.stopped_by:  # the controller's own stop (not frozen: that would undo a relax)
+                return self._stopped_by(run, failure.stopped_by)
             return self._failed(run, failure)
         except ControllerError as error:  # not expected (every read is a node's), but never left uncaught
             line = interpreter.line or 0
@@ -351,15 +353,16 @@ class ProgramRunner:
         message = f"Paused before step {line + 1}" + (f": {because}" if because else "")
         return self._finish(state=RunState.PAUSED, step_index=line, message=message, paused_because=because)
 
-    def _stopped_by(self, run: _Run) -> RunProgress:
-        """A stop heard elsewhere ended the run: its place is kept for Retry or Skip, as a failed step's."""
+    def _stopped_by(self, run: _Run, cause: str | None = None) -> RunProgress:
+        """A stop heard elsewhere (or `cause`: the controller's own) ended the run: its place is kept for
+        Retry or Skip, as a failed step's."""
         line = run.interpreter.place
         return self._finish(
             state=RunState.STOPPED,
             step_index=line,
             failed_step=line,
             loop=run.interpreter.loop,
-            message=f"Stopped at step {line + 1} by {self._heard.cause}",
+            message=f"Stopped at step {line + 1} by {cause if cause is not None else self._heard.cause}",
         )
 
     def _clear_requests(self) -> None:
@@ -367,6 +370,7 @@ class ProgramRunner:
         self._pause_requested = False
         self._stop_requested = False
         self._heard.start()
+        self._executor.begin()
 
     def _finish(self, **changes: object) -> RunProgress:
         with self._lock:
