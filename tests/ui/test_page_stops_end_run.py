@@ -40,6 +40,8 @@ from tests.support.programs import Taught, move, program_of
 from tests.support.threads import serve_in_thread
 from tests.support.waiting import wait_until
 
+pytestmark = pytest.mark.slow  # 24 runs on the real clock, 3 s of watching the arm in each
+
 FAR_DEG = [120.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 SLOW_PERCENT = 5.0
 LONG_MS = 20_000
