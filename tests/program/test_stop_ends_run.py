@@ -1,6 +1,7 @@
 """A stop heard anywhere (the page's Freeze, another browser, `PUT /freeze`, a protective stop) ends a
-running program whatever its step, moving or not: "Stopped at step N by <cause>", nothing after it is sent,
-the arm stays where the stop left it, and Retry or Skip go on from there as after a failure.
+running program whatever its step, moving or not, a blended group and the moment between two steps too:
+"Stopped at step N by <cause>", nothing after it is sent, the arm stays where the stop left it, and Retry or
+Skip go on from there as after a failure.
 
 The stop is delivered as the API's stop middleware delivers it: told to the runner first, then the arm is
 frozen. The runner's sleeps advance the simulator's fake clock, so each case runs in milliseconds."""
@@ -106,6 +107,11 @@ def cases(waypoints: dict[str, Waypoint]) -> dict[str, Case]:
         # The first pass's wait just ended: the loop's check (line 2) is what comes next.
         "between loop passes": Case([move(a), loop, move(b)], 2, 0.1, 1),
         "a motion": Case([move(a), WaitStep(ms=100), move(b)], 2, IN_STEP_S, 2),
+        "a blended group": Case(
+            [move(a), WaitStep(ms=100), move(b, blend_mm=20.0), move(waypoints["C"])], 2, IN_STEP_S, 2
+        ),
+        # As step 3 begins, before it sends anything: the step just done (DO2) stays done.
+        "between two steps": Case([move(a), OutputStep(port=2, level=SignalLevel.HIGH), move(b)], 2, 0.0, 2),
     }
 
 
@@ -117,6 +123,8 @@ CASE_NAMES = [
     "inside a loop pass",
     "between loop passes",
     "a motion",
+    "a blended group",
+    "between two steps",
 ]
 
 
