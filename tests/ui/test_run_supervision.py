@@ -82,6 +82,7 @@ def test_only_a_browser_with_control_resumes_a_run_its_page_left(
     pendant_ui.desk.join(third.client_id)
     pendant_ui.disconnect(FakeBrowser(OPERATOR).handle)  # its control passes on
     wait_until(lambda: programs.progress.state is RunState.PAUSED, TIMEOUT_S, "the pause")
+    assert programs.runner.join(TIMEOUT_S)  # the paused run's worker has ended (as long before a click)
     assert ui.banner is not None
     operator = pendant_ui.desk.operator
     assert operator in (VIEWER, third.client_id)
