@@ -61,6 +61,9 @@ class RunProgress:
 RESUMABLE = (RunState.PAUSED, RunState.FAILED, RunState.STOPPED)
 
 
+FINISHING_S = 2.0  # how long a start waits for a run that has ended to finish telling its listeners
+
+
 class RunnerBusy(Exception):
     """A run is already executing on the worker thread."""
 
@@ -238,6 +241,15 @@ class ProgramRunner:
 
     def start(self, command: Callable[[], RunProgress]) -> threading.Thread:
         """Run a blocking command (e.g. `lambda: runner.run(program, 3)`) on the worker thread."""
+        finishing = self._worker
+        if (
+            finishing is not None
+            and finishing is not threading.current_thread()
+            and self._progress.state is not RunState.RUNNING
+        ):
+            # A run that has just paused, stopped or failed still tells its listeners on its thread: a
+            # Resume or Retry pressed as the banner appears waits for that instead of being refused.
+            finishing.join(FINISHING_S)
         with self._lock:
             if self.busy:
                 raise RunnerBusy("A program is already running")

@@ -8,6 +8,8 @@ frozen. The runner's sleeps advance the simulator's fake clock, so each case run
 
 from __future__ import annotations
 
+import threading
+import time
 from collections.abc import Callable
 from typing import NamedTuple
 
@@ -29,6 +31,7 @@ from pendant.program import (
     WaitStep,
     Waypoint,
 )
+from pendant.program.runner import RunProgress
 from pendant.sim import FakeClock, SimController
 from tests.support.programs import POLL_S, Taught, move, program_of, runner_doing_at_step
 
@@ -36,6 +39,7 @@ CAUSE = "Freeze from the API (127.0.0.1)"
 ANGLE_TOL_DEG = 1e-6
 HELD_S = 3.0  # how long the arm is watched after the stop: it must not go on to the next motion
 IN_STEP_S = 0.2  # the stop comes this long into the step it interrupts (or at its start: 0)
+SLOW_VIEW_S = 0.3  # a listener this slow still runs on the run's thread when the next start comes
 
 
 def stop_during(
@@ -235,3 +239,27 @@ def test_the_programs_own_stop_ends_the_run_for_good(
 
     assert result.state is RunState.STOPPED and result.message == "Stopped at step 2 by Stop by Tab 1"
     assert not runner.can_resume
+
+
+def test_resume_pressed_as_the_stop_is_announced_goes_on_rather_than_being_refused(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
+    """The banner shows the stopped run while the run's thread is still telling its other listeners: a
+    Retry pressed then starts the run again (it was refused "A program is already running")."""
+    program = program_of(move(waypoints["A"]), WaitStep(ms=2500), move(waypoints["B"]))
+    runner = runner_stopped_at(sim, clock, 1, IN_STEP_S)
+    announced = threading.Event()
+
+    def slow_view(progress: RunProgress) -> None:
+        if progress.state is RunState.STOPPED:
+            announced.set()
+            time.sleep(SLOW_VIEW_S)  # another browser's view, slow to draw
+
+    runner.add_listener(slow_view)
+    runner.start(lambda: runner.run(program))
+    assert announced.wait(HELD_S)
+
+    runner.start(runner.resume)
+
+    assert runner.join(HELD_S * 10)
+    assert runner.progress.state is RunState.FINISHED, runner.progress.message
