@@ -155,6 +155,36 @@ def test_j2_typed_at_any_pace_and_left_with_tab_is_where_move_j_goes(
     )
 
 
+TOOL_AT_MM = (TYPED_DEG, 0.0, 120.0)  # "-69.3, 0, 120": the TCP's offset from the flange, x as typed
+
+
+@pytest.mark.parametrize(("delay_ms", "cpu_slowdown"), PACES)
+def test_a_tool_offset_typed_at_any_pace_is_the_tool_set(
+    page: Page, pendant: Pendant, delay_ms: int, cpu_slowdown: int
+) -> None:
+    """The Robot tab's tool XYZ (where Move L and the jogs take the TCP), committed by pressing Set tool
+    straight after typing: the controller's tool is at x -69.3 mm."""
+    before = pendant.api.get("/tool").json()
+    page.get_by_role("tab", name="Robot").click()
+    if not typed_box(page, "XYZ mm").is_visible():  # the folder starts folded; the page is the module's
+        page.get_by_text("Tool (TCP offset from the flange)").click()
+    typed_box(page, "XYZ mm").wait_for(timeout=SHOWN_TIMEOUT_MS)
+    typed = ", ".join(f"{v:g}" for v in TOOL_AT_MM)
+
+    def typing() -> None:
+        type_and_leave(page, "XYZ mm", typed, delay_ms)  # the first: the tool's (the base's follows)
+        page.get_by_role("button", name="Set tool").click()
+
+    typed_paced(page, cpu_slowdown, typing)
+    try:
+        tool_mm = lambda: [pendant.api.get("/tool").json()["point"][k] * 1000.0 for k in "xyz"]  # noqa: E731
+        wait_until(
+            lambda: np.allclose(tool_mm(), TOOL_AT_MM, atol=1e-6), MOVE_TIMEOUT_S, f"the tool at {typed}"
+        )
+    finally:
+        pendant.api.post("/tool", json=before).raise_for_status()
+
+
 def test_the_boxs_earlier_text_typed_again_while_the_server_changed_it_is_the_one_used(
     page: Page, pendant: Pendant
 ) -> None:
