@@ -125,7 +125,7 @@ class NodeExecutor:
     ) -> None:
         self._controller = controller
         self._before_send = before_send  # collects stops on their way (`pendant run`'s poll)
-        self._sent = False  # a command went out since the run (re)started
+        self._tolerated: MotionStatus | None = None  # the stop state the run (re)started in, if any
         self._t = timing
         self._interrupted = interrupted
         self._freeze = freeze
@@ -135,23 +135,30 @@ class NodeExecutor:
         self._planner = planner
 
     def begin(self) -> None:
-        """A run starts or goes on (Run, Resume, Retry, Skip): the operator chose to, whatever the state."""
-        self._sent = False
+        """A run starts or goes on (Run, Resume, Retry, Skip): a stop or failure state the controller is in
+        now is the operator's to judge (its first command goes out as pressed, and the controller answers
+        it); one that comes after this, a planned move's search included, is a stop."""
+        try:
+            status: MotionStatus | None = self._controller.get_motion_status()
+        except ControllerError:
+            status = None  # the first command's own look says why
+        self._tolerated = status if status in FAILED_STATES else None
 
     def check(self, target: int = 0) -> None:
         if self._interrupted():
             raise Interrupted(target)
 
     def command(self, target: int, send: Callable[[], object]) -> None:
-        """Send a command unless interrupted, or unless the controller stopped the arm itself since the
-        last one (an arm another client relaxed is not moved off on); if an interrupt raced it, freeze again
-        so it does not run."""
+        """Send a command unless interrupted, or unless the controller stopped the arm itself since the run
+        (re)started or took its last command (an arm another client relaxed is not moved off on); if an
+        interrupt raced it, freeze again so it does not run."""
         self._before_send()
         self.check(target)
-        if self._sent:
-            self.controller_still_well(target)
+        status = self._controller.get_motion_status()
+        if status is not self._tolerated:
+            _raise_if_failed(status, target)
         send()
-        self._sent = True
+        self._tolerated = None  # the controller has taken a command since: any stop from now on is one
         if self._interrupted():
             self._freeze()
             raise Interrupted(target)

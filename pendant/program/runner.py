@@ -296,6 +296,7 @@ class ProgramRunner:
                 self._clear_requests()
         interpreter = run.interpreter
         self._publish(state=RunState.RUNNING, failed_step=None, paused_because="", message=self._where(run))
+        self._executor.begin()  # on the run's own thread: it reads the controller
         try:
             outcome = interpreter.run(self._executor, single_step=single_step)
         except Interrupted:
@@ -382,7 +383,6 @@ class ProgramRunner:
         self._pause_requested = False
         self._stop_requested = False
         self._heard.start()
-        self._executor.begin()
 
     def _finish(self, **changes: object) -> RunProgress:
         with self._lock:

@@ -13,7 +13,9 @@ from typing import NamedTuple
 import numpy as np
 import pytest
 
-from pendant.controller import SignalLevel
+from pendant.controller import Controller, Pose, Position, SignalLevel
+from pendant.kinematics import ArmModel
+from pendant.planning.live import ControllerPlanner
 from pendant.program import GripperAction, GripperStep, ProgramRunner, RunState, Step, WaitStep, Waypoint
 from pendant.program.runner import RunProgress
 from pendant.sim import FakeClock, SimController
@@ -114,3 +116,30 @@ def test_a_stop_the_controller_reports_ends_the_run_as_a_stop_and_nothing_is_sen
     if held is not None:
         np.testing.assert_allclose(angles(sim), held, atol=ANGLE_TOL_DEG)
         assert not np.allclose(held, waypoints["B"].pose.angles, atol=0.5)
+
+
+def test_an_arm_relaxed_while_a_planned_move_searches_is_not_sent_the_path(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
+    """The search takes its time before the path goes out: an arm another client relaxed meanwhile ends the
+    run there (main, and this branch before: the path was the run's first command, sent unchecked)."""
+    plans = ControllerPlanner(ArmModel.load("pulse75"))
+    recording = Recording(sim)
+    sent_before: list[int] = []
+
+    def planner(controller: Controller, goal: Pose | Position, cancelled: Callable[[], bool]) -> list[Pose]:
+        path = plans(controller, goal, cancelled)
+        sent_before.append(len(recording.calls))
+        sim.relax()  # while the path was being searched
+        return path
+
+    runner = ProgramRunner(recording, sleep=clock.advance, now=clock.now, poll_s=POLL_S, planner=planner)
+
+    result = runner.run(program_of(move(waypoints["A"], planned=True), WaitStep(ms=100)))
+
+    assert result.state is RunState.STOPPED, result.message
+    assert result.message == f"Stopped at step 1 by {STOPS['relaxed by another client'][1]}"
+    assert [name for name, _ in recording.calls[sent_before[0] :]] == []
+    before = angles(sim)
+    clock.advance(HELD_S)
+    np.testing.assert_allclose(angles(sim), before, atol=ANGLE_TOL_DEG)
