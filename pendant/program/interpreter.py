@@ -33,11 +33,14 @@ class Outcome(StrEnum):
 class NodeFailed(Exception):
     """A node failed; the stack still points at it, so `run` again retries it."""
 
-    def __init__(self, line: int, last_line: int, reason: str, targets: str = "") -> None:
+    def __init__(
+        self, line: int, last_line: int, reason: str, targets: str = "", stopped_by: str = ""
+    ) -> None:
         self.line = line
         self.last_line = last_line  # > line when a blended group was refused whole
         self.reason = reason
         self.targets = targets  # that group's waypoints, "A, B, Far"
+        self.stopped_by = stopped_by  # the controller stopped the arm itself: a stop, not a failure
 
 
 @dataclass
@@ -139,8 +142,12 @@ class Interpreter:
                     first = node.targets[failure.target]
                     last = node.targets[-1] if failure.whole else first
                     targets = node.describe(failure.target)
-                    raise NodeFailed(first.line, last.line, failure.reason, targets) from failure
-                raise NodeFailed(node.line, node.line, failure.reason) from failure
+                    raise NodeFailed(
+                        first.line, last.line, failure.reason, targets, failure.stopped_by
+                    ) from failure
+                raise NodeFailed(
+                    node.line, node.line, failure.reason, stopped_by=failure.stopped_by
+                ) from failure
             except Interrupted as interrupted:
                 if isinstance(node, MoveGroup):
                     frame.target = interrupted.target
@@ -210,7 +217,7 @@ class Interpreter:
         try:
             return _continues(loop, passes, executor)
         except StepFailed as failure:
-            raise NodeFailed(loop.line, loop.line, failure.reason) from failure
+            raise NodeFailed(loop.line, loop.line, failure.reason, stopped_by=failure.stopped_by) from failure
 
 
 def _continues(loop: Loop, passes: int, executor: NodeExecutor) -> bool:

@@ -29,7 +29,7 @@ from typing import Protocol
 import numpy as np
 
 from pendant.controller import Controller, ControllerError, MotionStatus
-from pendant.controller.errors import Unsupported
+from pendant.controller.errors import Emergency, Unsupported
 from pendant.controller.types import DEFAULT_GRIPPER_TIMEOUT_MS, Pose, Position, SignalLevel
 from pendant.program.blended import FALLBACK_NOTE, BlendedRun, run_planned_path
 from pendant.program.models import (
@@ -55,6 +55,14 @@ FAILED_STATES = {
     MotionStatus.ERROR: "the controller is in ERROR",
     MotionStatus.EMERGENCY: "the arm is in EMERGENCY",
     MotionStatus.ZERO_GRAVITY: "the arm was relaxed (ZERO_GRAVITY)",
+}
+
+# The stops the controller reports itself (a protective stop or a fault shows as ERROR): a run that meets
+# one ends "Stopped at step N by the controller (...)", as after any stop; MOTION_FAILED stays a failure.
+STOPPED_BY_CONTROLLER = {
+    MotionStatus.ERROR: "the controller (ERROR: a protective stop or a fault)",
+    MotionStatus.EMERGENCY: "the controller (EMERGENCY)",
+    MotionStatus.ZERO_GRAVITY: "the controller (the arm relaxed, ZERO_GRAVITY)",
 }
 
 
@@ -84,12 +92,14 @@ class Interrupted(Exception):
 
 
 class StepFailed(Exception):
-    """The node failed at `target` (its line); `whole` when the controller refused a blended group whole."""
+    """The node failed at `target` (its line); `whole` when the controller refused a blended group whole;
+    `stopped_by`: the controller stopped the arm itself (STOPPED_BY_CONTROLLER's words), not a failure."""
 
-    def __init__(self, reason: str, target: int = 0, whole: bool = False) -> None:
+    def __init__(self, reason: str, target: int = 0, whole: bool = False, stopped_by: str = "") -> None:
         self.reason = reason
         self.target = target
         self.whole = whole
+        self.stopped_by = stopped_by
 
 
 @dataclass
@@ -111,8 +121,11 @@ class NodeExecutor:
         blended: BlendedPath | None = None,
         notice: Callable[[str], None] = lambda text: None,
         planner: PathPlanner | None = None,
+        before_send: Callable[[], None] = lambda: None,
     ) -> None:
         self._controller = controller
+        self._before_send = before_send  # collects stops on their way (`pendant run`'s poll)
+        self._tolerated: MotionStatus | None = None  # the stop state the run (re)started in, if any
         self._t = timing
         self._interrupted = interrupted
         self._freeze = freeze
@@ -121,36 +134,53 @@ class NodeExecutor:
         self._notice = notice
         self._planner = planner
 
+    def begin(self) -> None:
+        """A run starts or goes on (Run, Resume, Retry, Skip): a stop or failure state the controller is in
+        now is the operator's to judge (its first command goes out as pressed, and the controller answers
+        it); one that comes after this, a planned move's search included, is a stop."""
+        try:
+            status: MotionStatus | None = self._controller.get_motion_status()
+        except ControllerError:
+            status = None  # the first command's own look says why
+        self._tolerated = status if status in FAILED_STATES else None
+
     def check(self, target: int = 0) -> None:
         if self._interrupted():
             raise Interrupted(target)
 
     def command(self, target: int, send: Callable[[], object]) -> None:
-        """Send a command unless interrupted; if an interrupt raced it, freeze again so it does not run."""
+        """Send a command unless interrupted, or unless the controller stopped the arm itself since the run
+        (re)started or took its last command (an arm another client relaxed is not moved off on); if an
+        interrupt raced it, freeze again so it does not run."""
+        self._before_send()
         self.check(target)
+        status = self._controller.get_motion_status()
+        if status is not self._tolerated:
+            _raise_if_failed(status, target)
         send()
+        self._tolerated = None  # the controller has taken a command since: any stop from now on is one
         if self._interrupted():
             self._freeze()
             raise Interrupted(target)
 
-    def controller_still_well(self) -> None:
+    def controller_still_well(self, target: int = 0) -> None:
         """A step that does not move the arm still ends when the controller reports a stop of its own (a
         protective stop, an emergency, the arm relaxed) rather than going on to the next motion."""
-        _raise_if_failed(self._controller.get_motion_status(), 0)
+        _raise_if_failed(self._controller.get_motion_status(), target)
 
     # --- conditions ----------------------------------------------------------------------------------
     def input_is(self, port: int, level: SignalLevel) -> bool:
         try:
             return self._controller.get_input(port) is level
         except ControllerError as error:
-            raise StepFailed(error.message) from error
+            raise _refused(error) from error
 
     # --- single steps --------------------------------------------------------------------------------
     def single(self, node: Single) -> None:
         try:
             self._single(node)
         except ControllerError as error:
-            raise StepFailed(error.message) from error
+            raise _refused(error) from error
 
     def _single(self, node: Single) -> None:
         controller, step = self._controller, node.step
@@ -207,7 +237,7 @@ class NodeExecutor:
         try:
             self._move(group, targets, start, heading)
         except ControllerError as error:
-            raise StepFailed(error.message, start, whole=len(targets) > 1) from error
+            raise _refused(error, start, whole=len(targets) > 1) from error
         if self._blended is None:
             for action in targets[-1].actions:
                 self._action(action, end - 1)
@@ -227,7 +257,7 @@ class NodeExecutor:
             for at in range(start, last + 1):
                 self._move(group, (group.targets[at],), at, heading, self._one_linear_move)
         except ControllerError as error:
-            raise StepFailed(error.message, at) from error
+            raise _refused(error, at) from error
         return last
 
     def _planned(self, group: MoveGroup, heading: Callable[[int], None]) -> int:
@@ -250,7 +280,7 @@ class NodeExecutor:
             for action in target.actions:
                 self._action(action, 0)
         except ControllerError as error:
-            raise StepFailed(error.message) from error
+            raise _refused(error) from error
         return 0
 
     def _one_linear_move(self, group: MoveGroup) -> None:
@@ -290,7 +320,7 @@ class NodeExecutor:
                 status = controller.get_motion_status()
                 here = self._reading(joint)
             except ControllerError as error:
-                raise StepFailed(error.message, first + towards) from error
+                raise _refused(error, first + towards) from error
             towards = max(towards, _heading(start, points, here))
             heading(first + towards)
             _raise_if_failed(status, first + towards)
@@ -311,7 +341,7 @@ class NodeExecutor:
             elif isinstance(action, GripperAtWaypoint):
                 self._gripper(action.value, DEFAULT_GRIPPER_TIMEOUT_MS, target)
         except ControllerError as error:
-            raise StepFailed(error.message, target) from error
+            raise _refused(error, target) from error
 
     def _reading(self, joint: bool) -> np.ndarray:
         """Where the arm is, in the space the group moves in: angles (degrees) or TCP point (metres)."""
@@ -321,9 +351,15 @@ class NodeExecutor:
         return np.array([p.x, p.y, p.z])
 
 
+def _refused(error: ControllerError, target: int = 0, whole: bool = False) -> StepFailed:
+    """A command or read the controller refused; an emergency stop is the controller's stop, not a failure."""
+    stopped_by = STOPPED_BY_CONTROLLER[MotionStatus.EMERGENCY] if isinstance(error, Emergency) else ""
+    return StepFailed(error.message, target, whole, stopped_by)
+
+
 def _raise_if_failed(status: MotionStatus, target: int) -> None:
     if status in FAILED_STATES:
-        raise StepFailed(FAILED_STATES[status], target)
+        raise StepFailed(FAILED_STATES[status], target, stopped_by=STOPPED_BY_CONTROLLER.get(status, ""))
 
 
 def _point_of(target: Target) -> np.ndarray:

@@ -61,6 +61,9 @@ class RunProgress:
 RESUMABLE = (RunState.PAUSED, RunState.FAILED, RunState.STOPPED)
 
 
+FINISHING_S = 2.0  # how long a start waits for a run that has ended to finish telling its listeners
+
+
 class RunnerBusy(Exception):
     """A run is already executing on the worker thread."""
 
@@ -108,8 +111,9 @@ class ProgramRunner:
         # A failed step's reason in the page's words (a bare "Collision detected" gets the obstacle named):
         # given the program, the failed lines (first, last: a blended group refused whole) and the reason.
         self.explain_failure: Callable[[Program, int, int, str], str] = lambda program, first, last, why: why
-        # Collects a stop still on its way before a failed step is judged (`pendant run` polls a pendant's
-        # stops: its protective stop may show as the step failing before the poll hears it).
+        # Collects a stop still on its way, before a failed step is judged and before every command is
+        # sent (`pendant run` polls a pendant's stops: a stop the pendant heard since the last poll must
+        # keep the next command from going out, and its protective stop may show as the step failing).
         self.hear_stops_now: Callable[[], None] = lambda: None
         self._executor = NodeExecutor(
             controller,
@@ -119,6 +123,7 @@ class ProgramRunner:
             blended,
             notice=lambda text: self._publish(notice=text),
             planner=planner,
+            before_send=lambda: self.hear_stops_now(),
         )
 
     # --- observing ---------------------------------------------------------------------------------
@@ -236,6 +241,15 @@ class ProgramRunner:
 
     def start(self, command: Callable[[], RunProgress]) -> threading.Thread:
         """Run a blocking command (e.g. `lambda: runner.run(program, 3)`) on the worker thread."""
+        finishing = self._worker
+        if (
+            finishing is not None
+            and finishing is not threading.current_thread()
+            and self._progress.state is not RunState.RUNNING
+        ):
+            # A run that has just paused, stopped or failed still tells its listeners on its thread: a
+            # Resume or Retry pressed as the banner appears waits for that instead of being refused.
+            finishing.join(FINISHING_S)
         with self._lock:
             if self.busy:
                 raise RunnerBusy("A program is already running")
@@ -282,6 +296,7 @@ class ProgramRunner:
                 self._clear_requests()
         interpreter = run.interpreter
         self._publish(state=RunState.RUNNING, failed_step=None, paused_because="", message=self._where(run))
+        self._executor.begin()  # on the run's own thread: it reads the controller
         try:
             outcome = interpreter.run(self._executor, single_step=single_step)
         except Interrupted:
@@ -290,6 +305,8 @@ class ProgramRunner:
             self.hear_stops_now()
             if self._heard.since_start:  # the stop landed between two looks: the arm stopped short for it
                 return self._interrupted(run)
+            if failure.stopped_by:  # the controller's own stop (not frozen: that would undo a relax)
+                return self._stopped_by(run, failure.stopped_by)
             return self._failed(run, failure)
         except ControllerError as error:  # not expected (every read is a node's), but never left uncaught
             line = interpreter.line or 0
@@ -341,20 +358,24 @@ class ProgramRunner:
             cause = f" by {self._heard.cause}" if self._heard.since_start else ""
             return self._finish(state=RunState.STOPPED, message=f"Stopped at step {line + 1}{cause}")
         if self._heard.since_start:
+            # Frozen here too: a stop heard late (`pendant run` polls its pendant's stops) may have come
+            # after the next command went out, and that command's motion must not run on.
+            self._freeze_quietly()
             return self._stopped_by(run)
         because = self._paused_because
         message = f"Paused before step {line + 1}" + (f": {because}" if because else "")
         return self._finish(state=RunState.PAUSED, step_index=line, message=message, paused_because=because)
 
-    def _stopped_by(self, run: _Run) -> RunProgress:
-        """A stop heard elsewhere ended the run: its place is kept for Retry or Skip, as a failed step's."""
+    def _stopped_by(self, run: _Run, cause: str | None = None) -> RunProgress:
+        """A stop heard elsewhere (or `cause`: the controller's own) ended the run: its place is kept for
+        Retry or Skip, as a failed step's."""
         line = run.interpreter.place
         return self._finish(
             state=RunState.STOPPED,
             step_index=line,
             failed_step=line,
             loop=run.interpreter.loop,
-            message=f"Stopped at step {line + 1} by {self._heard.cause}",
+            message=f"Stopped at step {line + 1} by {cause if cause is not None else self._heard.cause}",
         )
 
     def _clear_requests(self) -> None:

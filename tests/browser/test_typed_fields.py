@@ -11,16 +11,17 @@ while its run goes) leaves the focus in the panel, not on the page's body.
 from __future__ import annotations
 
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
 import pytest
 from playwright.sync_api import Browser, Page
 
+from tests.support.browser_pages import obstacles
 from tests.support.jog_measure import ensure_operator
 from tests.support.launchers import Pendant
-from tests.support.typed import type_into
+from tests.support.typed import type_into, typed_box
 from tests.support.waiting import wait_until
 
 TYPED_DEG = -69.3
@@ -43,12 +44,14 @@ def page(browser: Browser, pendant: Pendant) -> Iterator[Page]:
 
 
 def go_home(pendant: Pendant) -> None:
-    """J1 at 0° (through the API), at rest."""
+    """Every joint at home (through the API), at rest."""
     wait_until(lambda: pendant.status() == "IDLE", MOVE_TIMEOUT_S, "the arm at rest")
     home = [0.0, -90.0, 90.0, -90.0, -90.0, 0.0]
     pendant.api.put("/pose", params={"speed": 100}, json={"angles": home}).raise_for_status()
     wait_until(
-        lambda: abs(pendant.pose()[0]) < ANGLE_TOL_DEG and pendant.status() == "IDLE", MOVE_TIMEOUT_S, "home"
+        lambda: np.allclose(pendant.pose(), home, atol=ANGLE_TOL_DEG) and pendant.status() == "IDLE",
+        MOVE_TIMEOUT_S,
+        "home",
     )
 
 
@@ -79,6 +82,141 @@ def typed_and_moved(page: Page, pendant: Pendant, delay_ms: int) -> None:
         f"joint 1 at {TYPED_DEG}° (it is at {pendant.pose()[0]:.2f}°)",
     )
     assert box.input_value() == f"{TYPED_DEG}"
+
+
+def typed_paced(page: Page, cpu_slowdown: int, typing: Callable[[], None]) -> None:
+    """`typing()` with the page's CPU `cpu_slowdown` times slower (Chromium's throttling), then back."""
+    cdp = page.context.new_cdp_session(page)
+    cdp.send("Emulation.setCPUThrottlingRate", {"rate": cpu_slowdown})
+    try:
+        typing()
+    finally:
+        cdp.send("Emulation.setCPUThrottlingRate", {"rate": 1})
+        cdp.detach()
+
+
+def type_and_leave(page: Page, label: str, text: str, delay_ms: int) -> None:
+    """Type `text` into the box, one key every `delay_ms`, and leave it uncommitted: the next click commits
+    it (leaving the box), as an operator who types and presses the action straight away."""
+    box = typed_box(page, label)
+    box.click()
+    box.press("ControlOrMeta+a")
+    box.press_sequentially(text, delay=delay_ms)
+
+
+PACES = [(0, 1), (20, 1), (40, LOADED_CPU_SLOWDOWN)]
+OBSTACLE_AT_MM = (TYPED_DEG, 250.0, 100.0)  # "-69.3, 250, 100": x is the number typed
+
+
+@pytest.mark.parametrize(("delay_ms", "cpu_slowdown"), PACES)
+def test_an_obstacle_position_typed_at_any_pace_is_where_add_obstacle_puts_it(
+    page: Page, pendant: Pendant, delay_ms: int, cpu_slowdown: int
+) -> None:
+    """Committed by pressing Add obstacle straight after typing (no Enter): the box is at x -69.3 mm."""
+    pendant.api.delete("/environment").raise_for_status()
+    page.get_by_role("tab", name="Cell").click()
+    type_into(page, "Name", f"typed{delay_ms}")
+    typed = ", ".join(f"{v:g}" for v in OBSTACLE_AT_MM)
+
+    def typing() -> None:
+        type_and_leave(page, "Position mm", typed, delay_ms)
+        page.get_by_role("button", name="Add obstacle").click()
+
+    typed_paced(page, cpu_slowdown, typing)
+    try:
+        wait_until(lambda: len(obstacles(pendant)) == 1, MOVE_TIMEOUT_S, "the obstacle added")
+        point = obstacles(pendant)[0]["centerPosition"]["point"]
+        np.testing.assert_allclose([point[k] * 1000.0 for k in "xyz"], OBSTACLE_AT_MM, atol=1e-6)
+        assert typed_box(page, "Position mm").input_value() == typed
+    finally:
+        pendant.api.delete("/environment").raise_for_status()
+
+
+@pytest.mark.parametrize(("delay_ms", "cpu_slowdown"), PACES)
+def test_j2_typed_at_any_pace_and_left_with_tab_is_where_move_j_goes(
+    page: Page, pendant: Pendant, delay_ms: int, cpu_slowdown: int
+) -> None:
+    """Another joint's box, committed by leaving it (Tab; Move J stays disabled until the typed target is
+    committed and checked), then Move J: joint 2 ends at -69.3 degrees."""
+    go_home(pendant)
+    page.get_by_role("tab", name="Target").click()
+    page.get_by_role("button", name="Target = current").click()
+    type_into(page, "Move speed %", "100")
+
+    def typing() -> None:
+        type_into(page, "J2 °", f"{TYPED_DEG}", delay_ms=delay_ms, commit="Tab")
+        page.get_by_role("button", name="Move J").click()
+
+    typed_paced(page, cpu_slowdown, typing)
+    wait_until(
+        lambda: abs(pendant.pose()[1] - TYPED_DEG) < ANGLE_TOL_DEG and pendant.status() == "IDLE",
+        MOVE_TIMEOUT_S,
+        f"joint 2 at {TYPED_DEG}° (it is at {pendant.pose()[1]:.2f}°)",
+    )
+
+
+TOOL_AT_MM = (TYPED_DEG, 0.0, 120.0)  # "-69.3, 0, 120": the TCP's offset from the flange, x as typed
+
+
+@pytest.mark.parametrize(("delay_ms", "cpu_slowdown"), PACES)
+def test_a_tool_offset_typed_at_any_pace_is_the_tool_set(
+    page: Page, pendant: Pendant, delay_ms: int, cpu_slowdown: int
+) -> None:
+    """The Robot tab's tool XYZ (where Move L and the jogs take the TCP), committed by pressing Set tool
+    straight after typing: the controller's tool is at x -69.3 mm."""
+    before = pendant.api.get("/tool").json()
+    page.get_by_role("tab", name="Robot").click()
+    if not typed_box(page, "XYZ mm").is_visible():  # the folder starts folded; the page is the module's
+        page.get_by_text("Tool (TCP offset from the flange)").click()
+    typed_box(page, "XYZ mm").wait_for(timeout=SHOWN_TIMEOUT_MS)
+    typed = ", ".join(f"{v:g}" for v in TOOL_AT_MM)
+
+    def typing() -> None:
+        type_and_leave(page, "XYZ mm", typed, delay_ms)  # the first: the tool's (the base's follows)
+        page.get_by_role("button", name="Set tool").click()
+
+    typed_paced(page, cpu_slowdown, typing)
+    try:
+        tool_mm = lambda: [pendant.api.get("/tool").json()["point"][k] * 1000.0 for k in "xyz"]  # noqa: E731
+        wait_until(
+            lambda: np.allclose(tool_mm(), TOOL_AT_MM, atol=1e-6), MOVE_TIMEOUT_S, f"the tool at {typed}"
+        )
+    finally:
+        pendant.api.post("/tool", json=before).raise_for_status()
+
+
+def test_the_boxs_earlier_text_typed_again_while_the_server_changed_it_is_the_one_used(
+    page: Page, pendant: Pendant
+) -> None:
+    """J2 -69.3 is typed and run; the target follows the arm again and, while the operator is in the box,
+    the arm goes home (the server's -90 is kept out of the box being edited). The operator types -69.3
+    again and leaves the box: that is the target (main: the page dropped the commit, as the text was the
+    box's earlier one; the box said -69.3, the server kept -90 and Move J stayed disabled)."""
+    go_home(pendant)
+    page.get_by_role("tab", name="Target").click()
+    page.get_by_role("button", name="Target = current").click()
+    type_into(page, "Move speed %", "100")
+    type_into(page, "J2 °", f"{TYPED_DEG}", commit="Tab")
+    page.get_by_role("button", name="Move J").click()
+    wait_until(
+        lambda: abs(pendant.pose()[1] - TYPED_DEG) < ANGLE_TOL_DEG and pendant.status() == "IDLE",
+        MOVE_TIMEOUT_S,
+        "joint 2 at the first -69.3",
+    )
+    page.get_by_role("button", name="Target = current").click()
+    box = typed_box(page, "J2 °")
+    box.click()
+    box.press("ControlOrMeta+a")
+    go_home(pendant)  # the server writes J2 -90 into the box while the operator is in it: held back
+    page.locator('input[aria-label="J2 °"][data-pendant-held]').wait_for(timeout=SHOWN_TIMEOUT_MS)
+    box.press_sequentially(f"{TYPED_DEG}")
+    box.press("Tab")
+    page.get_by_role("button", name="Move J").click(timeout=SHOWN_TIMEOUT_MS)
+    wait_until(
+        lambda: abs(pendant.pose()[1] - TYPED_DEG) < ANGLE_TOL_DEG and pendant.status() == "IDLE",
+        MOVE_TIMEOUT_S,
+        f"joint 2 at {TYPED_DEG}° again (it is at {pendant.pose()[1]:.2f}°)",
+    )
 
 
 def test_an_empty_or_lettered_box_refuses_the_action_with_the_reason(page: Page, pendant: Pendant) -> None:

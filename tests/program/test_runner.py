@@ -170,8 +170,9 @@ def test_a_fault_during_a_motion_names_the_step_it_interrupted(
 
     result = runner.run(program)
 
-    assert result.state is RunState.FAILED
-    assert result.message == "Step 2 (Move J to A @ 50%) failed: Robot unavailable in emergency state"
+    # The emergency is the controller's own stop (issue 31): said as a stop, at the step it interrupted.
+    assert result.state is RunState.STOPPED and result.failed_step == 1
+    assert result.message == "Stopped at step 2 by the controller (EMERGENCY)"
 
 
 def test_wait_for_input_times_out_with_a_clear_message(sim: SimController, clock: FakeClock) -> None:

@@ -1,12 +1,15 @@
 """A stop heard anywhere (the page's Freeze, another browser, `PUT /freeze`, a protective stop) ends a
-running program whatever its step, moving or not: "Stopped at step N by <cause>", nothing after it is sent,
-the arm stays where the stop left it, and Retry or Skip go on from there as after a failure.
+running program whatever its step, moving or not, a blended group and the moment between two steps too:
+"Stopped at step N by <cause>", nothing after it is sent, the arm stays where the stop left it, and Retry or
+Skip go on from there as after a failure.
 
 The stop is delivered as the API's stop middleware delivers it: told to the runner first, then the arm is
 frozen. The runner's sleeps advance the simulator's fake clock, so each case runs in milliseconds."""
 
 from __future__ import annotations
 
+import threading
+import time
 from collections.abc import Callable
 from typing import NamedTuple
 
@@ -28,6 +31,7 @@ from pendant.program import (
     WaitStep,
     Waypoint,
 )
+from pendant.program.runner import RunProgress
 from pendant.sim import FakeClock, SimController
 from tests.support.programs import POLL_S, Taught, move, program_of, runner_doing_at_step
 
@@ -35,6 +39,7 @@ CAUSE = "Freeze from the API (127.0.0.1)"
 ANGLE_TOL_DEG = 1e-6
 HELD_S = 3.0  # how long the arm is watched after the stop: it must not go on to the next motion
 IN_STEP_S = 0.2  # the stop comes this long into the step it interrupts (or at its start: 0)
+SLOW_VIEW_S = 0.3  # a listener this slow still runs on the run's thread when the next start comes
 
 
 def stop_during(
@@ -106,6 +111,11 @@ def cases(waypoints: dict[str, Waypoint]) -> dict[str, Case]:
         # The first pass's wait just ended: the loop's check (line 2) is what comes next.
         "between loop passes": Case([move(a), loop, move(b)], 2, 0.1, 1),
         "a motion": Case([move(a), WaitStep(ms=100), move(b)], 2, IN_STEP_S, 2),
+        "a blended group": Case(
+            [move(a), WaitStep(ms=100), move(b, blend_mm=20.0), move(waypoints["C"])], 2, IN_STEP_S, 2
+        ),
+        # As step 3 begins, before it sends anything: the step just done (DO2) stays done.
+        "between two steps": Case([move(a), OutputStep(port=2, level=SignalLevel.HIGH), move(b)], 2, 0.0, 2),
     }
 
 
@@ -117,6 +127,8 @@ CASE_NAMES = [
     "inside a loop pass",
     "between loop passes",
     "a motion",
+    "a blended group",
+    "between two steps",
 ]
 
 
@@ -227,3 +239,27 @@ def test_the_programs_own_stop_ends_the_run_for_good(
 
     assert result.state is RunState.STOPPED and result.message == "Stopped at step 2 by Stop by Tab 1"
     assert not runner.can_resume
+
+
+def test_resume_pressed_as_the_stop_is_announced_goes_on_rather_than_being_refused(
+    sim: SimController, clock: FakeClock, waypoints: dict[str, Waypoint]
+) -> None:
+    """The banner shows the stopped run while the run's thread is still telling its other listeners: a
+    Retry pressed then starts the run again (it was refused "A program is already running")."""
+    program = program_of(move(waypoints["A"]), WaitStep(ms=2500), move(waypoints["B"]))
+    runner = runner_stopped_at(sim, clock, 1, IN_STEP_S)
+    announced = threading.Event()
+
+    def slow_view(progress: RunProgress) -> None:
+        if progress.state is RunState.STOPPED:
+            announced.set()
+            time.sleep(SLOW_VIEW_S)  # another browser's view, slow to draw
+
+    runner.add_listener(slow_view)
+    runner.start(lambda: runner.run(program))
+    assert announced.wait(HELD_S)
+
+    runner.start(runner.resume)
+
+    assert runner.join(HELD_S * 10)
+    assert runner.progress.state is RunState.FINISHED, runner.progress.message

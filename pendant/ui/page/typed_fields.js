@@ -60,6 +60,13 @@
     box.held = null;
     delete input.dataset.pendantHeld;
     delete input.dataset.pendantDraft;
+    // React's onChange fires only when the text differs from the last value React knows the box has. A
+    // server value held back above never reached the box, so React may still know the text being
+    // committed (typed again after the server changed it: J2 -69.3, moved home, -69.3 typed again) and
+    // would drop the commit, leaving the box saying what the server never got. Make the text new to it;
+    // the server ignores a commit of the value it already has.
+    const tracker = input._valueTracker;
+    if (tracker && typeof tracker.setValue === "function") tracker.setValue("\u0000");
     box.committing = true;
     try {
       input.dispatchEvent(new Event("input", { bubbles: true }));
