@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The suite's three passes (`make test`); the first two run at once:
-#   in front, at normal priority: the browser tests that time what a user feels on a real clock
-#     (`measures`) and the `alone` ones, one at a time;
-#   behind, at the lowest CPU priority (nice 19): every test outside tests/browser, on two workers;
+#   in front, at normal priority: the tests that time what a user feels on a real clock (`measures`: most
+#     are browser tests) and the `alone` ones, one at a time;
+#   behind, at the lowest CPU priority (nice 19): every other test outside tests/browser, on two workers;
 #   then: the other browser tests on two workers (a module per worker, sharing its Chromium and pendants).
 # The timed pass mostly waits on its real clock (a 10 s hold, a path drawn at a hand's pace, a 3 s look at
 # a stopped arm): the tests behind it fill that idle CPU, and niced they never take a core it wants (Linux
@@ -15,14 +15,14 @@ read -r -a extra <<<"${PYTEST_ARGS:-}"
 mkdir -p test-artifacts
 behind_log=test-artifacts/behind.log
 
-nice -n 19 "$bin/pytest" -q -n 2 --dist worksteal --ignore=tests/browser "${extra[@]}" >"$behind_log" 2>&1 &
+nice -n 19 "$bin/pytest" -q -n 2 --dist worksteal --ignore=tests/browser -m "not measures" "${extra[@]}" >"$behind_log" 2>&1 &
 behind=$!
 # Whoever stops `make test` (Ctrl-C, CI's time-out) stops the pass behind too: it is in our process group.
 trap 'trap - INT TERM; kill 0' INT TERM
 
-"$bin/pytest" -q -m "measures or alone" --reruns 1 tests/browser "${extra[@]}"
+"$bin/pytest" -q -m "measures or alone" --reruns 1 tests "${extra[@]}"
 front=$?
-echo "== the timed browser tests: exit $front; the tests outside tests/browser (run behind them, nice 19):"
+echo "== the timed tests: exit $front; the tests outside tests/browser (run behind them, nice 19):"
 wait "$behind"
 behind_status=$?
 cat "$behind_log"
