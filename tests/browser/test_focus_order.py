@@ -155,7 +155,7 @@ FOCUSED_CONTROL_JS = """() => {
 
 
 def focused(page: Any) -> str | None:
-    return page.evaluate(FOCUSED_CONTROL_JS)  # type: ignore[no-any-return]
+    return page.evaluate(FOCUSED_CONTROL_JS)
 
 
 def tabs_to(page: Any, wanted: str) -> int:
