@@ -37,6 +37,7 @@ from pendant.ui.page.recovery import Recovery
 from pendant.ui.page.roles import ControlDesk, ControlPanel
 from pendant.ui.page.status_panel import StatusPanel
 from pendant.ui.page.teach_bar import TeachBar
+from pendant.ui.page.view_fit import ViewFit
 from pendant.ui.program.panel import ProgramPanel
 from pendant.ui.robot.io_panel import IoPanel
 from pendant.ui.robot.safety_panel import RobotSafetyPanel, render_failures
@@ -124,6 +125,11 @@ class ClientSession:
                 order=self.jog.pad.order + 0.5,
             )
             self.record = RecordPanel(target, recorder or PathRecorder(), programs, runner)
+            self.view_fit = (  # a browser's own camera: none on the server's shared GUI
+                ViewFit(target, arm, current_q, current_tool, current_cell)
+                if isinstance(target, viser.ClientHandle)
+                else None
+            )
         with self.tabs.add_tab("Target", viser.Icon.TARGET):
             self.target_panel = TargetPanel(
                 target, arm, runner, current_q, current_tool, current_cell, ghosts=self.ghosts
