@@ -141,7 +141,8 @@ def test_a_viewer_sees_its_controls_greyed_out_with_the_reason(browser: Any, pag
         viewer.goto(page.url)
         viewer.get_by_role("button", name="Freeze").wait_for(timeout=PAGE_LOAD_TIMEOUT_MS)
         viewer.get_by_text("has control").first.wait_for(timeout=UI_TIMEOUT_MS)
-        jog = viewer.locator("button[aria-label='J1+']")
+        # Disabled once the page's panels are all built (the role is applied last; "has control" comes first).
+        jog = viewer.locator("button[aria-label='J1+'][disabled]")
         jog.wait_for(timeout=UI_TIMEOUT_MS)
         assert jog.is_disabled() and jog.get_attribute("title") == VIEW_ONLY_HINT
         open_tab(viewer, "Program")
