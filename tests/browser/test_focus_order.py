@@ -103,7 +103,8 @@ def test_freeze_then_the_banner_then_the_tab_bar_then_the_jog_pad(desk_page: Any
     assert names[:2] == ["Freeze", "Recover"], names[:6]  # the way out right after the stop
     tabs = tab_bar(stops)
     assert [names[k] for k in tabs] == list(TABS) and tabs == list(range(tabs[0], tabs[0] + len(TABS)))
-    assert names[tabs[-1] + 1 : tabs[-1] + 3] == ["J1-", "J1+"]  # then the active tab, from its top
+    # then the active tab, from its top: the jog pad (one stop), then the teach row
+    assert names[tabs[-1] + 1 : tabs[-1] + 3] == ["J1-", "Record"]
     assert "Protective stop" not in names  # hidden while Recover shows: no stop for a hidden button
     assert upwards(stops) == []
     assert unseen(stops) == []
@@ -143,3 +144,46 @@ def test_shift_tab_back_up_a_scrolled_tab_never_hides_under_freeze(desk_page: An
     back = walk(page, "Shift+Tab", BACK_STOPS)
     assert [s["name"] for s in back] == [s["name"] for s in reversed(down)][:BACK_STOPS]  # the same way back
     assert unseen(back) == []
+
+
+MAX_TEACH_TABS = 5  # issue 33: Record and Run within 5 Tabs of the jog pad
+# Which control has focus: a jog button by its name, a teach row button by its part ("record", "run").
+FOCUSED_CONTROL_JS = """() => {
+  const e = document.activeElement;
+  return e === null ? null : (e.dataset.teach || e.getAttribute("aria-label") || e.tagName.toLowerCase());
+}"""
+
+
+def focused(page: Any) -> str | None:
+    return page.evaluate(FOCUSED_CONTROL_JS)
+
+
+def tabs_to(page: Any, wanted: str) -> int:
+    """Tabs pressed until `wanted` has focus (MAX_STOPS + 1 if it never does)."""
+    for count in range(1, MAX_STOPS + 1):
+        page.keyboard.press("Tab")
+        if focused(page) == wanted:
+            return count
+    return MAX_STOPS + 1
+
+
+def test_record_and_run_are_a_few_tabs_from_the_jog_pad_and_arrows_move_inside_it(desk_page: Any) -> None:
+    page = desk_page
+    pad = page.get_by_role("button", name="J1-", exact=True)
+    counts = {}
+    for wanted in ("record", "run"):
+        pad.focus()
+        counts[wanted] = tabs_to(page, wanted)
+    assert counts["record"] <= MAX_TEACH_TABS and counts["run"] <= MAX_TEACH_TABS, counts
+    # The arrows move along the pad; the Tab stop goes with them, and a Tab leaves the pad for Record.
+    pad.focus()
+    visited = []
+    for key in ("ArrowRight", "ArrowDown", "ArrowDown", "ArrowLeft", "ArrowUp", "End", "Home"):
+        page.keyboard.press(key)
+        visited.append(focused(page))
+    assert visited == ["J1+", "J2+", "J3+", "J3-", "J2-", "J6+", "J1-"]
+    page.keyboard.press("ArrowDown")
+    page.keyboard.press("Tab")
+    assert focused(page) == "record"
+    page.keyboard.press("Shift+Tab")
+    assert focused(page) == "J2-"  # back into the pad where it was left

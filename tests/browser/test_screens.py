@@ -62,6 +62,29 @@ def test_axe_finds_no_serious_or_critical_violation_on_any_tab(page: Any) -> Non
     assert found == {tab: [] for tab in TABS}
 
 
+LEGEND_J1_DEG = "30"  # a target away from home: its ghost shows
+
+
+def test_the_legend_over_the_view_names_the_ghost_shown(page: Any) -> None:
+    take_control(page)
+    open_tab(page, "Target")
+    legend = page.locator("#ghost-legend")
+    box = page.get_by_label("J1 °", exact=True)
+    box.fill(LEGEND_J1_DEG)
+    box.press("Enter")
+    page.get_by_text("Ghost: target").wait_for(timeout=UI_TIMEOUT_MS)
+    assert legend.is_visible()
+    shown = legend.bounding_box()
+    canvas = page.locator("canvas").first.bounding_box()
+    assert shown is not None and canvas is not None
+    assert canvas["x"] <= shown["x"] and shown["x"] + shown["width"] <= canvas["x"] + canvas["width"]
+    assert canvas["y"] <= shown["y"] and shown["y"] + shown["height"] <= canvas["y"] + canvas["height"]
+    assert blocking_violations(page) == []
+    page.screenshot(path=str(ARTIFACTS / "screens-ghost-legend.png"))
+    page.get_by_role("button", name="Target = current").click()
+    legend.wait_for(state="hidden", timeout=UI_TIMEOUT_MS)  # no target, no ghost: no legend
+
+
 def test_inputs_are_found_by_their_label(page: Any) -> None:
     open_tab(page, "Jog")
     speed = page.get_by_label("Speed %", exact=True)
@@ -118,7 +141,8 @@ def test_a_viewer_sees_its_controls_greyed_out_with_the_reason(browser: Any, pag
         viewer.goto(page.url)
         viewer.get_by_role("button", name="Freeze").wait_for(timeout=PAGE_LOAD_TIMEOUT_MS)
         viewer.get_by_text("has control").first.wait_for(timeout=UI_TIMEOUT_MS)
-        jog = viewer.locator("button[aria-label='J1+']")
+        # Disabled once the page's panels are all built (the role is applied last; "has control" comes first).
+        jog = viewer.locator("button[aria-label='J1+'][disabled]")
         jog.wait_for(timeout=UI_TIMEOUT_MS)
         assert jog.is_disabled() and jog.get_attribute("title") == VIEW_ONLY_HINT
         open_tab(viewer, "Program")

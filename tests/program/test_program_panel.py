@@ -336,3 +336,20 @@ def test_reteach_keeps_the_waypoint_chosen_and_says_how_far_it_moved(
     assert moved_mm > 1.0
     assert panel.waypoints.chooser.value == "P2"  # not the selected step's P1
     assert browser.notifications[-1] == f"P2 re-taught: moved {moved_mm:.0f} mm"
+
+
+def test_moves_back_to_a_waypoint_share_its_name_label_and_near_ones_stack_never_drawn_over_each_other(
+    setup: tuple[ProgramPanel, ProgramWorkspace], sim: SimController, clock: FakeClock
+) -> None:
+    panel, workspace = setup
+    browser = FakeBrowser(OPERATOR)
+    for pose in (POSE_A_DEG, POSE_B_DEG):  # a pick-and-place: P1, P2, then back to P1 and P2
+        teach(sim, clock, pose, "ignored")
+        record(panel, browser)
+    workspace.insert_step(MoveStep(waypoint="P1"))
+    workspace.insert_step(MoveStep(waypoint="P2"))
+    near = tuple(a + d for a, d in zip(POSE_B_DEG, (0.5, 0, 0, 0, 0, 0), strict=True))  # a few mm from P2
+    teach(sim, clock, near, "ignored")
+    record(panel, browser)
+    assert len(panel.scene.markers) == 5  # every move keeps its marker
+    assert panel.scene.labels == ["1, 3. P1", "2, 4. P2\n5. P3"]  # one label per place: none on another

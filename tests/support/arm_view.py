@@ -73,16 +73,17 @@ MEASURE = """([armNode, grid]) => {
 }"""
 
 
-def arm_on_screen(page: Any) -> dict[str, Any]:
+def arm_on_screen(page: Any, node: str = ARM_NODE) -> dict[str, Any]:
     """The arm's, the 3D view's and the panel's boxes (left, top, right, bottom in page pixels), once the
-    arm's meshes have arrived."""
+    arm's meshes have arrived. `node`: another scene node's meshes instead of the arm's (its box in "arm"):
+    "/cell", the obstacles."""
     deadline = time.monotonic() + MESHES_WITHIN_S
     while True:
-        state = page.evaluate(MEASURE, [ARM_NODE, GRID])
+        state = page.evaluate(MEASURE, [node, GRID])
         if state is not None:
             return dict(state)
         if time.monotonic() > deadline:
-            raise AssertionError("the arm's meshes never arrived in the page")
+            raise AssertionError(f"the meshes of {node} never arrived in the page")
         time.sleep(0.2)
 
 

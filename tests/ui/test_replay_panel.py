@@ -104,6 +104,34 @@ def test_the_ghost_shows_the_recorded_arm_at_the_slider_time_and_nothing_moves(
     assert replay.ghost.q is None and replay.time.disabled
 
 
+def legend(ui: ClientSession) -> str:
+    assert ui.ghosts.legend is not None
+    return ui.ghosts.legend.content.split('data-ghost-legend="', 1)[1].split('"', 1)[0]
+
+
+def test_a_replay_takes_the_view_from_the_target_and_clears_itself_when_played_to_the_end(
+    ui: ClientSession, pendant_ui: PendantUI, sim: SimController, clock: FakeClock, anchor: dict[str, float]
+) -> None:
+    record(ui, pendant_ui, sim, clock, anchor)
+    clock.advance(30.0)
+    target = ui.target_panel
+    assert target.set_joint_target(np.radians([20.0, -90.0, 90.0, -90.0, -90.0, 0.0])).ok
+    assert legend(ui) == "Ghost: target"
+    replay = ui.dashboard.replay
+    operator = FakeBrowser(OPERATOR)
+    fire(replay.start, operator)
+    wait_until(lambda: replay.replay is not None or bool(operator.notifications), JOB_TIMEOUT_S, "the replay")
+    assert replay.replay is not None and replay.ghost is not None, operator.notifications
+    assert replay.ghost.q is not None and target.ghost_shown is None, "one ghost: the replay's"
+    assert legend(ui) == "Ghost: replay"
+
+    fire(replay.time, operator, value=replay.replay.duration_s - 0.3)
+    fire(replay.play, operator)
+    wait_until(lambda: replay.ghost is not None and replay.ghost.q is None, PLAY_TIMEOUT_S, "the end")
+    assert legend(ui) == "" and target.ghost_shown is None
+    assert "Played to the end" in replay.status.content
+
+
 def test_a_recording_still_being_written_is_not_replayed(
     ui: ClientSession, pendant_ui: PendantUI, clock: FakeClock
 ) -> None:

@@ -23,6 +23,7 @@ from pendant.ui.dashboard.replay import ReplayPanel
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.html import inset
 from pendant.ui.kit.jobs import PageJobs
+from pendant.ui.scene.ghost_stage import GhostStage
 
 # (row label, what it means, how a reading shows): one row per quantity, one column per joint, so the table
 # is seven narrow columns whatever the panel's width (joints as rows made nine columns, too wide for a phone).
@@ -71,6 +72,7 @@ class DashboardPanel:
         on_recording: RecordingListener,
         arm_urdf: Path | None = None,
         jobs: PageJobs | None = None,
+        ghosts: GhostStage | None = None,
     ) -> None:
         jobs = jobs if jobs is not None else PageJobs()  # replays and downloads: bounded, off viser's pool
         self.motor_table = target.gui.add_html(render_motor_table(None))
@@ -86,6 +88,7 @@ class DashboardPanel:
                 chosen=self.recording.chosen_file,
                 recording_now=lambda: telemetry.mcap.path if telemetry.mcap is not None else None,
                 jobs=jobs,
+                ghosts=ghosts,
             )
         with target.gui.add_folder("Event log"):
             self.events = EventLogView(target, events, jobs=jobs)

@@ -19,6 +19,7 @@ from pendant.telemetry.replay import Replay, ReplayError, ReplayEvent, load_repl
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.jobs import PageJobs
 from pendant.ui.scene.ghost import GhostArm
+from pendant.ui.scene.ghost_stage import GhostStage
 
 GHOST_RGBA = (0.55, 0.35, 0.85, 0.35)  # violet: neither the target's blue nor the waypoints' green
 PLAY_PERIOD_S = 0.1  # the ghost moves 10 times a second while playing
@@ -28,6 +29,7 @@ JUMPS_LISTED = 200  # the stops and errors offered to jump to (the first ones)
 JUMP_PROMPT = "(choose a stop or an error)"
 NO_JUMPS = "(no stops or errors)"
 MESSAGE_CHARS = 80
+PLAYED_TEXT = "Played to the end: the ghost is cleared (move the slider to see it again)."
 IDLE_TEXT = "Choose a recording above and press **Replay**: its arm is drawn as a violet ghost."
 LEVEL_COLOURS = {"ERROR": "#e03131", "FATAL": "#e03131", "WARNING": "#e8590c"}
 
@@ -63,8 +65,11 @@ class ReplayPanel:
         chosen: ChosenRecording,
         recording_now: ChosenRecording,
         jobs: PageJobs | None = None,
+        ghosts: GhostStage | None = None,
     ) -> None:
         self._target = target
+        self.ghosts = ghosts if ghosts is not None else GhostStage()
+        self.ghosts.register("replay", self._hide_ghost)
         self._jobs = jobs if jobs is not None else PageJobs()
         self._chosen = chosen
         self._recording_now = recording_now
@@ -144,6 +149,7 @@ class ReplayPanel:
             self.replay = None
             if self.ghost is not None:
                 self.ghost.hide()
+            self.ghosts.hidden("replay")
             for handle in (self.time, self.play, self.pause, self.speed, self.jump, self.close_replay):
                 handle.disabled = True
             self.status.content = IDLE_TEXT
@@ -164,6 +170,7 @@ class ReplayPanel:
                 return
             q = replay.q_at(t_s)
             if self.ghost is not None:
+                self.ghosts.show("replay")
                 self.ghost.show(q)
             angles = " ".join(f"J{i + 1} {a:.1f}°" for i, a in enumerate(replay.q_deg[replay.index_at(t_s)]))
             self.status.content = (
@@ -215,7 +222,21 @@ class ReplayPanel:
                 self.time.value = t
                 if t >= replay.duration_s:
                     self._playing.clear()
+                    self._played_to_the_end()
             last = now
+
+    def _hide_ghost(self) -> None:
+        """Another ghost took the view (the stage calls this): the replay pauses and its ghost goes."""
+        self.hold()
+        if self.ghost is not None:
+            self.ghost.hide()
+
+    def _played_to_the_end(self) -> None:
+        """A replay played to its end clears itself: the ghost goes (the slider shows it again)."""
+        if self.ghost is not None:
+            self.ghost.hide()
+        self.ghosts.hidden("replay")
+        self.status.content += f"  \n{PLAYED_TEXT}"
 
     def _notify(self, client: viser.ClientHandle | None, body: str) -> None:
         if client is not None:

@@ -127,6 +127,7 @@ def render_pad(
         buttons = {
             direction: (
                 f'<button type="button" data-jog-uuid="{uuids[(axis, direction)]}" aria-label="{name}{sign}" '
+                f'tabindex="{0 if (axis, direction) == (0, -1) else -1}" '
                 f'title="{VIEW_ONLY_HINT if disabled else f"Hold to jog {name}{sign}"}" style="{look}"{off}>'
                 f"{symbol}</button>"
             )
@@ -139,4 +140,8 @@ def render_pad(
             f'<b data-jog-value="{axis}">{html.escape(values[axis])}</b></div>{buttons[+1]}</div>'
         )
     line_attribute = f' data-jog-line="{html.escape(line)}"' if line else ""
-    return inset(f'<div data-jog-stop="{stop_uuid}"{line_attribute} id="jog-pad">{"".join(rows)}</div>')
+    # One Tab stop for the whole pad (J1- until another is used); the arrow keys move inside it (jog_keys.js).
+    return inset(
+        f'<div data-jog-stop="{stop_uuid}"{line_attribute} id="jog-pad" role="group" '
+        f'aria-label="Jog pad (arrow keys move between its buttons)">{"".join(rows)}</div>'
+    )

@@ -32,6 +32,8 @@ ACCESSIBILITY_PATH = Path(__file__).with_name("accessibility.js")  # labels and 
 PHONE_LAYOUT_PATH = Path(__file__).with_name("phone_layout.js")  # the bottom sheet on a phone
 TYPED_FIELDS_PATH = Path(__file__).with_name("typed_fields.js")  # a box's text is sent when committed
 TOUCH_LAYOUT_PATH = Path(__file__).with_name("touch_layout.js")  # 44 px targets; the phone's pad and status
+JOG_KEYS_PATH = Path(__file__).with_name("jog_keys.js")  # the jog pad: one Tab stop, arrows inside it
+GHOST_LEGEND_PATH = Path(__file__).with_name("ghost_legend.js")  # which ghost the 3D view shows
 VISER_PAGE = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
 
 ProcessRequest = Callable[[ServerConnection, Request], "Response | Awaitable[Response | None] | None"]
@@ -51,6 +53,8 @@ def page_html() -> bytes:
             PHONE_LAYOUT_PATH,
             TYPED_FIELDS_PATH,
             TOUCH_LAYOUT_PATH,
+            JOG_KEYS_PATH,
+            GHOST_LEGEND_PATH,
         )
     )
     head = page.index(b"<head>") + len(b"<head>")

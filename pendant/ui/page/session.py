@@ -37,12 +37,14 @@ from pendant.ui.page.recovery import Recovery
 from pendant.ui.page.roles import ControlDesk, ControlPanel
 from pendant.ui.page.status_panel import StatusPanel
 from pendant.ui.page.teach_bar import TeachBar
+from pendant.ui.page.view_fit import ViewFit
 from pendant.ui.program.panel import ProgramPanel
 from pendant.ui.robot.io_panel import IoPanel
 from pendant.ui.robot.safety_panel import RobotSafetyPanel, render_failures
 from pendant.ui.robot.settings_panel import SettingsPanel
 from pendant.ui.robot.sim_panel import SimPanel
 from pendant.ui.robot.tool_shape_panel import ToolShapePanel
+from pendant.ui.scene.ghost_stage import GhostStage
 from pendant.ui.target.hand_guide import HandGuide
 from pendant.ui.target.panel import TargetPanel
 
@@ -110,6 +112,7 @@ class ClientSession:
         )
         self.status = StatusPanel(target, mode_line, runner, recover_in_banner=self.banner is not None)
         self.control = ControlPanel(target, desk, client_id, url_token, remote)
+        self.ghosts = GhostStage(target)  # one ghost at a time in the view, and its legend
         self.tabs = target.gui.add_tab_group()
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
             self.jog = JogPanel(target, jogger, runner, arm, current_tool, line)
@@ -122,10 +125,19 @@ class ClientSession:
                 order=self.jog.pad.order + 0.5,
             )
             self.record = RecordPanel(target, recorder or PathRecorder(), programs, runner)
+            self.view_fit = (  # a browser's own camera: none on the server's shared GUI
+                ViewFit(target, arm, current_q, current_tool, current_cell)
+                if isinstance(target, viser.ClientHandle)
+                else None
+            )
         with self.tabs.add_tab("Target", viser.Icon.TARGET):
-            self.target_panel = TargetPanel(target, arm, runner, current_q, current_tool, current_cell)
+            self.target_panel = TargetPanel(
+                target, arm, runner, current_q, current_tool, current_cell, ghosts=self.ghosts
+            )
         with self.tabs.add_tab("Program", viser.Icon.LIST_NUMBERS):
-            self.program = ProgramPanel(target, programs, runner, arm=arm, current_cell=current_cell)
+            self.program = ProgramPanel(
+                target, programs, runner, arm=arm, current_cell=current_cell, ghosts=self.ghosts
+            )
         with self.tabs.add_tab("Cell", viser.Icon.BOX):
             self.cell = CellPanel(target, runner, cells_dir, cell_state)
         with self.tabs.add_tab("IO", viser.Icon.PLUG):
@@ -149,6 +161,7 @@ class ClientSession:
                 on_recording=on_recording if on_recording is not None else (lambda client, message: None),
                 arm_urdf=arm.urdf_path,
                 jobs=jobs if jobs is not None else PageJobs(),
+                ghosts=self.ghosts,
             )
             self.join = add_join_button(target, join_urls) if join_urls else None
             self.failures = target.gui.add_html(render_failures((), None))

@@ -90,6 +90,13 @@ class CheckSection:
         self.check.on_click(lambda e: self._start_check(e.client))
         self.override.on_click(lambda e: self._confirm_override(e.client))
         self.playback.on_update(self._on_playback)
+        host.ghosts.register("check", self._hide_ghost)
+
+    def _hide_ghost(self) -> None:
+        """Another ghost took the view (the stage calls this): the playback's ghost goes."""
+        ghost = self._host.ghost
+        if ghost is not None:
+            ghost.show_visual = False
 
     # --- the check -------------------------------------------------------------------------------------
     @property
@@ -266,6 +273,7 @@ class CheckSection:
             host.select_line(line)  # the step list follows the playback
         ghost = host.ghost
         if ghost is not None:
+            host.ghosts.show("check")  # before it is drawn: the waypoint preview is this same ghost
             cfg = np.zeros(len(ghost.get_actuated_joint_names()))
             cfg[:6] = q
             ghost.show_visual = True

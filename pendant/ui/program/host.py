@@ -19,6 +19,7 @@ from pendant.program import ProgramWorkspace
 from pendant.program.tree import Line
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.scene.ghost_stage import GhostStage
 
 
 class ProgramHost(Protocol):
@@ -28,6 +29,7 @@ class ProgramHost(Protocol):
     selected: int | None  # the selected step's line in the list
     syncing: bool  # set while redrawing: viser calls back for values the panel sets
     current_cell: Callable[[], CellModel | None]  # the controller's cell, to name what is in the way
+    ghosts: GhostStage  # one ghost at a time in this browser's view
 
     def allowed(self, client: viser.ClientHandle | None, label: str) -> bool: ...
 

@@ -32,6 +32,7 @@ from pendant.ui.program.scene import ProgramScene
 from pendant.ui.program.step_form import StepForm
 from pendant.ui.program.step_list import dropdown_lines, steps_markdown
 from pendant.ui.program.waypoint_section import WaypointSection
+from pendant.ui.scene.ghost_stage import GhostStage
 
 log = logging.getLogger(__name__)
 
@@ -51,8 +52,10 @@ class ProgramPanel:
         *,
         arm: ArmModel | None = None,
         current_cell: Callable[[], CellModel | None] = lambda: None,
+        ghosts: GhostStage | None = None,
     ) -> None:
         self.target = target
+        self.ghosts = ghosts if ghosts is not None else GhostStage()
         self.current_cell = current_cell  # Go to names what is in the way
         self.shared = shared
         self.commands = runner

@@ -34,6 +34,27 @@ RECORDED_POINT_M = 0.006
 # A JOINT leg is a curve for the TCP: draw it through this many joint-space samples.
 JOINT_LEG_SAMPLES = 16
 ROOT = "/program"
+# Markers closer than this share one name label, a line per step (issue 33: a pick-and-place returns to the
+# same waypoints, and their names were drawn on top of one another: "3.2P02").
+LABEL_SHARE_M = 0.05
+
+
+def label_groups(markers: list[tuple[Target, np.ndarray]]) -> list[tuple[int, str]]:
+    """One label per group of markers within LABEL_SHARE_M of the group's first: (that marker's index, the
+    text). Moves to one waypoint share a line ("2, 4. P2"); other names stack, a line each, in step order."""
+    groups: list[tuple[int, np.ndarray, dict[str, list[int]]]] = []
+    for k, (target, point) in enumerate(markers):
+        near = next((g for g in groups if float(np.linalg.norm(g[1] - point)) < LABEL_SHARE_M), None)
+        if near is None:
+            near = (k, point, {})
+            groups.append(near)
+        steps = near[2].setdefault(target.name, [])
+        if target.line + 1 not in steps:
+            steps.append(target.line + 1)
+    return [
+        (k, "\n".join(f"{', '.join(map(str, steps))}. {name}" for name, steps in names.items()))
+        for k, _, names in groups
+    ]
 
 
 @dataclass
@@ -58,6 +79,7 @@ class ProgramScene:
         self._nodes: list[viser.SceneNodeHandle] = []
         self._markers: list[tuple[viser.IcosphereHandle, int]] = []  # (marker, step line)
         self._shown: tuple[Program, int | None, int | None] | None = None
+        self.labels: list[str] = []  # the waypoint name labels drawn now
 
     @property
     def nodes(self) -> tuple[viser.SceneNodeHandle, ...]:
@@ -86,6 +108,7 @@ class ProgramScene:
             node.remove()
         self._nodes.clear()
         self._markers.clear()
+        self.labels = []
         self._shown = None
 
     def _rebuild(self, program: Program) -> None:
@@ -97,6 +120,7 @@ class ProgramScene:
         drawing = _Drawing()
         self._walk(plan, drawing, None)
         scene = self._target.scene
+        labels = dict(label_groups(drawing.markers))
         for k, (target, point) in enumerate(drawing.markers):
             marker = scene.add_icosphere(
                 f"{ROOT}/waypoint_{k}",
@@ -106,12 +130,14 @@ class ProgramScene:
                 cast_shadow=False,
                 receive_shadow=False,
             )
-            scene.add_label(
-                f"{ROOT}/waypoint_{k}/name",
-                f"{target.line + 1}. {target.name}",
-                position=(0.0, 0.0, 2.0 * MARKER_RADIUS_M),
-                anchor="bottom-center",
-            )  # removed with its marker
+            if k in labels:
+                scene.add_label(
+                    f"{ROOT}/waypoint_{k}/name",
+                    labels[k],
+                    position=(0.0, 0.0, 2.0 * MARKER_RADIUS_M),
+                    anchor="bottom-center",
+                )  # removed with its marker
+                self.labels.append(labels[k])
             self._markers.append((marker, target.line))
             self._nodes.append(marker)
         if drawing.cells:

@@ -48,6 +48,8 @@ class WaypointSection:
             self.preview = gui.add_checkbox("Preview (ghost)", initial_value=True)
         self._picked = False  # the operator chose a waypoint in the table (or taught one) to look at
         self._selected: Step | None = None  # the step the last redraw showed the waypoint of
+        self._off = False  # another ghost took the view (ghost_stage.py): back when the operator picks again
+        host.ghosts.register("waypoint", self._hide_ghost)
         self._ghost = (
             SharedUrdf(
                 host.target, arm.urdf_path, root_node_name="/program_ghost", mesh_color_override=GHOST_RGBA
@@ -68,7 +70,7 @@ class WaypointSection:
         self.teach_new.on_click(lambda e: host.with_controller("Add waypoint", e.client, self._teach_new))
         self.delete.on_click(lambda e: host.edit("Delete waypoint", e.client, self._delete))
         self.go_to.on_click(lambda e: self._go_to(e.client))
-        self.preview.on_update(lambda _: self._show_ghost())
+        self.preview.on_update(lambda _: self._preview_toggled())
 
     def chosen(self) -> str | None:
         value = str(self.chooser.value)
@@ -84,6 +86,7 @@ class WaypointSection:
         if self._host.syncing or event.client is None:
             return
         self._picked = True
+        self._off = False
         self._show(self.chosen())
 
     # --- actions ------------------------------------------------------------------------------------
@@ -98,6 +101,7 @@ class WaypointSection:
         a, b = old.position.point, position.point
         moved_mm = 1000.0 * math.dist((a.x, a.y, a.z), (b.x, b.y, b.z))
         self._picked = True
+        self._off = False
         self._show(old.name)
         if client is not None:
             client.add_notification(
@@ -111,6 +115,7 @@ class WaypointSection:
     def _teach_new(self, controller: Controller) -> None:
         name = self._host.shared.add_waypoint(controller.get_pose(), controller.get_position())
         self._picked = True
+        self._off = False
         self._show(name)
 
     def _delete(self) -> None:
@@ -167,6 +172,7 @@ class WaypointSection:
         self._selected = selected
         if selected is not None and chose:
             self._picked = False  # a step chosen: its move (if any) is what the ghost shows
+            self._off = False
         if isinstance(selected, MoveStep) and (chose or not self._picked):
             self._show(selected.waypoint)
         elif self.chooser.value not in names:
@@ -186,13 +192,28 @@ class WaypointSection:
         """The tab's translucent ghost arm (the Check's playback moves it too)."""
         return self._ghost
 
+    def _preview_toggled(self) -> None:
+        self._off = False
+        self._show_ghost()
+
+    def _hide_ghost(self) -> None:
+        """Another ghost took the view (the stage calls this)."""
+        self._off = True
+        if self._ghost is not None:
+            self._ghost.show_visual = False
+
     def _show_ghost(self) -> None:
         if self._ghost is None:
             return
         name = self.chosen()
         selected = self._host.selected_line()
         asked = self._picked or (selected is not None and isinstance(selected.step, MoveStep))
-        visible = name is not None and bool(self.preview.value) and asked
+        visible = name is not None and bool(self.preview.value) and asked and not self._off
+        if visible:
+            self._host.ghosts.show("waypoint")
+        else:  # the Check's playback moves this same ghost: hidden, it is gone too
+            self._host.ghosts.hidden("waypoint")
+            self._host.ghosts.hidden("check")
         self._ghost.show_visual = visible
         if visible and name is not None:
             cfg = np.zeros(len(self._ghost.get_actuated_joint_names()))

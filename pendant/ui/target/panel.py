@@ -19,6 +19,7 @@ from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.typed_field import FieldInvalid, NumberField, read_all
 from pendant.ui.scene.cell import ObstacleDrawing
+from pendant.ui.scene.ghost_stage import GhostStage
 from pendant.ui.scene.shared_urdf import SharedUrdf
 from pendant.ui.target.check import TargetCheck, check_flange_target, check_joint_target
 from pendant.ui.target.hand_guide import HandGuide
@@ -47,6 +48,7 @@ class TargetPanel:
         current_q: Callable[[], np.ndarray | None],
         current_tool: Callable[[], np.ndarray],
         current_cell: Callable[[], CellModel | None] = lambda: None,
+        ghosts: GhostStage | None = None,
     ) -> None:
         self._arm = arm
         self._current_cell = current_cell  # the controller's obstacles and tool shape, as last read
@@ -64,6 +66,12 @@ class TargetPanel:
             for ok in (True, False)
         }
         self._hits = ObstacleDrawing(target.scene, "/ghost_hits", only_touching=True)
+        # One ghost at a time in the view (scene/ghost_stage.py): the target's and the plan's are this one.
+        self.ghosts = ghosts if ghosts is not None else GhostStage()
+        self._ghost_off = False  # another ghost took the view: this one waits for the operator's next target
+        hide = self._hide_ghost
+        self.ghosts.register("target", hide)
+        self.ghosts.register("plan", hide)
         self._gizmo = target.scene.add_transform_controls("/target", scale=GIZMO_SCALE, visible=False)
         self._syncing = False
         # The operator's edits (viser's thread pool) and the refresh's rechecks (a new cell) take turns: a
@@ -169,6 +177,7 @@ class TargetPanel:
     ) -> TargetCheck:
         with self._checking:
             self.following = False
+            self._ghost_off = False  # the operator's target: its ghost is what they asked to see
             near = self.check.q if self.check.q is not None else self._current_q()
             near = near if near is not None else 0.5 * (self._arm.lower + self._arm.upper)
             self.check = check_flange_target(
@@ -185,6 +194,7 @@ class TargetPanel:
     def set_joint_target(self, q: np.ndarray, client: viser.ClientHandle | None = None) -> TargetCheck:
         with self._checking:
             self.following = False
+            self._ghost_off = False
             check = self._target_joints(q)
             self._guide(client)
             return check
@@ -306,6 +316,13 @@ class TargetPanel:
         finally:
             self._syncing = False
 
+    def _hide_ghost(self) -> None:
+        """Another ghost took the view (the stage calls this): hidden until the operator sets a target."""
+        self._ghost_off = True
+        self.ghost_shown = None
+        for ghost in self._ghosts.values():
+            ghost.show_visual = False
+
     def _show_ghost(self, check: TargetCheck) -> None:
         """Blue at an executable target; red otherwise, at the target or, when IK has no solution (out of
         reach), where the last solvable one was, so the operator sees which drag went too far. The
@@ -316,7 +333,12 @@ class TargetPanel:
         if check.q is not None:
             self._ghost_q = check.q
         q = self._ghost_q
-        self.ghost_shown = None if q is None or self.following else check.ok
+        self.ghost_shown = None if q is None or self.following or self._ghost_off else check.ok
+        if self.ghost_shown is None:
+            self.ghosts.hidden("target")
+            self.ghosts.hidden("plan")
+        else:
+            self.ghosts.show("target", blocked=not self.ghost_shown)
         for ok, ghost in self._ghosts.items():
             visible = self.ghost_shown == ok
             ghost.show_visual = visible
@@ -327,6 +349,9 @@ class TargetPanel:
 
     def show_planned_ghost(self, q: np.ndarray) -> None:
         """The blue ghost at `q`, a point of the planned path (Plan around plays it)."""
+        if self._ghost_off:
+            return  # another ghost took the view meanwhile
+        self.ghosts.show("plan")
         self.ghost_shown = True
         for ok, ghost in self._ghosts.items():
             ghost.show_visual = ok
@@ -334,6 +359,11 @@ class TargetPanel:
                 cfg = np.zeros(len(ghost.get_actuated_joint_names()))
                 cfg[:6] = q
                 ghost.update_cfg(cfg)
+
+    def plan_played(self) -> None:
+        """The plan's playback is over: the ghost rests at the target, and the legend says so."""
+        if self.ghost_shown is not None and not self._ghost_off:
+            self.ghosts.show("target", blocked=not self.ghost_shown)
 
     def _at_target(self, q: np.ndarray | None) -> bool:
         here = self._current_q()

@@ -54,6 +54,8 @@ class PlanHost(Protocol):
 
     def show_planned_ghost(self, q: np.ndarray) -> None: ...
 
+    def plan_played(self) -> None: ...
+
 
 def needs_plan(check: TargetCheck) -> bool:
     """A target the arm can reach but not by the straight move: the target or the path to it collides."""
@@ -157,6 +159,9 @@ class PlanSection:
                     return
                 self._host.show_planned_ghost(samples[index])
             time.sleep(1.0 / PLAYBACK_FPS)
+        with self._lock:
+            if self.path is path:
+                self._host.plan_played()  # a finished playback leaves the target's ghost, named so
 
     # --- running -----------------------------------------------------------------------------------
     def run(self, client: viser.ClientHandle | None = None) -> Future[object] | None:
