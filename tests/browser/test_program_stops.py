@@ -1,7 +1,8 @@
 """Issue 31 in a real Chromium: a stop from any source ends a running program while the arm stands still
-(a gripper step, a wait), the arm stays where it stopped for 3 s instead of going on to the next waypoint,
-and the banner says "Program stopped at step N" with the cause and offers Retry / Skip / Stop program.
-Then the operator's tab is closed mid-run: the run pauses (the arm held) and the other tab is told why."""
+(a gripper step, a wait for an input, a wait), the arm stays where it stopped for 3 s instead of going on to
+the next waypoint, and the banner says "Program stopped at step N" with the cause and offers Retry / Skip /
+Stop program. Then the operator's tab is closed mid-run: the run pauses (the arm held) and the other tab is
+told why."""
 
 from __future__ import annotations
 
@@ -31,13 +32,22 @@ STILL_TOL_DEG = 0.01
 HELD_S = 3.0
 UI_TIMEOUT_MS = 60_000
 POLL_S = 0.05
-STEP_LINES = {"gripper": 2, "wait": 3}  # 1-based, as the page counts them
+STEP_LINES = {"gripper": 2, "wait": 3, "wait for DI4": 4}  # 1-based, as the page counts them
+STEPS = len(STEP_LINES) + 2
+# Long enough for the page to show the step under load before the stop comes 0.5 s into it; each case waits
+# through the steps before its own.
+STILL_STEP_MS = 8_000
 
 
 def program() -> dict[str, object]:
-    """Move J to A, close the gripper (20 s), wait 20 s, Move J to B."""
-    gripper = {"kind": "gripper", "action": "close", "timeout_ms": 20_000}
-    return a_to_b_file("still_steps", A_DEG, B_DEG, gripper, {"kind": "wait", "ms": 20_000})
+    """Move J to A, close the gripper, wait, wait for DI4 HIGH (it never comes), Move J to B: three steps in
+    which the arm stands still at A, each STILL_STEP_MS long."""
+    gripper = {"kind": "gripper", "action": "close", "timeout_ms": STILL_STEP_MS}
+    # A wait for an input that times out fails the run (at A): last, so that only its own case meets it, and
+    # the stop comes well before.
+    wait_input = {"kind": "wait_input", "port": 4, "level": "HIGH", "timeout_ms": STILL_STEP_MS}
+    wait = {"kind": "wait", "ms": STILL_STEP_MS}
+    return a_to_b_file("still_steps", A_DEG, B_DEG, gripper, wait, wait_input)
 
 
 @pytest.fixture(scope="module")
@@ -106,11 +116,12 @@ def start_at_home(pendant: Pendant, page: Page) -> None:
 def run_until_step(page: Page, line: int) -> None:
     page.get_by_role("tab", name="Program").click()
     page.get_by_role("button", name="Run", exact=True).click(timeout=UI_TIMEOUT_MS)
-    page.get_by_text(f"Running step {line}/4").first.wait_for(timeout=UI_TIMEOUT_MS)
-    time.sleep(0.5)  # inside the 20 s step, the arm standing at A
+    page.get_by_text(f"Running step {line}/{STEPS}").first.wait_for(timeout=UI_TIMEOUT_MS)
+    time.sleep(0.5)  # inside the step, the arm standing at A
 
 
-# Every source meets a gripper step and a wait (the unit tests take every kind of step, tests/program).
+# Every source meets every still step (tests/program and tests/ui/test_page_stops_end_run.py take every kind
+# of step, motions and planned moves included).
 SOURCES = ["Freeze button", "Esc", "another browser's Freeze", "PUT /freeze (curl)", "POST /stop (urllib)"]
 
 
