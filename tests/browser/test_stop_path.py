@@ -23,6 +23,7 @@ from playwright.sync_api import Browser, Page
 from websockets.sync.client import ClientConnection, connect
 
 from tests.support.big_recordings import write_long_recording
+from tests.support.browser_pages import ARTIFACTS, take_control
 from tests.support.headless_viewer import CAMERA_HELLO, click_message, decode_window, notification
 from tests.support.launchers import Pendant
 from tests.support.launchers import running_pendant_ui as running_pendant
@@ -112,10 +113,23 @@ def stopped_after(pendant: Pendant, clicked_at: float) -> float:
 
 def test_a_viewers_40_replays_leave_the_operators_freeze_working(browser: Browser, pendant: Pendant) -> None:
     operator: Page = browser.new_page(viewport={"width": 1400, "height": 900})
+    try:
+        freezes_the_arm_while_a_viewer_replays(operator, pendant)
+    except BaseException:
+        operator.screenshot(path=str(ARTIFACTS / "stop-path-40-replays-failed.png"))  # for whoever reads CI
+        raise
+    finally:
+        operator.close()  # a rerun starts with a browser of its own
+
+
+def freezes_the_arm_while_a_viewer_replays(operator: Page, pendant: Pendant) -> None:
     operator.goto(pendant.ui_url)
     freeze = operator.get_by_role("button", name="Freeze")
     freeze.wait_for(timeout=PAGE_TIMEOUT_S * 1000)
-    operator.get_by_role("button", name="Release control").wait_for(timeout=PAGE_TIMEOUT_S * 1000)
+    # In control (on loopback the first page gets it; a loaded machine may say so late: then take it). A
+    # clean-clone run once waited 60 s here for "Release control", twice (not understood: the screenshot
+    # above says what the page showed).
+    take_control(operator)
 
     viewer = open_socket(pendant)
     told: list[str] = []
@@ -156,7 +170,6 @@ def test_a_viewers_40_replays_leave_the_operators_freeze_working(browser: Browse
     refused = [said for said in told if said.startswith("Replay refused")]
     assert len(refused) == CLICKS - 1, told
     assert "Replay is still running in this browser" in refused[0]
-    operator.close()
 
 
 def test_a_recording_sent_in_parts_downloads_whole_in_chromium(
