@@ -12,8 +12,6 @@ Run: .venv/bin/python benchmarks/freeze_replays.py [--seconds 20] [--viewers 4]
 from __future__ import annotations
 
 import argparse
-import socket
-import statistics
 import sys
 import tempfile
 import threading
@@ -25,42 +23,13 @@ import zstandard
 from websockets.sync.client import connect
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from benchmarks.preflight_bodies import freeze_latencies_ms, summary
 from tests.support.big_recordings import write_long_recording
 from tests.support.headless_viewer import CAMERA_HELLO, click_message, decode_window
 from tests.support.launchers import running_pendant_ui
 from tests.support.ports import LOOPBACK
 
-FREEZE = b"PUT /freeze HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\n\r\n"
 RECORDING = "pendant-20260101-000000.mcap"
-
-
-def freeze_latencies_ms(port: int, seconds: float, period_s: float) -> list[float]:
-    """PUT /freeze every `period_s` for `seconds` over one keep-alive connection: each answer's latency."""
-    times = []
-    with socket.create_connection((LOOPBACK, port)) as connection:
-        connection.settimeout(30)
-        reader = connection.makefile("rb")
-        end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            started = time.perf_counter()
-            connection.sendall(FREEZE)
-            length = 0
-            while (line := reader.readline()) not in (b"\r\n", b""):
-                if line.lower().startswith(b"content-length:"):
-                    length = int(line.split(b":")[1])
-            reader.read(length)
-            times.append((time.perf_counter() - started) * 1e3)
-            time.sleep(max(0.0, period_s - (time.perf_counter() - started)))
-    return times
-
-
-def summary(times: list[float]) -> str:
-    ordered = sorted(times)
-    p99 = ordered[min(len(ordered) - 1, int(0.99 * len(ordered)))]
-    return (
-        f"p50 {statistics.median(ordered):6.1f} ms  p99 {p99:7.1f} ms  max {ordered[-1]:7.1f} ms  "
-        f"(n={len(times)})"
-    )
 
 
 def viewer(ui_port: int, click_s: float, stop: threading.Event, clicks: list[int]) -> None:

@@ -20,6 +20,7 @@ from pendant.cell.file import CellFileError, parse_cell
 from pendant.controller.types import MotionStatus
 from pendant.planning.budget import MAX_STEPS_RUN
 from tests.support.launchers import pendant_process, running_pendant
+from tests.support.programs import swings_file
 from tests.support.waiting import wait_until
 
 # Far beyond what quitting takes (freeze, close the server); a pre-flight left running took 30 s and more.
@@ -40,22 +41,6 @@ def _loops(outer: int, inner: int) -> dict[str, object]:
         "schema_version": 2,
         "name": "spin",
         "steps": [{"kind": "loop", "mode": "times", "times": outer, "body": [inner_loop]}],
-    }
-
-
-def _swings(passes: int) -> dict[str, object]:
-    """Loop `passes` x (Move J to a, Move J to b): 10,001 steps for 5,000 passes, within the step budget,
-    but minutes of checking on the twin."""
-    waypoints = [
-        {"name": name, "pose": {"angles": [j1, -90, 90, -90, -90, 0]}, "position": ORIGIN}
-        for name, j1 in (("a", 40), ("b", -40))
-    ]
-    moves = [{"kind": "move", "waypoint": name, "motion": "JOINT", "speed": 100.0} for name in ("a", "b")]
-    return {
-        "schema_version": 2,
-        "name": "swings",
-        "waypoints": waypoints,
-        "steps": [{"kind": "loop", "mode": "times", "times": passes, "body": moves}],
     }
 
 
@@ -95,7 +80,7 @@ def test_sigterm_ends_a_running_preflight_and_the_process_exits() -> None:
         def long_preflight() -> None:
             try:
                 while True:  # until it is the one running, not told to wait for a probe below
-                    answer = httpx.post(f"{url}/pendant/preflight", json=_swings(5000), timeout=120)
+                    answer = httpx.post(f"{url}/pendant/preflight", json=swings_file(5000), timeout=120)
                     if answer.status_code != 409:
                         break
                 answers.append(answer)

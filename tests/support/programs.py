@@ -153,3 +153,20 @@ def runner_doing_at_step(
     runner = ProgramRunner(sim, now=clock.now, sleep=sleep, poll_s=POLL_S)
     holder.append(runner)
     return runner
+
+
+def swings_file(passes: int) -> dict[str, object]:
+    """A program file's JSON: Loop `passes` x (Move J to a, Move J to b): 2 * passes + 1 steps, within the
+    pre-flight's step budget for 5,000 passes, but minutes of checking on the twin."""
+    origin = {"point": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": {"roll": 0.0, "pitch": 0.0, "yaw": 0.0}}
+    waypoints = [
+        {"name": name, "pose": {"angles": [j1, -90, 90, -90, -90, 0]}, "position": origin}
+        for name, j1 in (("a", 40), ("b", -40))
+    ]
+    moves = [{"kind": "move", "waypoint": name, "motion": "JOINT", "speed": 100.0} for name in ("a", "b")]
+    return {
+        "schema_version": 2,
+        "name": "swings",
+        "waypoints": waypoints,
+        "steps": [{"kind": "loop", "mode": "times", "times": passes, "body": moves}],
+    }

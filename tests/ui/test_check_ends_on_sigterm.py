@@ -15,26 +15,11 @@ import httpx
 from pendant.program.files import AUTOSAVE_FILE
 from tests.support.headless_viewer import click_message, find_button, open_viewer
 from tests.support.launchers import Pendant, running_pendant_ui
+from tests.support.programs import swings_file
 from tests.support.waiting import wait_until
 
 QUIT_TIMEOUT_S = 10.0  # as the API's pre-flight test: quitting is a freeze and closing the servers
 PAGE_TIMEOUT_S = 60.0
-ORIGIN = {"point": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": {"roll": 0.0, "pitch": 0.0, "yaw": 0.0}}
-
-
-def swings(passes: int) -> dict[str, object]:
-    """Loop `passes` x (Move J to a, Move J to b): within the step budget, minutes of checking on the twin."""
-    waypoints = [
-        {"name": name, "pose": {"angles": [j1, -90, 90, -90, -90, 0]}, "position": ORIGIN}
-        for name, j1 in (("a", 40), ("b", -40))
-    ]
-    moves = [{"kind": "move", "waypoint": name, "motion": "JOINT", "speed": 100.0} for name in ("a", "b")]
-    return {
-        "schema_version": 2,
-        "name": "swings",
-        "waypoints": waypoints,
-        "steps": [{"kind": "loop", "mode": "times", "times": passes, "body": moves}],
-    }
 
 
 async def check_then_sigterm(pendant: Pendant) -> None:
@@ -59,7 +44,8 @@ def checking(api: httpx.Client) -> bool:
 def test_sigterm_ends_the_pages_running_check_and_the_process(tmp_path: Path) -> None:
     programs = tmp_path / "programs"
     programs.mkdir()
-    autosave = {"program": swings(5000), "file_name": None, "dirty": True}  # the program on the page at start
+    # The program on the page at start.
+    autosave = {"program": swings_file(5000), "file_name": None, "dirty": True}
     (programs / AUTOSAVE_FILE).write_text(json.dumps(autosave))
     with running_pendant_ui("--programs", str(programs)) as pendant:
         try:
