@@ -98,6 +98,9 @@ def test_a_move_through_a_box_fails_there_naming_the_box_and_the_arm_is_sent_onl
     assert rig.arm.get_motion_status() is MotionStatus.IDLE
 
 
+# A real-time figure (the real run's cycle time on the wall clock): run in front at normal priority, never
+# behind at nice 19, where a clean-clone run's arm took 11.29 s for a 10.44 s cycle.
+@pytest.mark.measures
 def test_without_the_box_it_passes_with_the_cycle_time_of_a_real_run(rig: Rig) -> None:
     rig.put_arm_left(box=False)
     rig.counts.clear()
