@@ -61,8 +61,8 @@ def api(pendant: tuple[subprocess.Popen[str], str]) -> Iterator[httpx.Client]:
 
 
 def run_body(size: int) -> bytes:
-    """A valid /poses/run body of 100 waypoints sweeping J1 90 deg from home (a few seconds at speed 20: long
-    enough that it is still running when a loaded machine asks), padded with whitespace to exactly `size` bytes."""
+    """A valid /poses/run body of 100 waypoints sweeping J1 90 deg from home (a few seconds at speed 20: still
+    running when a loaded machine asks), padded with whitespace to exactly `size` bytes."""
     waypoints = [{"angles": [HOME[0] + 0.9 * i, *HOME[1:]]} for i in range(100)]
     body = json.dumps(waypoints).encode()
     assert len(body) <= size

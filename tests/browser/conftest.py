@@ -9,7 +9,7 @@ time); `measures` tests never ask for one."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Generator, Iterator
 from pathlib import Path
 
 import pytest
@@ -17,6 +17,7 @@ from playwright.sync_api import Browser, Page, Playwright
 
 from tests.support.browser_pages import ARTIFACTS
 from tests.support.chromium import CHROMIUM, CHROMIUM_ARGS
+from tests.support.failure_pages import describe_pages
 from tests.support.launchers import Pendant
 from tests.support.shared_pendants import SharedPendants, shared_pendants
 
@@ -33,6 +34,18 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
         item.add_marker(pytest.mark.browser)
     others = [item for item in items if HERE not in Path(item.path).parents]
     items[:] = others + ours
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_makereport(
+    item: pytest.Item, call: pytest.CallInfo[None]
+) -> Generator[None, pytest.TestReport, pytest.TestReport]:
+    """A failed test's report says what its pages showed (tests/support/failure_pages.py)."""
+    report: pytest.TestReport = yield
+    browser = getattr(item, "funcargs", {}).get("browser")
+    if report.when == "call" and report.failed and isinstance(browser, Browser):
+        report.sections.append(("pages when it failed", describe_pages(browser, item.name)))
+    return report
 
 
 @pytest.fixture(scope="session")

@@ -120,7 +120,11 @@ def test_a_replay_takes_the_view_from_the_target_and_clears_itself_when_played_t
     replay = ui.dashboard.replay
     operator = FakeBrowser(OPERATOR)
     fire(replay.start, operator)
-    wait_until(lambda: replay.replay is not None or bool(operator.notifications), JOB_TIMEOUT_S, "the replay")
+
+    def shown() -> bool:  # the replay is set before its first frame is drawn (a moment later, under load)
+        return replay.ghost is not None and replay.ghost.q is not None
+
+    wait_until(lambda: shown() or bool(operator.notifications), JOB_TIMEOUT_S, "the replay's first frame")
     assert replay.replay is not None and replay.ghost is not None, operator.notifications
     assert replay.ghost.q is not None and target.ghost_shown is None, "one ghost: the replay's"
     assert legend(ui) == "Ghost: replay"
