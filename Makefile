@@ -36,14 +36,13 @@ $(SDK_STAMP):
 run: $(RUN_STAMP)
 	@$(BIN)/pendant $(if $(FOXGLOVE),--foxglove-port $(FOXGLOVE)) $(ARGS)
 
-# The suite: the checks and three passes of tests at once (scripts/test_passes.sh says why): in front, one
-# at a time, the tests that time what a user feels on a real clock (`measures`: jog shares, stop times) and
-# the `alone` ones (they failed beside another worker); behind them at nice 19, so they never take a core
-# the timed tests want: ruff, the import layers and mypy, every test outside tests/browser on three workers
-# (--dist worksteal), and the other browser tests on two workers, a module per worker (it shares a Chromium
-# and its pendants, tests/browser/conftest.py). A browser test that fails is run once more
-# (pytest-rerunfailures; R in the output): some fail now and then in a full run and pass alone
-# (docs/development.md lists them).
+# The suite (scripts/test_passes.sh says why): in front, one at a time, the tests that time what a user feels
+# on a real clock (`measures`: jog shares, stop times) and the `alone` ones (they failed beside another
+# worker), while ruff, the import layers, mypy and every test outside tests/browser run behind them at nice 19
+# (two workers, --dist worksteal), so they never take a core the timed tests want; then the other browser
+# tests on two workers, a module per worker (it shares a Chromium and its pendants, tests/browser/conftest.py).
+# A browser test that fails is run once more (pytest-rerunfailures; R in the output): some fail now and then
+# in a full run and pass alone (docs/development.md lists them).
 test: $(STAMP) $(SDK_STAMP)
 	@BIN=$(BIN) PYTEST_ARGS="$(PYTEST_ARGS)" bash scripts/test_passes.sh
 

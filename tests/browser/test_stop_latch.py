@@ -13,14 +13,16 @@ from playwright.sync_api import Browser, Page
 from tests.support.jog_measure import PoseSampler, button_centre, open_as_operator, touch, wait_idle
 from tests.support.launchers import Pendant
 
-# Real-time figures (the arm still for 1.5 s while held, moved within 0.8 s): run alone, after the rest.
+# Real-time figures (the arm still for 1.5 s while held): run alone, after the rest.
 pytestmark = pytest.mark.measures
 
-HELD_BEFORE_S = 0.8  # the jog runs this long before the stop comes
+# The jog must have turned J1 this far before the stop comes, within JOG_WITHIN_S of the press (at the pad's
+# speed it takes about 0.8 s, more while the page is still confirming its first frames on a loaded machine).
+MOVED_DEG = 1.0
+JOG_WITHIN_S = 5.0
 STOP_SETTLE_S = 0.3  # the stop has reached the controller by then
 STILL_WINDOW_S = 1.5  # J1 measured this long while the button stays down after the stop
 STILL_TOL_DEG = 0.01  # J1 changed by less than this over the window: still
-MOVED_DEG = 1.0  # J1 at the jog speed turns well over this in HELD_BEFORE_S
 NOTICE_TIMEOUT_MS = 5_000
 
 
@@ -63,6 +65,16 @@ def j1(pendant: Pendant) -> float:
     return pendant.pose()[0]
 
 
+def jogged(pendant: Pendant, start: float) -> bool:
+    """J1 turned MOVED_DEG from `start` within JOG_WITHIN_S (the button held all the while)."""
+    deadline = time.monotonic() + JOG_WITHIN_S
+    while j1(pendant) <= start + MOVED_DEG:
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.05)
+    return True
+
+
 # Each gesture meets each source once over the three runs (all nine would triple the time for little more).
 @pytest.mark.parametrize(
     ("gesture", "source"), [("mouse", "api"), ("finger", "other browser"), ("Space", "Esc")]
@@ -74,8 +86,7 @@ def test_a_freeze_ends_the_held_jog_until_the_button_is_released_and_pressed_aga
     start = j1(pendant)
     release = press(operator, gesture)
     try:
-        time.sleep(HELD_BEFORE_S)
-        assert j1(pendant) > start + MOVED_DEG, f"holding J1+ by {gesture} did not jog"
+        assert jogged(pendant, start), f"holding J1+ by {gesture} did not jog"
         if source == "api":
             pendant.api.put("/freeze").raise_for_status()
         elif source == "other browser":
@@ -102,7 +113,6 @@ def test_a_freeze_ends_the_held_jog_until_the_button_is_released_and_pressed_aga
     again = j1(pendant)
     release = press(operator, gesture)
     try:
-        time.sleep(HELD_BEFORE_S)
+        assert jogged(pendant, again), "released and pressed again, J1+ did not jog"
     finally:
         release()
-    assert j1(pendant) > again + MOVED_DEG, "released and pressed again, J1+ did not jog"
