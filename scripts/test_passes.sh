@@ -4,8 +4,9 @@
 #     (`measures`: jog shares, stop times; most are browser tests) and the `alone` ones.
 #   Behind them at the same time, at the lowest CPU priority (nice 19): the checks (ruff, import-linter, mypy)
 #     and every other test outside tests/browser on two workers (--dist worksteal).
-#   Then the other browser tests on two workers, a module per worker (--dist loadfile: it shares its Chromium
-#     and pendants, tests/browser/conftest.py).
+#   Once the timed pass is done, the other browser tests on two workers at normal priority, a module per
+#     worker (--dist loadfile: it shares its Chromium and pendants, tests/browser/conftest.py), while what is
+#     behind goes on with what they leave.
 # The timed pass mostly waits on its real clock (a 10 s hold, a path drawn at a hand's pace, a 3 s look at a
 # stopped arm): the work behind it fills that idle CPU, and niced it never takes a core the timed pass wants
 # (Linux gives a nice-19 task about 1/70 of a normal one's share). The other browser tests stay out of that
@@ -22,9 +23,11 @@ behind() { # name, command...: run the command at nice 19, its output to test-ar
     shift
     nice -n 19 "$@" >"test-artifacts/$name.log" 2>&1 &
     pids+=($!)
-    names+=("$name")
+    logs+=("$name")
+    names+=("$name (behind, nice 19)")
 }
 pids=()
+logs=()
 names=()
 behind checks make -s --no-print-directory lint layers typecheck
 behind tests "$bin/pytest" -q -n 2 --dist worksteal --ignore=tests/browser -m "not measures" "${extra[@]}"
@@ -34,15 +37,18 @@ trap 'trap - INT TERM; kill 0' INT TERM
 "$bin/pytest" -q -m "measures or alone" --reruns 1 tests "${extra[@]}"
 failed=$?
 echo "== the timed tests (in front): exit $failed"
+# The other browser tests start as soon as the timed pass is done, at normal priority: what is still running
+# behind (nice 19) then takes what they leave.
+"$bin/pytest" -q -n 2 --dist loadfile -m "not measures and not alone" --reruns 1 tests/browser "${extra[@]}" \
+    >test-artifacts/browser-tests.log 2>&1 &
+pids+=($!)
+logs+=(browser-tests)
+names+=("the other browser tests (after the timed ones, normal priority)")
 for i in "${!pids[@]}"; do
     wait "${pids[$i]}"
     status=$?
-    echo "== ${names[$i]} (behind, nice 19): exit $status"
-    cat "test-artifacts/${names[$i]}.log"
+    echo "== ${names[$i]}: exit $status"
+    cat "test-artifacts/${logs[$i]}.log"
     [ "$status" -eq 0 ] || failed=1
 done
-
-echo "== the other browser tests:"
-"$bin/pytest" -q -n 2 --dist loadfile -m "not measures and not alone" --reruns 1 tests/browser "${extra[@]}"
-[ $? -eq 0 ] || failed=1
 exit "$failed"

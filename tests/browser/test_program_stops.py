@@ -21,8 +21,9 @@ from tests.support.jog_measure import open_as_operator
 from tests.support.launchers import Pendant, running_pendant_ui
 from tests.support.programs import a_to_b_file
 
-# alone: beside another worker, a case timed out bringing the arm home after another browser's Freeze (CI,
-# 27 Nov; not yet understood).
+# alone: each stop must land inside a 4 s still step, 0.5 s after the page shows it, on a real clock. (The
+# "timed out bringing the arm home" seen beside another worker was the last case's Stop program click, handled
+# after the move home had been sent: mended in start_at_home.)
 pytestmark = pytest.mark.alone
 
 HOME_DEG = [0.0, -90.0, 90.0, -90.0, -90.0, 0.0]
@@ -53,8 +54,7 @@ def program() -> dict[str, object]:
 @pytest.fixture(scope="module")
 def pendant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Pendant]:
     """A pendant of this module's own, with an empty programs folder: no program autosaved by another
-    test stands in the way of the upload. (Not a shared one: with one, a run of the parallel pass timed
-    out bringing the arm home after "another browser's Freeze" in a wait step, not understood yet.)"""
+    test stands in the way of the upload."""
     programs = tmp_path_factory.mktemp("programs")
     with running_pendant_ui("--programs", str(programs)) as served:
         yield served
