@@ -156,6 +156,7 @@ class ViewerCounts:
     state_times: list[float] = field(default_factory=list)
     gui_updates: int = 0
     bytes_received: int = 0
+    whole_panel: asyncio.Event = field(default_factory=asyncio.Event)  # its last tab (the Dashboard's plots)
 
 
 async def viewer(url: str, counts: ViewerCounts, stop: asyncio.Event) -> None:
@@ -178,3 +179,5 @@ async def viewer(url: str, counts: ViewerCounts, stop: asyncio.Event) -> None:
                     counts.state_times.append(now)
                 elif kind == "GuiUpdateMessage":
                     counts.gui_updates += 1
+                elif kind == "GuiUplotMessage":
+                    counts.whole_panel.set()
