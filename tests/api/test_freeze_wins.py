@@ -62,7 +62,8 @@ def api(pendant: tuple[subprocess.Popen[str], str]) -> Iterator[httpx.Client]:
 
 def run_body(size: int) -> bytes:
     """A valid /poses/run body of 100 waypoints sweeping J1 90 deg from home (a few seconds at speed 20: long
-    enough that it is still running when a loaded machine asks), padded with whitespace to exactly `size` bytes."""
+    enough that it is still running when a loaded machine asks), padded with whitespace to exactly `size`
+    bytes."""
     waypoints = [{"angles": [HOME[0] + 0.9 * i, *HOME[1:]]} for i in range(100)]
     body = json.dumps(waypoints).encode()
     assert len(body) <= size
@@ -191,7 +192,7 @@ def test_memory_stays_bounded_after_refused_huge_uploads(api: httpx.Client, pend
 
 
 SHORT_READ_TIMEOUT_S = 0.5
-SLOW_CLIENT_GIVE_UP_S = 5.0
+SLOW_CLIENT_GIVE_UP_S = 30.0  # a safety net: the server lets go SHORT_READ_TIMEOUT_S in, given the CPU
 
 
 def test_a_slow_or_silent_client_is_disconnected(sim: SimController) -> None:
