@@ -42,7 +42,7 @@ def proxy() -> Iterator[str]:
 
 @pytest.fixture(params=["simulator", "proxy"])
 def api(request: pytest.FixtureRequest) -> Iterator[httpx.Client]:
-    with httpx.Client(base_url=request.getfixturevalue(request.param), timeout=5.0) as client:
+    with httpx.Client(base_url=request.getfixturevalue(request.param), timeout=30.0) as client:
         yield client
 
 

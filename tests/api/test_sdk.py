@@ -25,7 +25,7 @@ def report() -> dict[str, Any]:
     """What the SDK script read while driving the simulator over HTTP."""
     assert SDK_PYTHON.exists(), "create the SDK venv first: make .venv-sdk/.installed"
     with running_pendant() as base_url:
-        httpx.put(f"{base_url}/sim/signal/input/2/high", timeout=5.0).raise_for_status()
+        httpx.put(f"{base_url}/sim/signal/input/2/high", timeout=30.0).raise_for_status()
         run = subprocess.run(
             [str(SDK_PYTHON), str(SCRIPT), base_url],
             capture_output=True,

@@ -29,7 +29,10 @@ J1_PLUS = JogRequest(JogFrame.JOINT, 0, +1, speed_percent=20)
 @pytest.fixture
 def served() -> Iterator[tuple[httpx.Client, SimController, StopBus]]:
     sim, stops = SimController(), StopBus()
-    with serve_in_thread(create_app(sim, stops=stops)) as url, httpx.Client(base_url=url, timeout=5.0) as api:
+    with (
+        serve_in_thread(create_app(sim, stops=stops)) as url,
+        httpx.Client(base_url=url, timeout=30.0) as api,
+    ):
         yield api, sim, stops
 
 

@@ -23,7 +23,7 @@ from pendant.eventlog import EventKind, EventLog
 from pendant.remote import create_proxy_app
 from pendant.sim import FakeClock, SimController
 from tests.support.bad_servers import http_answer, raw_server
-from tests.support.launchers import REPO_ROOT, running_pendant
+from tests.support.launchers import REPO_ROOT, START_TIMEOUT_S, running_pendant, stop
 from tests.support.threads import serve_in_thread
 
 TOKEN = "Zürich-Ω-token-2026-ähnlich"  # UTF-8, and long enough not to be warned about
@@ -48,7 +48,7 @@ def proxied() -> Iterator[str]:
 
 @pytest.fixture(params=["exposed", "proxied"])
 def api(request: pytest.FixtureRequest) -> Iterator[httpx.Client]:
-    with httpx.Client(base_url=request.getfixturevalue(request.param), timeout=5.0) as client:
+    with httpx.Client(base_url=request.getfixturevalue(request.param), timeout=30.0) as client:
         yield client
 
 
@@ -134,7 +134,7 @@ def test_a_client_far_behind_its_turn_is_told_to_wait_at_once() -> None:
     rules = AccessRules(token=TOKEN, attempts=FailedAttempts(free=1, interval_s=10.0, max_wait_s=1.0))
     with (
         serve_in_thread(create_app(sim, access=rules)) as url,
-        httpx.Client(base_url=url, timeout=5.0) as client,
+        httpx.Client(base_url=url, timeout=30.0) as client,
     ):
         assert client.put("/relax", headers={TOKEN_HEADER: "guess"}).status_code == 403
         answer = client.put("/relax", headers={TOKEN_HEADER: "guess-2"})
@@ -189,7 +189,7 @@ def _start_and_read(flags: list[str]) -> str:
     reader = threading.Thread(target=read, daemon=True)
     reader.start()
     try:
-        deadline = time.monotonic() + 60
+        deadline = time.monotonic() + START_TIMEOUT_S
         while time.monotonic() < deadline:
             try:
                 httpx.get(f"http://127.0.0.1:{port}/pose", timeout=1.0)
@@ -197,9 +197,8 @@ def _start_and_read(flags: list[str]) -> str:
             except httpx.HTTPError:
                 time.sleep(0.05)
     finally:
-        process.terminate()
-        process.wait(10)
-        reader.join(5)
+        stop(process)
+        reader.join(START_TIMEOUT_S)  # to the end of its output: the pendant has exited
     return "".join(lines)
 
 

@@ -36,7 +36,7 @@ def test_proxy_serves_the_arm_counts_commands_and_reports_the_link_down(sim: Sim
         assert values(baseline, "pulse_controller_online") == [1.0]
         info = baseline["pendant_info"][0][0]
         assert info["mode"] == "robot" and info["robot_url"] == controller_url
-        assert httpx.put(f"{base}/signal/output/2/high", timeout=5.0).status_code == 200
+        assert httpx.put(f"{base}/signal/output/2/high", timeout=30.0).status_code == 200
         after = scrape(base)
         assert [labels["port"] for labels, v in after["pulse_digital_output"] if v == 1.0] == ["2"]
         command = {"source": "api", "endpoint": "PUT /signal/output/{port}/high", "status": "200"}

@@ -14,7 +14,9 @@ from pendant.planning import MARGIN_M, path_is_clear, plan_joint_path
 from pendant.planning.scenes import HOME_DEG, POSTS, SCENES, Scene
 
 DENSE_RAD = np.radians(0.25)
-BUDGET_S = 5.0  # generous: the test machine is shared; the benchmark measures the time
+# Generous: a search ends once it has a path, and a machine starved of CPU takes seconds for what takes
+# milliseconds alone; benchmarks/ measures the time.
+BUDGET_S = 60.0
 
 
 @pytest.fixture(scope="module")

@@ -41,7 +41,9 @@ def test_a_plan_from_the_wall_backs_out_first_and_runs(api: httpx.Client) -> Non
     straight = api.put("/pose", json={"angles": ROUND}, params={"speed": 100})
     assert straight.status_code == 412 and "deeper into 'wall'" in straight.text  # refused: nothing moved
 
-    planned = api.post("/pendant/plan", json={"target": {"angles": ROUND}})
+    planned = api.post(
+        "/pendant/plan", json={"target": {"angles": ROUND}, "budget_s": 10.0}
+    )  # the most: see test_plan_api
     assert planned.status_code == 200, planned.text
     waypoints = np.radians([w["angles"] for w in planned.json()["waypoints"]])
     assert np.allclose(np.degrees(waypoints[0]), HOME) and np.allclose(np.degrees(waypoints[-1]), ROUND)

@@ -183,7 +183,7 @@ def test_on_the_nth_command(pulse_sim: PulseSim, api: httpx.Client) -> None:
 @pytest.mark.pulse_sim(time_scale=50)
 def test_a_function_as_the_action(pulse_sim: PulseSim, api: httpx.Client) -> None:
     event = pulse_sim.at(2.0, lambda: pulse_sim.set_input(1, True))
-    deadline = time.monotonic() + 10.0
+    deadline = time.monotonic() + 60.0
     while api.get("/signal/input/1").json() != "HIGH":
         assert time.monotonic() < deadline
         time.sleep(0.002)
@@ -195,27 +195,29 @@ def test_a_function_as_the_action(pulse_sim: PulseSim, api: httpx.Client) -> Non
 def test_a_60_s_motion_takes_a_fraction_of_it(pulse_sim: PulseSim, api: httpx.Client) -> None:
     api.put("/pose", params=SLOW, json={"angles": FAR}).raise_for_status()
     (motion,) = pulse_sim.controller.queued_motions()
-    wall0 = time.monotonic()  # before the first read and after the second: the server's span is inside
+    outer0 = time.monotonic()  # before the first read and after the second: the server's span is inside
     before = api.get("/sim/clock").json()
+    inner0 = time.monotonic()  # after the first read and before the second: inside the server's span
     assert wait_while_running(api) == "IDLE"
+    inner = time.monotonic() - inner0
     after = api.get("/sim/clock").json()
-    wall = time.monotonic() - wall0
+    outer = time.monotonic() - outer0
     assert motion.duration > 55.0
     assert angles(api) == pytest.approx(FAR, abs=1e-6)
     simulated = after["time"] - before["time"]
     assert simulated >= motion.t_end - before["time"]
-    assert 50.0 < simulated / wall <= 101.0
+    assert 99.0 * inner <= simulated <= 101.0 * outer, (simulated, inner, outer)  # however slow the client
     assert after["timestamp"] - before["timestamp"] == pytest.approx(simulated, abs=1e-6)
     assert after["scale"] == 100.0
 
 
-@pytest.mark.pulse_sim(time_scale=100)
+@pytest.mark.pulse_sim(time_scale=20)  # the 60 s wait is 3 s of wall clock: still RUNNING when we look
 def test_gripper_waits_scale_too(pulse_sim: PulseSim, api: httpx.Client) -> None:
     t0 = api.get("/sim/clock").json()["time"]
-    api.put("/gripper/close", params={"timeout": 20000}).raise_for_status()  # 20 s
+    api.put("/gripper/close", params={"timeout": 60000}).raise_for_status()  # 60 s, the longest
     assert motion_status(api) == "RUNNING"
     assert wait_while_running(api) == "IDLE"
-    assert api.get("/sim/clock").json()["time"] - t0 >= 20.0
+    assert api.get("/sim/clock").json()["time"] - t0 >= 60.0
 
 
 @pytest.mark.pulse_sim(model="pulse90")

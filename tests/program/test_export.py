@@ -118,7 +118,7 @@ def test_the_exported_script_ends_where_the_runner_does(
 
     done = run_script(script, api_url)
     assert done.returncode == 0, done.stderr
-    with httpx.Client(base_url=api_url, timeout=5.0) as api:
+    with httpx.Client(base_url=api_url, timeout=30.0) as api:
         pose = api.get("/pose").json()["angles"]
         outputs = {port: api.get(f"/signal/output/{port}").text.strip('"') for port in OUTPUT_PORTS}
 
@@ -216,7 +216,7 @@ def test_every_step_type_exports_and_runs_like_the_runner(
     in_process = ProgramRunner(sim, sleep=clock.advance, now=clock.now, load=store.load).run(program)
     assert in_process.state is RunState.FINISHED
 
-    with httpx.Client(base_url=api_url, timeout=5.0) as api:
+    with httpx.Client(base_url=api_url, timeout=30.0) as api:
         api.put("/sim/reset").raise_for_status()
         script = tmp_path / "every_step.py"
         script.write_text(export_script(program, store.load))

@@ -65,7 +65,7 @@ def end_of(program: Program) -> np.ndarray:
 
 
 def tcp(url: str) -> np.ndarray:
-    p = httpx.get(f"{url}/position", timeout=5.0).json()["point"]
+    p = httpx.get(f"{url}/position", timeout=30.0).json()["point"]
     return np.array([p["x"], p["y"], p["z"]])
 
 

@@ -257,7 +257,7 @@ def test_resume_pressed_as_the_stop_is_announced_goes_on_rather_than_being_refus
 
     runner.add_listener(slow_view)
     runner.start(lambda: runner.run(program))
-    assert announced.wait(HELD_S)
+    assert announced.wait(HELD_S * 10)  # a safety net, as the join below: the thread may lack the CPU
 
     runner.start(runner.resume)
 

@@ -54,7 +54,7 @@ def test_calls_from_another_thread_pass_a_hung_one() -> None:
         hung = threading.Thread(target=read_pose)
         hung.start()
         assert controller.get_motion_status() is MotionStatus.IDLE
-        hung.join(timeout=5.0)
+        hung.join(timeout=30.0)
         assert len(outcome) == 1 and isinstance(outcome[0], ControllerOffline)
 
 

@@ -20,11 +20,11 @@ from tests.support.waiting import wait_until
 pytestmark = pytest.mark.slow
 
 START_TIMEOUT_S = 60.0  # the UI loads the arm model and meshes before it serves
-OFFLINE_WITHIN_S = 5.0
+OFFLINE_WITHIN_S = 30.0  # a safety net: the next health probe says so, given the CPU (nice 19)
 MOTION_DEADLINE_S = 10.0
 STOP_TIMEOUT_S = 10.0
 POLL_INTERVAL_S = 0.1
-CLIENT_TIMEOUT_S = 5.0
+CLIENT_TIMEOUT_S = 30.0
 ANGLE_TOL_DEG = 1e-6
 TARGET_DEG = [HOME_POSE_DEG[0] + 10.0, *HOME_POSE_DEG[1:]]
 

@@ -149,7 +149,7 @@ class Pendant:
         self.process = process
         self.ui_port = ui_port
         self.ui_url = f"http://{LOOPBACK}:{ui_port}/"
-        self.api = httpx.Client(base_url=f"http://{LOOPBACK}:{api_port}", timeout=5.0)
+        self.api = httpx.Client(base_url=f"http://{LOOPBACK}:{api_port}", timeout=30.0)
 
     def pose(self) -> list[float]:
         return self.api.get("/pose").json()["angles"]

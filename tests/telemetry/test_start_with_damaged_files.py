@@ -40,9 +40,9 @@ def test_the_pendant_serves_whatever_lies_in_its_recordings_folder(tmp_path: Pat
             REPAIRED_WITHIN_S,
             "moving the damaged files aside",
         )
-        said = httpx.get(f"{base}/pendant/events", params={"kind": "error", "limit": 100}, timeout=5.0)
+        said = httpx.get(f"{base}/pendant/events", params={"kind": "error", "limit": 100}, timeout=30.0)
         messages = [event["message"] for event in said.json()["events"]]
-        assert httpx.get(f"{base}/robot/id", timeout=5.0).status_code == 200
+        assert httpx.get(f"{base}/robot/id", timeout=30.0).status_code == 200
 
     for stem, data in files.items():
         assert (recordings / DAMAGED / f"{stem}.mcap").read_bytes() == data, stem

@@ -42,6 +42,7 @@ JOG_SPEED_PERCENT = 5.0  # J1 at 6 °/s: far from its limits within the test
 PAGE_TIMEOUT_S = 60.0  # generous: the machine may be loaded; this is not a speed test
 DEADMAN = "deadman"
 REGRASP_S = 0.3
+ALONE_S = 1.0  # the operator holds J1+ alone this long before the churn begins
 
 
 def _viewers_connected(pendant: Pendant) -> float:
@@ -86,14 +87,19 @@ async def _churning_browser(port: int, seed: int, until: float, freezes: list[bo
             ws.transport.abort()  # the connection dropped: no goodbye
 
 
-async def _hold_j1_plus(port: int, pendant: Pendant, until: float, stops: list[str]) -> float:
-    """The operator holds J1+ until `until` (pressing again after a deadman stop); how far J1 went (°)."""
+async def _hold_j1_plus(
+    port: int, pendant: Pendant, stops: list[str], holding: asyncio.Future[float]
+) -> float:
+    """The operator holds J1+ (pressing again after a deadman stop) from when its page has its jog pad, for
+    ALONE_S + CHURN_S; `holding` gets the time it lets go. How far J1 went (°)."""
     operator = await open_viewer(port)
-    pad = await read_jog_pad(operator, PAGE_TIMEOUT_S)
+    pad = await read_jog_pad(operator, PAGE_TIMEOUT_S)  # however long a loaded machine takes to build it
     await operator.send(gui_update(pad.speed, JOG_SPEED_PERCENT))
     drain = asyncio.create_task(_drain(operator))
     start = await asyncio.to_thread(pendant.pose)
     seen = len(await asyncio.to_thread(_jog_stops, pendant))
+    until = time.monotonic() + ALONE_S + CHURN_S
+    holding.set_result(until)
     while time.monotonic() < until:
         await operator.send(hold_message(pad.hold))
         await asyncio.sleep(1.0 / HOLD_HZ)
@@ -119,11 +125,16 @@ def test_a_held_jog_goes_on_while_browsers_connect_and_leave() -> None:
     with running_pendant_ui() as pendant:
 
         async def scenario() -> None:
-            until = time.monotonic() + CHURN_S + 3.0
             stops: list[str] = []
             freezes: list[bool] = []
-            holding = asyncio.create_task(_hold_j1_plus(pendant.ui_port, pendant, until, stops))
-            await asyncio.sleep(3.0)  # the operator first: the first browser gets control
+            started: asyncio.Future[float] = asyncio.get_running_loop().create_future()
+            holding = asyncio.create_task(_hold_j1_plus(pendant.ui_port, pendant, stops, started))
+            # The operator first (the first browser gets control), holding before anyone else comes.
+            await asyncio.wait([started, holding], return_when=asyncio.FIRST_COMPLETED)
+            if holding.done():
+                holding.result()  # its failure, if it failed before holding
+            until = started.result()
+            await asyncio.sleep(ALONE_S)
             await asyncio.gather(
                 *(_churning_browser(pendant.ui_port, i, until, freezes) for i in range(CHURNERS))
             )

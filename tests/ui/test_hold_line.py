@@ -86,6 +86,9 @@ async def jog_through_stuck_viser(page: PendantUI, sim: SimController) -> bool:
         await ws.close()
 
 
+# The deadman's 200 ms is measured on the wall clock, and the confirmations come from this test's own loop:
+# starved of CPU (the pass behind the timed tests, nice 19) the process misses it and the arm rightly stops.
+@pytest.mark.measures
 def test_a_held_jog_survives_a_stuck_viser_and_its_release_stops_the_arm(
     page: PendantUI, sim: SimController
 ) -> None:

@@ -42,7 +42,7 @@ def page(sim: SimController) -> Iterator[PendantUI]:
 @pytest.fixture
 def api(page: PendantUI, sim: SimController) -> Iterator[httpx.Client]:
     app = create_app(sim, access=AccessRules(remote=page.remote, events=page.events))
-    with serve_in_thread(app) as url, httpx.Client(base_url=url, timeout=5.0) as client:
+    with serve_in_thread(app) as url, httpx.Client(base_url=url, timeout=30.0) as client:
         yield client
 
 

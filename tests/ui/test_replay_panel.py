@@ -41,8 +41,12 @@ def anchor(clock: FakeClock) -> dict[str, float]:
 @pytest.fixture
 def pendant_ui(sim: SimController, clock: FakeClock, anchor: dict[str, float]) -> Iterator[PendantUI]:
     """A page whose samples and events are timed by the `clock` fixture."""
-    events = EventLog(now=lambda: anchor["wall"] + clock.now() - anchor["clock"])
+    wall = lambda: anchor["wall"] + clock.now() - anchor["clock"]  # noqa: E731
+    events = EventLog(now=wall)
     page = new_page(sim, sim.arm, clock=clock.now, events=events)
+    # The recording's own wall clock is the events' one: read from time.time() as the recording starts, it
+    # put the error late by however long this thread waited for the CPU since the anchor (50 ms fails).
+    page.telemetry._wall_now = wall
     page.desk.join(OPERATOR)
     page.desk.join(VIEWER)
     page.refresh()

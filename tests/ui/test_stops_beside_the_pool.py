@@ -23,7 +23,7 @@ from tests.support.waiting import wait_until
 
 VISER_POOL = 32  # viser 1.1.1's callback pool (ViserServer._thread_executor)
 PAGE_TIMEOUT_S = 30.0  # generous: the machine may be loaded; nothing here measures speed
-STOP_TIMEOUT_S = 10.0
+STOP_TIMEOUT_S = 60.0  # a safety net: a stop that waited for the held pool would never come
 AWAY = Pose(angles=[120.0, -60.0, 60.0, -90.0, -90.0, 0.0])
 
 

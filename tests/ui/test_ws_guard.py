@@ -39,7 +39,7 @@ def ws_url(page: PendantUI) -> str:
 def test_a_websocket_from_another_origin_is_refused_and_nobody_gets_control(page: PendantUI) -> None:
     with pytest.raises(InvalidStatus) as refused:
         connect(
-            ws_url(page), origin=Origin("http://evil.example"), subprotocols=[SUBPROTOCOL], open_timeout=5
+            ws_url(page), origin=Origin("http://evil.example"), subprotocols=[SUBPROTOCOL], open_timeout=30
         )
     assert refused.value.response.status_code == 403
     assert b"Cross-origin request refused" in refused.value.response.body
@@ -61,7 +61,7 @@ def test_a_rebound_host_name_gets_neither_the_page_nor_a_websocket(page: Pendant
     }
     assert httpx.get(f"http://127.0.0.1:{port}/", headers=upgrade).status_code == 403
     with pytest.raises(InvalidStatus) as refused:  # a second Host header besides the right one
-        connect(ws_url(page), additional_headers={"Host": "evil.example"}, open_timeout=5)
+        connect(ws_url(page), additional_headers={"Host": "evil.example"}, open_timeout=30)
     assert refused.value.response.status_code == 403
     assert page.desk.operator is None
 
@@ -72,8 +72,8 @@ def test_the_pendants_own_page_and_clients_without_an_origin_connect(page: Penda
     assert served.status_code == 200 and "text/html" in served.headers["content-type"]
     assert served.headers["content-security-policy"] == "frame-ancestors 'self'"
     for origin in (Origin(f"http://127.0.0.1:{port}"), Origin(f"http://localhost:{port}"), None):
-        with connect(ws_url(page), origin=origin, subprotocols=[SUBPROTOCOL], open_timeout=5) as socket:
-            assert socket.recv(timeout=5)  # viser's first messages: it is a connected browser
+        with connect(ws_url(page), origin=origin, subprotocols=[SUBPROTOCOL], open_timeout=30) as socket:
+            assert socket.recv(timeout=30)  # viser's first messages: it is a connected browser
 
 
 def test_a_closing_page_stops_a_held_jog_by_a_plain_get_and_a_foreign_host_cannot(
@@ -107,11 +107,12 @@ def masked_binary_frame(payload: bytes) -> bytes:
 LOST_WITHIN_S = 10.0  # ping interval + ping timeout + close timeout (5 s), and margin; the default was 50 s
 
 
+@pytest.mark.measures  # the product's ~5 s to let a silent browser go, on the wall clock: not at nice 19
 def test_a_browser_whose_connection_goes_silent_is_let_go_and_its_control_released(page: PendantUI) -> None:
     """A cable pulled: no close frame, no answer to pings. The operator's control (and a run it supervises)
     must not wait 20-40 s for the default keepalive."""
     port = page.server.get_port()
-    silent = socket.create_connection(("127.0.0.1", port), timeout=5)
+    silent = socket.create_connection(("127.0.0.1", port), timeout=30)
     try:
         silent.sendall(
             (
