@@ -6,8 +6,7 @@ from __future__ import annotations
 
 import asyncio
 import re
-import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import msgspec
@@ -144,40 +143,3 @@ def notification(message: dict[str, Any]) -> str | None:
     if message.get("type") != "NotificationShowMessage":
         return None
     return f"{message['props']['title']}: {message['props']['body']}"
-
-
-STATE_NODE = "/tcp_frame"  # its position is set on every refresh tick while the arm moves
-
-
-@dataclass
-class ViewerCounts:
-    """What a steady viewer received: when the arm's pose came (monotonic s), GUI updates, bytes."""
-
-    state_times: list[float] = field(default_factory=list)
-    gui_updates: int = 0
-    bytes_received: int = 0
-    whole_panel: asyncio.Event = field(default_factory=asyncio.Event)  # its last tab (the Dashboard's plots)
-
-
-async def viewer(url: str, counts: ViewerCounts, stop: asyncio.Event) -> None:
-    """A steady viewer until `stop`: opens the page's websocket as a browser does and reads every frame."""
-    protocol = [websockets.Subprotocol(f"viser-v{viser.__version__}")]
-    zstd = zstandard.ZstdDecompressor()
-    async with websockets.connect(url, subprotocols=protocol, max_queue=None, max_size=None) as ws:
-        await ws.send(CAMERA_HELLO)
-        while not stop.is_set():
-            try:
-                frame = await asyncio.wait_for(ws.recv(), timeout=0.5)
-            except TimeoutError:
-                continue
-            assert isinstance(frame, bytes)
-            counts.bytes_received += len(frame)
-            now = time.monotonic()
-            for message in decode_window(frame, zstd):
-                kind = message.get("type")
-                if kind == "SetPositionMessage" and message.get("name") == STATE_NODE:
-                    counts.state_times.append(now)
-                elif kind == "GuiUpdateMessage":
-                    counts.gui_updates += 1
-                elif kind == "GuiUplotMessage":
-                    counts.whole_panel.set()

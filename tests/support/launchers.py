@@ -9,7 +9,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator
 from pathlib import Path
 
 import httpx
@@ -159,19 +159,16 @@ class Pendant:
 
 
 @contextlib.contextmanager
-def running_pendant_ui(
-    *flags: str, env: dict[str, str] | None = None, launcher: Sequence[str] = ("-m", "pendant")
-) -> Iterator[Pendant]:
+def running_pendant_ui(*flags: str, env: dict[str, str] | None = None) -> Iterator[Pendant]:
     """A `pendant` process (simulator, page and API on free loopback ports) with extra `flags`; its event
-    log and recordings in a temporary data folder (`env={"PENDANT_DATA_DIR": ...}` names another);
-    `launcher`: what this interpreter runs, the pendant's arguments after it (a script that starts it)."""
+    log and recordings in a temporary data folder (`env={"PENDANT_DATA_DIR": ...}` names another)."""
     ui_port, api_port = free_port(), free_port()
     data = tempfile.TemporaryDirectory(prefix="pendant-data-")
     # Its output goes to a file (a pipe nobody reads fills up and blocks a chatty pendant); a start-up
     # failure quotes it.
     with tempfile.TemporaryFile("w+") as log:
         process = subprocess.Popen(
-            [sys.executable, *launcher, "--ui-port", str(ui_port), "--api-port", str(api_port), *flags],
+            pendant_command("--ui-port", str(ui_port), "--api-port", str(api_port), *flags),
             stdout=log,
             stderr=subprocess.STDOUT,
             env={**os.environ, "PYTHONUNBUFFERED": "1", "PENDANT_DATA_DIR": data.name, **(env or {})},
