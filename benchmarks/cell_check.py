@@ -13,7 +13,6 @@ import time
 import tracemalloc
 
 import numpy as np
-from tests.kinematics.reference_cell_check import CellGeometry
 
 from pendant.cell.geometry import CellModel
 from pendant.controller import Point, Position, Rotation
@@ -22,6 +21,7 @@ from pendant.kinematics.cell_shapes import obstacle_shape
 from pendant.kinematics.obstacles import Capsule
 from pendant.sim import SimController
 from pendant.ui.target.check import check_joint_target
+from tests.support.reference_cell_check import CellGeometry
 
 RUNS = 200
 

@@ -32,7 +32,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -368,18 +368,24 @@ async def measure(ui_port: int, api: str, pid: int, churners: int, seconds: floa
 
 
 @contextlib.contextmanager
-def pendant_from(source: Path, prefix: str) -> Iterator[tuple[int, str, int]]:
+def pendant_from(
+    source: Path,
+    prefix: str,
+    launcher: Sequence[str] = ("-m", "pendant"),
+    env: dict[str, str] | None = None,
+) -> Iterator[tuple[int, str, int]]:
     """A pendant run from the checkout at `source` with a data folder of its own, started and answering:
-    (page port, API URL, process id); stopped on the way out (SIGTERM, then kill)."""
+    (page port, API URL, process id); stopped on the way out (SIGTERM, then kill). `launcher`: what the
+    interpreter runs (the pendant's arguments follow); `env`: added to its environment."""
     ui_port, api_port = free_port(), free_port()
     api = f"http://127.0.0.1:{api_port}"
     with tempfile.TemporaryDirectory(prefix=prefix) as data:
         process = subprocess.Popen(
-            [sys.executable, "-m", "pendant", "--ui-port", str(ui_port), "--api-port", str(api_port)],
+            [sys.executable, *launcher, "--ui-port", str(ui_port), "--api-port", str(api_port)],
             stdout=subprocess.DEVNULL,
             stderr=subprocess.DEVNULL,
             cwd=source,
-            env={**os.environ, "PYTHONPATH": str(source), "PENDANT_DATA_DIR": data},
+            env={**os.environ, "PYTHONPATH": str(source), "PENDANT_DATA_DIR": data, **(env or {})},
         )
         try:
             wait_until(lambda: answers(f"{api}/pose"), START_TIMEOUT_S, what="the API answering")

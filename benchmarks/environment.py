@@ -15,7 +15,6 @@ import time
 from collections.abc import Callable
 
 import numpy as np
-from tests.kinematics.reference_cell_check import CellGeometry
 
 from pendant.controller.cell_types import (
     BoxObstacle,
@@ -27,6 +26,7 @@ from pendant.controller.cell_types import (
 from pendant.controller.system_types import JointMotionParameters, LinearMotionParameters, PositionWaypoint
 from pendant.controller.types import Point, Position, Rotation
 from pendant.sim import FakeClock, SimController
+from tests.support.reference_cell_check import CellGeometry
 
 REPEATS = 7
 CHECKS = 1000

@@ -20,13 +20,12 @@ from collections.abc import Callable
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from tests.program.history_support import waypoint
-
 from pendant.program import MoveStep, Program, WaitStep
 from pendant.program.diff import diff_programs
 from pendant.program.files import ProgramStore
 from pendant.program.versions import VersionedStore
 from pendant.ui.program.history_section import SHOWN_VERSIONS
+from tests.support.program_history import waypoint
 
 STEPS = 40
 ROUND_SAVES = 20

@@ -18,8 +18,9 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from tests.browser.conftest import CHROMIUM, CHROMIUM_ARGS, running_pendant
-from tests.support.arm_view import arm_on_screen, close_notifications
+from tests.support.arm_view import arm_on_screen, close_notifications, drawn_dark_pixels
+from tests.support.chromium import CHROMIUM, CHROMIUM_ARGS
+from tests.support.launchers import running_pendant_ui
 
 SCREENS = {
     "desktop": (1400, 900),
@@ -27,6 +28,7 @@ SCREENS = {
     "tablet-portrait": (768, 1024),
     "phone": (390, 844),
 }
+DRAWN_DARK_PIXELS = 20  # the arm's joint caps in its box: the view has drawn it
 SCREENSHOTS = {"desk": "desktop", "tablet": "tablet-portrait", "phone": "phone"}
 MEASURE = """(freeze) => {
     const panel = freeze.closest('.mantine-ScrollArea-viewport');
@@ -48,7 +50,7 @@ def main() -> None:
     parser.add_argument("--screenshots", type=Path, help="write desk/tablet/phone.png here")
     args = parser.parse_args()
     rows = []
-    with running_pendant() as pendant, sync_playwright() as playwright:
+    with running_pendant_ui() as pendant, sync_playwright() as playwright:
         browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
         for screen, (width, height) in SCREENS.items():
             page = browser.new_page(
@@ -61,6 +63,9 @@ def main() -> None:
             page.wait_for_timeout(1_500)  # the docked panel settles
             close_notifications(page)
             arm = arm_on_screen(page)
+            # The view shows the arm a frame or two after its meshes arrive (the phone's first screenshot
+            # was taken before: a white view).
+            drawn_dark_pixels(page, arm["arm"], at_least=DRAWN_DARK_PIXELS)
             for name, shown in SCREENSHOTS.items():
                 if args.screenshots is not None and shown == screen:
                     args.screenshots.mkdir(parents=True, exist_ok=True)

@@ -22,53 +22,20 @@ import subprocess
 import sys
 import threading
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import httpx
-import viser
-import websockets
-import zstandard
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from tests.support.headless_viewer import CAMERA_HELLO, decode_window
+from tests.support.headless_viewer import ViewerCounts, viewer
 from tests.support.ports import free_port
 from tests.support.waiting import answers, wait_until
 
-STATE_NODE = "/tcp_frame"  # its position is set on every refresh tick while the arm moves
 START_TIMEOUT_S = 60.0
 WARM_UP_S = 3.0
 POSES = ([60.0, -70.0, 40.0, -90.0, -90.0, 30.0], [-60.0, -100.0, -30.0, -80.0, -90.0, -30.0])
 SPEED_PERCENT = 4.0  # slow: one leg takes several seconds
 LEGS_PER_RUN = 10  # longer than any measurement window
-
-
-@dataclass
-class ViewerCounts:
-    state_times: list[float] = field(default_factory=list)
-    gui_updates: int = 0
-    bytes_received: int = 0
-
-
-async def viewer(url: str, counts: ViewerCounts, stop: asyncio.Event) -> None:
-    protocol = [websockets.Subprotocol(f"viser-v{viser.__version__}")]
-    zstd = zstandard.ZstdDecompressor()
-    async with websockets.connect(url, subprotocols=protocol, max_queue=None, max_size=None) as ws:
-        await ws.send(CAMERA_HELLO)
-        while not stop.is_set():
-            try:
-                frame = await asyncio.wait_for(ws.recv(), timeout=0.5)
-            except TimeoutError:
-                continue
-            assert isinstance(frame, bytes)
-            counts.bytes_received += len(frame)
-            now = time.monotonic()
-            for message in decode_window(frame, zstd):
-                kind = message.get("type")
-                if kind == "SetPositionMessage" and message.get("name") == STATE_NODE:
-                    counts.state_times.append(now)
-                elif kind == "GuiUpdateMessage":
-                    counts.gui_updates += 1
 
 
 def cpu_seconds(pid: int) -> float:

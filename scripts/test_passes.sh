@@ -12,7 +12,8 @@
 # (Linux gives a nice-19 task about 1/70 of a normal one's share). The other browser tests stay out of that
 # overlap: with them behind too (27 Nov) the timed pass's jog holds failed and everything took longer, the
 # machine's two cores busy with three Chromiums drawing WebGL in software.
-# Each pass behind writes its own log in test-artifacts/, shown when it is done; each pass prints its count.
+# Each pass behind writes its own log in test-artifacts/, shown when it is done; each pass prints its count
+# and its 15 slowest tests (where the ten minutes go).
 set -uo pipefail
 bin=${BIN:-.venv/bin}
 read -r -a extra <<<"${PYTEST_ARGS:-}"
@@ -30,16 +31,16 @@ pids=()
 logs=()
 names=()
 behind checks make -s --no-print-directory lint layers typecheck
-behind tests "$bin/pytest" -q -n 2 --dist worksteal --ignore=tests/browser -m "not measures" "${extra[@]}"
+behind tests "$bin/pytest" -q --durations=15 -n 2 --dist worksteal --ignore=tests/browser -m "not measures" "${extra[@]}"
 # Whoever stops `make test` (Ctrl-C, CI's time-out) stops the passes behind too: they are in our process group.
 trap 'trap - INT TERM; kill 0' INT TERM
 
-"$bin/pytest" -q -m "measures or alone" --reruns 1 tests "${extra[@]}"
+"$bin/pytest" -q --durations=15 -m "measures or alone" --reruns 1 tests "${extra[@]}"
 failed=$?
 echo "== the timed tests (in front): exit $failed"
 # The other browser tests start as soon as the timed pass is done, at normal priority: what is still running
 # behind (nice 19) then takes what they leave.
-"$bin/pytest" -q -n 2 --dist loadfile -m "not measures and not alone" --reruns 1 tests/browser "${extra[@]}" \
+"$bin/pytest" -q --durations=15 -n 2 --dist loadfile -m "not measures and not alone" --reruns 1 tests/browser "${extra[@]}" \
     >test-artifacts/browser-tests.log 2>&1 &
 pids+=($!)
 logs+=(browser-tests)

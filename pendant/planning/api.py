@@ -2,7 +2,8 @@
 
 A pendant extension on the API port (under /pendant/, never forwarded to a controller). The cell, the tool and
 the start (unless the body gives "from") are read from the controller as it is now; the answer's waypoints go
-to PUT /poses/run as they are. One plan at a time (a plan takes a core for up to its budget).
+to PUT /run/joint/poses as they are (BLEND, near-zero corners: the segments the planner checked). One plan at
+a time (a plan takes a core for up to its budget).
 """
 
 from __future__ import annotations
@@ -35,7 +36,9 @@ _DESCRIPTION = (
     'the arm is) and "budget_s" (default 1, at most 10). The path keeps '
     f"{MARGIN_M * 1e3:g} mm from the obstacles where it can and is re-checked every 0.5 degree per joint. "
     'Answer: {"waypoints": [{"angles": [...]}, ...], "planning_ms": ..., "length_deg": ...}: send the '
-    "waypoints as one PUT /poses/run. It moves nothing. See docs/planning.md."
+    "waypoints as one PUT /run/joint/poses (interpolation_type BLEND, blend 0.001 on each: the straight "
+    "joint segments the planner checked; PUT /poses/run's own interpolation may cut into what the path "
+    "goes around). It moves nothing. See docs/planning.md."
 )
 _EXAMPLE = {"target": {"angles": [60, -90, 90, -90, -90, 0]}, "budget_s": 1.0}
 

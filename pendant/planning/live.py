@@ -41,7 +41,8 @@ def plan_on(
 
 
 def as_poses(path: PlannedPath) -> list[Pose]:
-    """The path's waypoints after its start, in degrees: what PUT /poses/run takes from where the arm is."""
+    """The path's waypoints after its start, in degrees: what a run takes from where the arm is
+    (pendant.program.blended.run_planned_path)."""
     return [Pose(angles=[float(a) for a in np.degrees(q)]) for q in path.waypoints[1:]]
 
 

@@ -15,8 +15,8 @@ the arm stopped (on the path), straight to that waypoint, then blended through t
 
 A planned Move J asks its `PathPlanner` (pendant.planning.live.ControllerPlanner, given by whoever builds the
 runner: program sits below planning) for a path from where the arm is to its target, in the cell as it is
-then, and runs the waypoints as one /poses/run; its actions follow stop-and-set. Interrupted, it plans again
-on resume, from where the arm stopped.
+then, and runs the waypoints as one /run/joint/poses along the checked segments (blended.run_planned_path);
+its actions follow stop-and-set. Interrupted, it plans again on resume, from where the arm stopped.
 """
 
 from __future__ import annotations

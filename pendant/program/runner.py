@@ -104,6 +104,7 @@ class ProgramRunner:
         self._progress = RunProgress()
         self._pause_requested = False
         self._stop_requested = False
+        self._stop_cause = ""  # the page's Stop, said before it is heard on the stop bus (request_stop)
         self._paused_because = ""
         self._heard = HeardStops()  # stops from elsewhere (Freeze, the API): Retry stays possible
         self._listeners: list[Listener] = []
@@ -198,12 +199,22 @@ class ProgramRunner:
             self._paused_because = because
         self._freeze_quietly()
 
-    def stop(self) -> None:
+    def request_stop(self, cause: str = "") -> None:
+        """The first half of `stop`, without the freeze (no controller call: safe on any thread): the run
+        ends for good, "by `cause`", at its next look. The page's Stop says it before announcing itself on the
+        stop bus, whose `stop_heard` alone would leave the run resumable: then whichever of the two the run
+        hears first, it ends the same way."""
+        with self._lock:
+            self._stop_requested = self._progress.state is RunState.RUNNING
+            self._stop_cause = cause or self._stop_cause
+
+    def stop(self, cause: str = "") -> None:
         """Freeze the arm now and end the run for good (a paused, failed or stopped one too: it can no
-        longer be resumed): the program's own Stop, the banner's Stop program."""
+        longer be resumed): the program's own Stop, the banner's Stop program. `cause` names who stopped
+        it in the run's words; without one, a stop heard on the bus names it."""
+        self.request_stop(cause)
         with self._lock:
             running = self._progress.state is RunState.RUNNING
-            self._stop_requested = running
         self._freeze_quietly()
         if not running:
             with self._lock:
@@ -221,8 +232,9 @@ class ProgramRunner:
         Safe on any thread (a StopBus listener): it never talks to the controller, which the stop's own
         sender is freezing."""
         self._heard.hear(cause)
-        with self._lock:
-            run = self._run if self._progress.state is RunState.PAUSED else None
+        with self._lock:  # a paused run that a Stop is ending for good is left to that Stop
+            paused = self._progress.state is RunState.PAUSED and not self._stop_cause
+            run = self._run if paused else None
         if run is not None:
             self._stopped_by(run)
 
@@ -303,7 +315,7 @@ class ProgramRunner:
             return self._interrupted(run)
         except NodeFailed as failure:
             self.hear_stops_now()
-            if self._heard.since_start:  # the stop landed between two looks: the arm stopped short for it
+            if self._stop_requested or self._heard.since_start:  # the stop landed between two looks
                 return self._interrupted(run)
             if failure.stopped_by:  # the controller's own stop (not frozen: that would undo a relax)
                 return self._stopped_by(run, failure.stopped_by)
@@ -355,7 +367,8 @@ class ProgramRunner:
         if self._stop_requested:
             with self._lock:
                 self._run = None
-            cause = f" by {self._heard.cause}" if self._heard.since_start else ""
+            said = self._stop_cause or (self._heard.cause if self._heard.since_start else "")
+            cause = f" by {said}" if said else ""
             return self._finish(state=RunState.STOPPED, message=f"Stopped at step {line + 1}{cause}")
         if self._heard.since_start:
             # Frozen here too: a stop heard late (`pendant run` polls its pendant's stops) may have come
@@ -382,6 +395,7 @@ class ProgramRunner:
         self._paused_because = ""
         self._pause_requested = False
         self._stop_requested = False
+        self._stop_cause = ""
         self._heard.start()
 
     def _finish(self, **changes: object) -> RunProgress:

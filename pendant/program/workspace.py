@@ -20,6 +20,7 @@ from pendant.program.export import export_script
 from pendant.program.files import ProgramFileError, ProgramStore, dump_program, parse_program, sanitize_name
 from pendant.program.models import Program
 from pendant.program.motion import PathPlanner
+from pendant.program.run_views import RunViews
 from pendant.program.runner import ProgramRunner, RunProgress, RunState
 from pendant.program.versions import VersionedStore
 
@@ -68,7 +69,8 @@ class ProgramWorkspace(ProgramEditing):
             log.info("restored the autosaved program %r (%d steps)", self._program.name, steps)
         else:
             self._program, self._file_name, self._dirty = Program(), None, False
-        runner.add_listener(lambda _: self._notify(Change.RUN))
+        # The run's progress reaches the views without the run waiting for them (run_views.py).
+        runner.add_listener(RunViews(lambda: self._notify(Change.RUN)).changed)
 
     @classmethod
     def for_controller(
@@ -297,5 +299,8 @@ class ProgramWorkspace(ProgramEditing):
     def pause(self) -> None:
         self.runner.pause()
 
-    def stop(self) -> None:
-        self.runner.stop()
+    def stop(self, cause: str = "") -> None:
+        self.runner.stop(cause)
+
+    def request_stop(self, cause: str) -> None:
+        self.runner.request_stop(cause)

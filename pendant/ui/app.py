@@ -125,9 +125,8 @@ class PendantUI:
             touching=lambda q: self.cell_model.touching(q) if self.cell_model is not None else [],
         )
         # Every stop pressed in a page (Freeze, Esc, Protective stop) ends the held jog until it is released.
-        self.runner.on_stop = lambda label, client: self.stops.notify(
-            f"{label} by {self.activity.who(client)}"
-        )
+        self.runner.presser = self.activity.who
+        self.runner.on_stop = self.stops.notify
         recordings = recordings_dir(resolve_data_dir(data_dir, programs_dir))  # --data, env, beside programs
         self.telemetry = Telemetry(controller, clock, recordings_folder=recordings, arm=arm_drawing(arm))
         self.events.on_record(self.telemetry.log_event)

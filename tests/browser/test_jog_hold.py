@@ -34,6 +34,7 @@ from tests.support.jog_measure import (
     touch_hold,
     touch_swipe,
     wait_idle,
+    wait_settled,
 )
 from tests.support.launchers import Pendant
 from tests.support.launchers import running_pendant_ui as running_pendant
@@ -70,6 +71,7 @@ def test_holding_j1_by_mouse_moves_it_as_far_as_the_api_and_stops_on_release(
     page: Page, pendant: Pendant
 ) -> None:
     ensure_operator(page)
+    wait_settled(page)  # the page's first frames (shaders built) take the machine for a moment
     api = [api_hold(pendant.api, HOLD_S, +1 if i % 2 == 0 else -1).moved_deg for i in range(PRESSES)]
     held, stalls = [], 0
     for i in range(PRESSES):
@@ -105,14 +107,18 @@ def test_space_or_enter_held_on_a_focused_jog_button_jogs_and_release_stops(
     page: Page, pendant: Pendant
 ) -> None:
     ensure_operator(page)
-    api = [api_hold(pendant.api, HOLD_S, +1 if i % 2 == 0 else -1).moved_deg for i in range(2)]
-    held = []
+    wait_settled(page)  # the page's first frames (shaders built) take the machine for a moment
+    api, held = [], []
+    # Each key against the API-sent hold just before it, side by side: in CI (27 Nov) a few seconds in which
+    # the machine was starved shortened the first API hold (1.4 deg of 9.3) and the first key's (3.4 deg).
     for i, key in enumerate(("Space", "Enter")):
-        timeline = key_hold(page, pendant.api, "J1+" if i % 2 == 0 else "J1-", HOLD_S, key)
+        direction = +1 if i % 2 == 0 else -1
+        api.append(api_hold(pendant.api, HOLD_S, direction).moved_deg)
+        timeline = key_hold(page, pendant.api, "J1+" if direction > 0 else "J1-", HOLD_S, key)
         held.append(timeline.moved_deg)
         assert timeline.stop_after_release_s() < STOP_WITHIN_S, f"the arm went on after {key} was let go"
         still_after(pendant)
-    assert min(held) >= MIN_SHARE * statistics.median(api), (held, api)
+    assert all(key >= MIN_SHARE * sent for key, sent in zip(held, api, strict=True)), (held, api)
 
 
 HANG_S = 2.0

@@ -7,6 +7,7 @@ told why."""
 from __future__ import annotations
 
 import json
+import re
 import shutil
 import subprocess
 import time
@@ -15,30 +16,26 @@ from collections.abc import Callable, Iterator
 
 import numpy as np
 import pytest
-from playwright.sync_api import Browser, Page
+from playwright.sync_api import Browser, Page, expect
 
 from tests.support.jog_measure import open_as_operator
 from tests.support.launchers import Pendant, running_pendant_ui
 from tests.support.programs import a_to_b_file
+from tests.support.waiting import wait_until
 
-# alone: each stop must land inside an 8 s still step, 0.5 s after the page shows it, on a real clock. (The
-# "timed out bringing the arm home" seen beside another worker was the last case's Stop program click, handled
-# after the move home had been sent: mended in start_at_home.)
-pytestmark = pytest.mark.alone
-
-HOME_DEG = [0.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 A_DEG = [30.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 B_DEG = [-30.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 STILL_TOL_DEG = 0.01
 HELD_S = 3.0
 UI_TIMEOUT_MS = 60_000
-POLL_S = 0.05
 STEP_LINES = {"gripper": 2, "wait": 3, "wait for DI4": 4}  # 1-based, as the page counts them
 STEPS = len(STEP_LINES) + 2
-# Long enough for the page to show the step under load before the stop comes 0.5 s into it; each case waits
-# through the steps before its own. (At 4 s the first case's stop twice landed in the next step, on a quiet
-# machine: the page showed "Running step 2" more than 3 s late.)
-STILL_STEP_MS = 8_000
+# Each still step lasts a minute (the gripper's longest time-out), so each stop lands inside its step however
+# late a loaded page shows it: no race with a real clock, and the module runs beside other browser tests, not
+# alone. (With 8 s steps it had to run alone: at 4 s the first case's stop twice landed in the next step, the
+# page showing "Running step 2" more than 3 s late.) Nothing waits the steps out: each case starts its run at
+# its own step ("Run from selected step", the arm put at A first), and every case ends the run.
+STILL_STEP_MS = 60_000
 
 
 def program() -> dict[str, object]:
@@ -98,28 +95,29 @@ def urllib_protective_stop(pendant: Pendant) -> None:
         assert answer.status == 200
 
 
-def wait_until(condition: Callable[[], bool], what: Callable[[], str], timeout_s: float = 60.0) -> None:
-    deadline = time.monotonic() + timeout_s
-    while not condition():
-        assert time.monotonic() < deadline, f"timed out waiting for {what()}"
-        time.sleep(POLL_S)
-
-
-def start_at_home(pendant: Pendant, page: Page) -> None:
+def start_at(pendant: Pendant, page: Page, angles: list[float]) -> None:
     # The case before ended with a click on "Stop program", which freezes the arm: a click the pendant had
-    # not yet handled froze the move home below (CI, 27 Nov). The banner goes once it has been handled.
+    # not yet handled froze the move below (CI, 27 Nov). The banner goes once it has been handled.
     page.locator("#recovery-banner").wait_for(state="detached", timeout=UI_TIMEOUT_MS)
     pendant.api.put("/recover")  # a protective stop of the case before
-    pendant.api.put("/pose", params={"speed": 100}, json={"angles": HOME_DEG}).raise_for_status()
+    pendant.api.put("/pose", params={"speed": 100}, json={"angles": angles}).raise_for_status()
     wait_until(
-        lambda: np.allclose(pendant.pose(), HOME_DEG, atol=0.05) and pendant.status() == "IDLE",
-        lambda: f"home (the arm at {np.round(pendant.pose(), 2).tolist()}, {pendant.status()})",
+        lambda: np.allclose(pendant.pose(), angles, atol=0.05) and pendant.status() == "IDLE",
+        what=lambda: (
+            f"the arm at {angles} (it is at {np.round(pendant.pose(), 2).tolist()}, {pendant.status()})"
+        ),
     )
 
 
-def run_until_step(page: Page, line: int) -> None:
+def run_from(page: Page, line: int) -> None:
+    """Select step `line` in the Step dropdown, press "Run from selected step" and wait 0.5 s into it."""
     page.get_by_role("tab", name="Program").click()
-    page.get_by_role("button", name="Run", exact=True).click(timeout=UI_TIMEOUT_MS)
+    selected = page.get_by_label("Step", exact=True).first
+    if not selected.input_value().startswith(f"{line}. "):
+        selected.click(timeout=UI_TIMEOUT_MS)
+        page.get_by_role("option", name=re.compile(rf"^{line}\. ")).click(timeout=UI_TIMEOUT_MS)
+        expect(selected).to_have_value(re.compile(rf"^{line}\. "), timeout=UI_TIMEOUT_MS)
+    page.get_by_role("button", name="Run from selected step").click(timeout=UI_TIMEOUT_MS)
     page.get_by_text(f"Running step {line}/{STEPS}").first.wait_for(timeout=UI_TIMEOUT_MS)
     time.sleep(0.5)  # inside the step, the arm standing at A
 
@@ -134,9 +132,9 @@ SOURCES = ["Freeze button", "Esc", "another browser's Freeze", "PUT /freeze (cur
 def test_a_stop_during_a_still_step_ends_the_run_and_the_banner_offers_retry(
     operator: Page, bystander: Page, pendant: Pendant, source: str, step: str
 ) -> None:
-    start_at_home(pendant, operator)
+    start_at(pendant, operator, A_DEG)
     line = STEP_LINES[step]
-    run_until_step(operator, line)
+    run_from(operator, line)
     stops: dict[str, Callable[[], None]] = {
         "Freeze button": lambda: operator.get_by_role("button", name="Freeze").click(),
         "Esc": lambda: operator.keyboard.press("Escape"),
@@ -167,8 +165,8 @@ def test_closing_the_operators_tab_mid_run_pauses_it_and_the_other_tab_is_told(
     pendant: Pendant, operator: Page, bystander: Page
 ) -> None:
     """The last test of the module: it closes the module's operator."""
-    start_at_home(pendant, operator)
-    run_until_step(operator, STEP_LINES["wait"])
+    start_at(pendant, operator, A_DEG)
+    run_from(operator, STEP_LINES["wait"])
 
     operator.context.close()
 

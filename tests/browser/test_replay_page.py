@@ -76,6 +76,12 @@ def watched_page(browser: Any, pendant: Pendant) -> Iterator[tuple[Any, GhostWat
     page.goto(pendant.ui_url)
     page.get_by_role("button", name="Freeze").wait_for()
     yield page, watch
+    # A failed attempt may leave its recording running: its rerun (same pendant) could not start one.
+    stop = page.get_by_role("button", name="Stop recording")
+    if stop.is_enabled():
+        page.get_by_role("tab", name="Dashboard").click(no_wait_after=True)
+        stop.click()
+        page.get_by_text(re.compile(r"Stopped · \d+ samples")).first.wait_for()
     page.close()
 
 

@@ -12,6 +12,7 @@ from playwright.sync_api import Browser, Page
 
 from tests.support.jog_measure import PoseSampler, button_centre, open_as_operator, touch, wait_idle
 from tests.support.launchers import Pendant
+from tests.support.waiting import wait_until
 
 # Real-time figures (the arm still for 1.5 s while held): run alone, after the rest.
 pytestmark = pytest.mark.measures
@@ -67,11 +68,10 @@ def j1(pendant: Pendant) -> float:
 
 def jogged(pendant: Pendant, start: float) -> bool:
     """J1 turned MOVED_DEG from `start` within JOG_WITHIN_S (the button held all the while)."""
-    deadline = time.monotonic() + JOG_WITHIN_S
-    while j1(pendant) <= start + MOVED_DEG:
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.05)
+    try:
+        wait_until(lambda: j1(pendant) > start + MOVED_DEG, JOG_WITHIN_S, "J1's jog")
+    except TimeoutError:
+        return False
     return True
 
 

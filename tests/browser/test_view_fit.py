@@ -107,3 +107,19 @@ def test_the_view_frames_the_arm_the_tool_and_the_cell_at_load_and_after_fit(
     finally:
         page.close()
         pendant.api.delete("/environment").raise_for_status()
+
+
+def test_a_tablet_turned_on_its_side_frames_the_work_again(browser: Any, pendant: Pendant) -> None:
+    """The view changes shape under a fitted camera (upright to on its side, and back): the camera follows."""
+    pendant.api.put("/environment", json=BOX).raise_for_status()
+    page = open_screen(browser, pendant.ui_url, "tablet")
+    try:
+        assert framed(page) == [], "upright, at load"
+        width, height = page.viewport_size["width"], page.viewport_size["height"]
+        page.set_viewport_size({"width": height, "height": width})
+        assert framed(page) == [], "turned on its side"
+        page.set_viewport_size({"width": width, "height": height})
+        assert framed(page) == [], "upright again"
+    finally:
+        page.close()
+        pendant.api.delete("/environment").raise_for_status()

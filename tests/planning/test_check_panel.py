@@ -26,12 +26,16 @@ from tests.support.preflight_scene import BOX_NAME, LEFT_DEG, box_in_the_way, sw
 from tests.support.waiting import wait_until
 
 WAIT_S = 30.0
+# The swing takes ~12 s at 15 %: 3 s on an arm four times faster, so a starved pass behind the timed one
+# (CI's ran 16 min) still sees it end well within the wait.
+ARM_TIME_SCALE = "4"
+RUN_WAIT_S = 60.0
 PASSES = 100  # 300 moves: seconds of checking on the twin
 
 
 @pytest.fixture(scope="module")
 def arm_url() -> Iterator[str]:
-    with running_pendant() as url:
+    with running_pendant("--time-scale", ARM_TIME_SCALE) as url:
         yield url
 
 
@@ -92,7 +96,11 @@ def test_run_waits_for_a_passing_check_and_check_marks_the_failing_step(
     report = check(panel, browser)
     assert report.ok and "✘" not in panel.steps_view.content
     fire(panel.run, browser)
-    wait_until(lambda: workspace.progress.state is RunState.FINISHED, timeout_s=WAIT_S)
+    wait_until(
+        lambda: workspace.progress.state is RunState.FINISHED,
+        timeout_s=RUN_WAIT_S,
+        what=lambda: f"the run's end ({workspace.progress}; said: {browser.notifications[-3:]})",
+    )
 
 
 def test_playback_moves_the_ghost_and_the_step_list_follows(

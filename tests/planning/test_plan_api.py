@@ -1,5 +1,6 @@
 """POST /pendant/plan over real HTTP against `pendant --no-ui` (the simulator on a fast clock): a straight
-Move J through a box is refused, the planned path to the same target runs as one PUT /poses/run and ends
+Move J through a box is refused, the planned path to the same target runs as one PUT /run/joint/poses along
+the segments the planner checked and ends
 there; bad input is refused with the reason before any planning, and nothing moves."""
 
 from __future__ import annotations
@@ -12,12 +13,13 @@ from pendant.kinematics import ArmModel
 from pendant.kinematics.cell_shapes import cell_check
 from pendant.planning import path_is_clear
 from pendant.planning.scenes import BOX, FLANGE
+from tests.support.planned_runs import along_segments
 from tests.support.waiting import wait_idle
 
 ANGLE_TOL_DEG = 0.01
 MOTION_TIMEOUT_S = 20.0
 DENSE_RECHECK_RAD = np.radians(0.25)  # finer than the planner's own 0.5 degree re-check
-SLOW = {"speed": 100}
+SLOW_PERCENT = 100
 # The longest search the API allows (the default is 1 s of wall clock): a pendant starved of CPU (the pass
 # behind the timed tests runs at nice 19) still finds the path; a search ends as soon as it has one.
 BUDGET_S = 10.0
@@ -35,7 +37,10 @@ def _go(api: httpx.Client, degrees: tuple[float, ...] | list[float]) -> None:
     """Move there around whatever is in the way: planned, then run."""
     planned = api.post("/pendant/plan", json={"target": {"angles": list(degrees)}, "budget_s": BUDGET_S})
     assert planned.status_code == 200, planned.text
-    run = api.put("/poses/run", json=planned.json()["waypoints"][1:], params=SLOW)
+    run = api.put(
+        "/run/joint/poses",
+        json=along_segments([w["angles"] for w in planned.json()["waypoints"][1:]], SLOW_PERCENT),
+    )
     assert run.status_code == 200, run.text
     wait_idle(api, MOTION_TIMEOUT_S)
 
@@ -48,7 +53,7 @@ def test_a_straight_move_through_the_box_is_refused_and_the_planned_one_runs_to_
     api: httpx.Client,
 ) -> None:
     _go(api, BOX.start_deg)
-    straight = api.put("/pose", json={"angles": list(BOX.target_deg)}, params=SLOW)
+    straight = api.put("/pose", json={"angles": list(BOX.target_deg)}, params={"speed": SLOW_PERCENT})
     assert straight.status_code == 412
     assert "Collision" in straight.json()
     assert np.allclose(_pose(api), BOX.start_deg, atol=ANGLE_TOL_DEG)  # refused: nothing moved
@@ -68,7 +73,7 @@ def test_a_straight_move_through_the_box_is_refused_and_the_planned_one_runs_to_
         cell_check(arm, BOX.obstacles, BOX.tool_shape, FLANGE), np.radians(waypoints), DENSE_RECHECK_RAD
     )
 
-    run = api.put("/poses/run", json=[{"angles": w} for w in waypoints[1:]], params=SLOW)
+    run = api.put("/run/joint/poses", json=along_segments(waypoints[1:], SLOW_PERCENT))
     assert run.status_code == 200, run.text
     wait_idle(api, MOTION_TIMEOUT_S)
     assert np.allclose(_pose(api), BOX.target_deg, atol=ANGLE_TOL_DEG)
@@ -125,5 +130,5 @@ def test_nan_is_refused_as_a_malformed_body(api: httpx.Client) -> None:
 
 def test_the_route_is_documented_in_the_openapi(api: httpx.Client) -> None:
     operation = api.get("/openapi.json").json()["paths"]["/pendant/plan"]["post"]
-    assert "PUT /poses/run" in operation["description"]
+    assert "PUT /run/joint/poses" in operation["description"]
     assert {"200", "400", "412"} <= set(operation["responses"])

@@ -1,6 +1,7 @@
 """POST /pendant/plan from a pose in contact, over real HTTP against `pendant --no-ui`: Rozum's README wall
 (example 10) touches the wrist at the power-on pose, the controller takes it, and a plan from there backs
-out of the wall first (never deeper in), then goes round; the waypoints run as one PUT /poses/run."""
+out of the wall first (never deeper in), then goes round; the waypoints run as one PUT /run/joint/poses along
+the checked segments."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ from pendant.kinematics.cell_shapes import cell_check
 from pendant.kinematics.contact import CONTACT_DEEPER_TOLERANCE_M
 from pendant.planning import path_is_clear
 from pendant.planning.scenes import FLANGE
+from tests.support.planned_runs import along_segments
 from tests.support.waiting import wait_idle
 
 README_WALL = PlaneObstacle(
@@ -26,6 +28,7 @@ HOME = [0.0, -90.0, 90.0, -90.0, -90.0, 0.0]  # the power-on pose: the wrist is 
 ROUND = [-60.0, -90.0, 90.0, -90.0, -90.0, 0.0]  # the other way round: straight there stays in the wall
 ANGLE_TOL_DEG = 0.01
 MOTION_TIMEOUT_S = 20.0
+RUN_PERCENT = 50.0
 SAMPLE_RAD = np.radians(0.25)
 
 
@@ -56,7 +59,7 @@ def test_a_plan_from_the_wall_backs_out_first_and_runs(api: httpx.Client) -> Non
     assert all(d is None or d.depth_m <= start_depth + CONTACT_DEEPER_TOLERANCE_M for d in depths)
     assert path_is_clear(check, waypoints[1:], SAMPLE_RAD)
 
-    run = api.put("/poses/run", json=[{"angles": a} for a in np.degrees(waypoints[1:]).tolist()])
+    run = api.put("/run/joint/poses", json=along_segments(np.degrees(waypoints[1:]).tolist(), RUN_PERCENT))
     assert run.status_code == 200, run.text
     wait_idle(api, MOTION_TIMEOUT_S)
     assert np.allclose(api.get("/pose").json()["angles"], ROUND, atol=ANGLE_TOL_DEG)

@@ -19,7 +19,7 @@ from tests.support.threads import serve_in_thread
 # Short timeouts keep each test to a fraction of a second; the defaults (1 s / 3 s) behave the same.
 CONNECT_TIMEOUT_S = 0.5
 READ_TIMEOUT_S = 0.3
-PASSING_READ_TIMEOUT_S = 10.0  # the hung call waits this out (each of its tries): the test takes 10 s or more
+PASSING_READ_TIMEOUT_S = 3.0  # the hung call waits this out (each of its tries): the test takes 3 s or more
 HUNG_CALL_BOUND_S = 120.0  # however many tries the hung call makes, on a starved machine
 IDLE_ANSWER = http_answer("200 OK", b'"IDLE"')
 

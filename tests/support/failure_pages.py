@@ -16,7 +16,7 @@ from tests.support.browser_pages import ARTIFACTS
 FAILURES = ARTIFACTS / "failures"
 LOOK_MS = 3_000  # a page that does not answer in this long is said to be stuck, not waited for
 SHOWN = "#recovery-banner, [role=dialog]"
-MAX_WORDS = 600  # characters of each dialog or banner in the report
+MAX_CHARS = 600  # characters of each dialog or banner in the report
 
 
 def describe_pages(browser: Browser, test_name: str) -> str:
@@ -38,7 +38,7 @@ def _describe(page: Page, png: Path) -> str:
         for box in shown:
             if box.is_visible():
                 words = " ".join(box.inner_text(timeout=LOOK_MS).split())
-                lines.append(f"  {box.get_attribute('role') or 'banner'}: {words[:MAX_WORDS]}")
+                lines.append(f"  {box.get_attribute('role') or 'banner'}: {words[:MAX_CHARS]}")
     except Error as error:
         lines.append(f"  (not readable: {str(error).splitlines()[0]})")
     return "\n".join(lines)

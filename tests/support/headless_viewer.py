@@ -5,8 +5,11 @@ client as connected only once it has), how it reads viser's frames, and how its 
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import re
-from dataclasses import dataclass
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
 from typing import Any
 
 import msgspec
@@ -19,20 +22,32 @@ JOG_PAD_J1_PLUS = re.compile(r'data-jog-uuid="([0-9a-f-]+)" aria-label="J1\+"')
 JOG_STOP = re.compile(r'data-jog-stop="([0-9a-f-]+)"')
 JOG_LINE = re.compile(r'data-jog-line="(\d+) ([A-Za-z0-9_-]+)"')  # the hold line: "PORT KEY"
 
-CAMERA_HELLO = msgspec.msgpack.encode(
-    {
-        "type": "ViewerCameraMessage",
-        "wxyz": (1.0, 0.0, 0.0, 0.0),
-        "position": (1.1, -1.3, 0.9),
-        "fov": 1.0,
-        "near": 0.01,
-        "far": 100.0,
-        "image_height": 900,
-        "image_width": 1400,
-        "look_at": (0.0, 0.0, 0.35),
-        "up_direction": (0.0, 0.0, 1.0),
-    }
-)
+
+def camera_report(
+    position: Sequence[float],
+    size: tuple[int, int],
+    look_at: Sequence[float] = (0.0, 0.0, 0.35),
+    fov_rad: float = 1.0,
+) -> bytes:
+    """The page's ViewerCameraMessage: where its camera is, what it looks at, how big its view is (px)."""
+    width, height = size
+    return msgspec.msgpack.encode(
+        {
+            "type": "ViewerCameraMessage",
+            "wxyz": (1.0, 0.0, 0.0, 0.0),
+            "position": tuple(float(v) for v in position),
+            "fov": fov_rad,
+            "near": 0.01,
+            "far": 100.0,
+            "image_height": height,
+            "image_width": width,
+            "look_at": tuple(float(v) for v in look_at),
+            "up_direction": (0.0, 0.0, 1.0),
+        }
+    )
+
+
+CAMERA_HELLO = camera_report((1.1, -1.3, 0.9), (1400, 900))
 
 
 def decode_window(frame: bytes, zstd: zstandard.ZstdDecompressor) -> list[dict[str, Any]]:
@@ -44,7 +59,7 @@ def decode_window(frame: bytes, zstd: zstandard.ZstdDecompressor) -> list[dict[s
     return messages
 
 
-async def open_viewer(port: int) -> websockets.ClientConnection:
+async def open_viewer(port: int, hello: bytes = CAMERA_HELLO) -> websockets.ClientConnection:
     """A websocket to the page on `port`, as a browser opens it: viser's subprotocol, then its camera."""
     ws = await websockets.connect(
         f"ws://127.0.0.1:{port}/",
@@ -52,7 +67,7 @@ async def open_viewer(port: int) -> websockets.ClientConnection:
         max_queue=None,
         max_size=None,
     )
-    await ws.send(CAMERA_HELLO)
+    await ws.send(hello)
     return ws
 
 
@@ -104,6 +119,13 @@ async def open_hold_line(pad: JogPad, host: str = "127.0.0.1") -> websockets.Cli
     return await websockets.connect(f"ws://{host}:{port}/?key={key}", compression=None)
 
 
+async def drain(ws: websockets.ClientConnection) -> None:
+    """Read and drop whatever the page sends until it closes (a browser that reads, so viser never waits)."""
+    with contextlib.suppress(websockets.ConnectionClosed):
+        async for _ in ws:
+            pass
+
+
 def line_hold(uuid: str) -> str:
     """A confirmation over the hold line."""
     return f"hold {uuid}"
@@ -143,3 +165,40 @@ def notification(message: dict[str, Any]) -> str | None:
     if message.get("type") != "NotificationShowMessage":
         return None
     return f"{message['props']['title']}: {message['props']['body']}"
+
+
+STATE_NODE = "/tcp_frame"  # its position is set on every refresh tick while the arm moves
+
+
+@dataclass
+class ViewerCounts:
+    """What a steady viewer received: when the arm's pose came (monotonic s), GUI updates, bytes."""
+
+    state_times: list[float] = field(default_factory=list)
+    gui_updates: int = 0
+    bytes_received: int = 0
+    whole_panel: asyncio.Event = field(default_factory=asyncio.Event)  # its last tab (the Dashboard's plots)
+
+
+async def viewer(url: str, counts: ViewerCounts, stop: asyncio.Event) -> None:
+    """A steady viewer until `stop`: opens the page's websocket as a browser does and reads every frame."""
+    protocol = [websockets.Subprotocol(f"viser-v{viser.__version__}")]
+    zstd = zstandard.ZstdDecompressor()
+    async with websockets.connect(url, subprotocols=protocol, max_queue=None, max_size=None) as ws:
+        await ws.send(CAMERA_HELLO)
+        while not stop.is_set():
+            try:
+                frame = await asyncio.wait_for(ws.recv(), timeout=0.5)
+            except TimeoutError:
+                continue
+            assert isinstance(frame, bytes)
+            counts.bytes_received += len(frame)
+            now = time.monotonic()
+            for message in decode_window(frame, zstd):
+                kind = message.get("type")
+                if kind == "SetPositionMessage" and message.get("name") == STATE_NODE:
+                    counts.state_times.append(now)
+                elif kind == "GuiUpdateMessage":
+                    counts.gui_updates += 1
+                elif kind == "GuiUplotMessage":
+                    counts.whole_panel.set()

@@ -109,11 +109,12 @@ class PoseSampler:
         return Timeline(list(self._samples), released_at, self.t0_wall)
 
 
-def api_hold(api: httpx.Client, hold_s: float, direction: int = +1) -> Timeline:
-    """The API-sent equivalent of holding J1 for `hold_s`: PUT /pose at the jog speed, PUT /freeze later."""
+def api_hold(api: httpx.Client, hold_s: float, direction: int = +1, far_deg: float = FAR_DEG) -> Timeline:
+    """The API-sent equivalent of holding J1 for `hold_s`: PUT /pose at the jog speed, PUT /freeze later
+    (`far_deg`: further than the hold reaches, ~11 deg a second)."""
     wait_idle(api)
     target = api.get("/pose").json()["angles"]
-    target[0] += direction * FAR_DEG
+    target[0] += direction * far_deg
     return timed_press(
         api,
         lambda: api.put(

@@ -9,12 +9,13 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 import httpx
 
 from pendant.monitoring import DATA_DIR_ENV
+from pendant.paths import PROGRAMS_DIR_ENV
 
 from .ports import LOOPBACK, free_port
 from .waiting import answers, wait_until
@@ -159,19 +160,32 @@ class Pendant:
 
 
 @contextlib.contextmanager
-def running_pendant_ui(*flags: str, env: dict[str, str] | None = None) -> Iterator[Pendant]:
+def running_pendant_ui(
+    *flags: str, env: dict[str, str] | None = None, launcher: Sequence[str] = ("-m", "pendant")
+) -> Iterator[Pendant]:
     """A `pendant` process (simulator, page and API on free loopback ports) with extra `flags`; its event
-    log and recordings in a temporary data folder (`env={"PENDANT_DATA_DIR": ...}` names another)."""
+    log and recordings in a temporary data folder (`env={"PENDANT_DATA_DIR": ...}` names another), its
+    programs in a temporary folder too (`--programs` or PENDANT_PROGRAMS_DIR names another: the checkout's
+    programs/ carried one test's autosaved working copy into the next pendant, and into the README's
+    pictures); `launcher`: what this interpreter runs, the pendant's arguments after it (a script that
+    starts it)."""
     ui_port, api_port = free_port(), free_port()
     data = tempfile.TemporaryDirectory(prefix="pendant-data-")
+    programs = tempfile.TemporaryDirectory(prefix="pendant-programs-")
     # Its output goes to a file (a pipe nobody reads fills up and blocks a chatty pendant); a start-up
     # failure quotes it.
     with tempfile.TemporaryFile("w+") as log:
         process = subprocess.Popen(
-            pendant_command("--ui-port", str(ui_port), "--api-port", str(api_port), *flags),
+            [sys.executable, *launcher, "--ui-port", str(ui_port), "--api-port", str(api_port), *flags],
             stdout=log,
             stderr=subprocess.STDOUT,
-            env={**os.environ, "PYTHONUNBUFFERED": "1", "PENDANT_DATA_DIR": data.name, **(env or {})},
+            env={
+                **os.environ,
+                "PYTHONUNBUFFERED": "1",
+                "PENDANT_DATA_DIR": data.name,
+                PROGRAMS_DIR_ENV: programs.name,
+                **(env or {}),
+            },
         )
         try:
             try:
@@ -184,6 +198,7 @@ def running_pendant_ui(*flags: str, env: dict[str, str] | None = None) -> Iterat
         finally:
             stop(process)
             data.cleanup()
+            programs.cleanup()
 
 
 class Launcher:

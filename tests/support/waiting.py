@@ -12,10 +12,13 @@ POLL_S = 0.05
 
 
 def wait_until(
-    ready: Callable[[], bool], timeout_s: float = DEFAULT_TIMEOUT_S, what: str = "it", poll_s: float = POLL_S
+    ready: Callable[[], bool],
+    timeout_s: float = DEFAULT_TIMEOUT_S,
+    what: str | Callable[[], str] = "it",
+    poll_s: float = POLL_S,
 ) -> None:
     """Poll `ready` until it holds (an HTTP error counts as "not yet"); TimeoutError naming `what` after
-    `timeout_s`."""
+    `timeout_s` (a callable: read then, to say how things stood)."""
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
         try:
@@ -24,7 +27,8 @@ def wait_until(
         except httpx.HTTPError:
             pass
         time.sleep(poll_s)
-    raise TimeoutError(f"{what} did not happen within {timeout_s} s")
+    said = what() if callable(what) else what
+    raise TimeoutError(f"{said} did not happen within {timeout_s} s")
 
 
 def answers(url: str) -> bool:

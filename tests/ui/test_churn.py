@@ -25,6 +25,7 @@ import zstandard
 from tests.support.headless_viewer import (
     HOLD_HZ,
     decode_window,
+    drain,
     gui_update,
     hold_message,
     open_viewer,
@@ -82,7 +83,7 @@ async def _churning_browser(port: int, seed: int, until: float, freezes: list[bo
         else:
             with contextlib.suppress(TimeoutError):
                 async with asyncio.timeout(rng.uniform(*STAY_S)):
-                    await _drain(ws)
+                    await drain(ws)
         if rng.random() < 0.5:
             await ws.close()
         else:
@@ -97,7 +98,7 @@ async def _hold_j1_plus(
     operator = await open_viewer(port)
     pad = await read_jog_pad(operator, PAGE_TIMEOUT_S)  # however long a loaded machine takes to build it
     await operator.send(gui_update(pad.speed, JOG_SPEED_PERCENT))
-    drain = asyncio.create_task(_drain(operator))
+    draining = asyncio.create_task(drain(operator))
     start = await asyncio.to_thread(pendant.pose)
     seen = len(await asyncio.to_thread(_jog_stops, pendant))
     until = time.monotonic() + ALONE_S + CHURN_S
@@ -113,14 +114,8 @@ async def _hold_j1_plus(
             await asyncio.sleep(REGRASP_S)
     await operator.send(gui_update(pad.stop, True))
     moved = (await asyncio.to_thread(pendant.pose))[0] - start[0]
-    drain.cancel()
+    draining.cancel()
     return moved
-
-
-async def _drain(ws: websockets.ClientConnection) -> None:
-    with contextlib.suppress(websockets.ConnectionClosed):
-        async for _ in ws:
-            pass
 
 
 def test_a_held_jog_goes_on_while_browsers_connect_and_leave() -> None:

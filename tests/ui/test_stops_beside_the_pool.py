@@ -99,7 +99,7 @@ def test_the_programs_pause_and_stop_work_with_the_pool_held(held_pool: PendantU
     programs = held_pool.programs
     pressed: list[str] = []
     programs.pause = lambda: pressed.append("pause")  # type: ignore[method-assign]  # spies: no run is needed
-    programs.stop = lambda: pressed.append("stop")  # type: ignore[method-assign]
+    programs.stop = lambda cause="": pressed.append("stop")  # type: ignore[method-assign]
 
     async def press() -> None:
         ws = await open_viewer(held_pool.server.get_port())

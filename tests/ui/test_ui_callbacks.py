@@ -23,6 +23,7 @@ from tests.support.pages import pendant_page, sent
 
 TOOL_LENGTH_M = 0.12
 ANGLE_TOL_DEG = 1e-6
+FAR_FROM_THE_WORK_M = 100.0
 FUTURE_TIMEOUT_S = 60.0  # a safety net: a thread starved of CPU (nice 19, a loaded machine) may take seconds
 
 
@@ -42,6 +43,8 @@ def test_until_the_operator_sets_a_target_it_follows_the_arm_with_no_ghost_and_n
     clock.advance(0.2)
     pendant_ui.refresh(with_io=True)
     assert not panel.gizmo_shown, "not chased while the arm moves"
+    # far out of the view, yet not made invisible: a page would unmount it, and compile its shaders again
+    assert panel.gizmo_in_scene and np.linalg.norm(panel.gizmo_position) > FAR_FROM_THE_WORK_M
     clock.advance(30.0)
     pendant_ui.refresh(with_io=True)
     assert panel.check.q is not None

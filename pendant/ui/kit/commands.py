@@ -24,8 +24,11 @@ FREEZE_HOTKEY_LABEL = "Esc"
 Gate = Callable[[viser.ClientHandle | None], str | None]
 # Why the page may not move the arm now (a program is running), or None.
 MotionBlock = Callable[[], str | None]
-# Told of every stop (an urgent command) before it goes to the controller: the label and who pressed it.
-OnStop = Callable[[str, viser.ClientHandle | None], None]
+# Told of every stop (an urgent command) before it goes to the controller, with its cause in the page's
+# words ("Freeze by browser #2").
+OnStop = Callable[[str], None]
+# Says who pressed a stop, for its cause (the page's browser names).
+Presser = Callable[[viser.ClientHandle | None], str]
 # Told of every command, for the event log: label, sender, refusal (None: accepted) and, for a controller
 # call, its future (None: an action of the pendant's own, such as a program edit or run).
 OnSubmit = Callable[[str, viser.ClientHandle | None, str | None, Future[object] | None], None]
@@ -55,6 +58,7 @@ class CommandRunner:
         self.gate: Gate = gate if gate is not None else (lambda client: None)
         self.on_submit: OnSubmit | None = None
         self.on_stop: OnStop | None = None  # e.g. the held jog stays stopped until released
+        self.presser: Presser = lambda client: "pendant" if client is None else f"browser #{client.client_id}"
         self.motion_block: MotionBlock = lambda: None
         self.stops_sent = 0  # how many stops were pressed: work begun before one (a plan) is dropped
         # Words a refusal of a motion needs besides the controller's own (the arm is in ERROR: Recover).
@@ -97,13 +101,22 @@ class CommandRunner:
         urgent: bool = False,
         motion: bool = False,
         announce: bool = True,
+        ending: Callable[[str], None] | None = None,
     ) -> Future[object]:
         """`urgent`: a stop (never gated, never behind another command), told to `on_stop` first unless
-        `announce` is False (Pause holds a run without ending it)."""
+        `announce` is False (Pause holds a run without ending it). `ending`: told the stop's cause before
+        anyone else, on the caller's thread: the program's Stop marks its run as ending for good, so that the
+        run ends so whichever it hears first, the announcement or `action` on the urgent thread."""
         if urgent:
             self.stops_sent += 1
-        if urgent and announce and self.on_stop is not None:
-            self.on_stop(label, client)  # before the stop goes out: a jog confirmation then cannot undo it
+            cause = f"{label} by {self.presser(client)}"
+            if ending is not None:
+                try:
+                    ending(cause)
+                except Exception:  # the stop itself goes out whatever
+                    log.exception("marking %r as ending the run failed", label)
+            if announce and self.on_stop is not None:
+                self.on_stop(cause)  # before the stop goes out: a jog confirmation then cannot undo it
         reason = None if urgent else self.refusal(client, label, motion=motion)
         if reason is not None:  # refusal() has told the page and the event log
             refused: Future[object] = Future()

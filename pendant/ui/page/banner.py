@@ -140,7 +140,9 @@ class Banner:
                 if sim is not None:
                     runner.submit(said, lambda _: sim.reset(keep_cell=True), client)
             case Action.STOP_PROGRAM:  # stopping is never refused, and never waits behind a command
-                runner.submit(said, lambda _: programs.stop(), client, urgent=True)
+                runner.submit(
+                    said, lambda _: programs.stop(), client, urgent=True, ending=programs.request_stop
+                )
             case Action.RETRY | Action.SKIP | Action.RESUME:
                 if runner.refusal(client, said) is not None:
                     return

@@ -38,9 +38,14 @@
   const MAIN_STALL_MS = 400;
   const SOFTWARE_MAX_DPR = 0.75;
   const SOFTWARE_FRAME_MS = 50;
-  // While a jog is held, frames further apart: each software-rendered frame blocks the main thread (and
-  // takes a core), and a release waits for the frame it lands in. The pad's values still change at 10 Hz.
+  // While the arm moves, frames further apart: each software-rendered frame blocks the main thread (and
+  // takes a core), and a release or a Stop waits for the frame it lands in. The pad's values still change
+  // at 10 Hz.
   const SOFTWARE_JOG_FRAME_MS = 100;
+  // With the view drawn off the main thread (view_frames.js), smaller while the arm moves, a frame no
+  // longer blocks it: frames 60 ms apart then give 12 a second at 1400x900 instead of 9
+  // (benchmarks/frames.py).
+  const WORKER_JOG_FRAME_MS = 60;
   // The browser's own, before the spacing below wraps it: a touch's decision waits for the next frame,
   // not for the next frame the spacing lets through.
   const nextFrame = window.requestAnimationFrame.bind(window);
@@ -66,7 +71,14 @@
   // ?render=viser: viser's own rendering, for comparison (benchmarks/jog.py).
   const tuned = new URLSearchParams(location.search).get("render") !== "viser";
   const software = softwareWebGL();
-  window.__pendant = { software, tuned };
+  // The arm moves: a jog held on this page, or any motion the status block shows (a program, the API,
+  // another browser). Frames are then spaced and sized for motion (here and in view_frames.js).
+  const armMoving = () => {
+    if (document.documentElement.dataset.jogging !== undefined) return true;
+    const state = document.getElementById("motion-state");
+    return state !== null && state.textContent === "RUNNING";
+  };
+  window.__pendant = { software, tuned, armMoving };
   if (software && tuned) {
     const getContext = HTMLCanvasElement.prototype.getContext;
     HTMLCanvasElement.prototype.getContext = function (type, options) {
@@ -83,10 +95,12 @@
     const raf = window.requestAnimationFrame.bind(window);
     const query = new URLSearchParams(location.search);  // ?frame_ms= / ?jog_frame_ms=: for benchmarks
     const idleMs = parseFloat(query.get("frame_ms") || "") || SOFTWARE_FRAME_MS;
-    const jogMs = parseFloat(query.get("jog_frame_ms") || "") || SOFTWARE_JOG_FRAME_MS;
+    const askedJogMs = parseFloat(query.get("jog_frame_ms") || "");
+    const jogMs = () =>
+      askedJogMs || (window.__pendant.view === "worker" ? WORKER_JOG_FRAME_MS : SOFTWARE_JOG_FRAME_MS);
     let lastFrame = 0;
     window.requestAnimationFrame = (callback) => raf((now) => {
-      const spacing = document.documentElement.dataset.jogging === undefined ? idleMs : jogMs;
+      const spacing = armMoving() ? jogMs() : idleMs;
       const wait = Math.max(lastFrame + spacing, framesHeldUntil) - now;
       const run = (t) => { lastFrame = t; callback(t); };
       if (wait <= 0) run(now);

@@ -1,14 +1,16 @@
-// The ghost legend (pendant/ui/scene/ghost_stage.py): which translucent arm the 3D view shows (target, plan,
-// waypoint, check playback, replay), in a small box at the view's bottom left corner (the top left has
-// viser's notifications). The panel carries it in a
-// hidden element (`data-ghost-legend`); this copies its text over the view and hides the box when no ghost
-// is shown. Layout only: nothing here sends anything.
+// The ghost legend (pendant/ui/scene/ghost_stage.py): which translucent arms the 3D view shows (target, plan,
+// waypoint, check playback, replay: one, or each with "Every ghost" on, the newest first), in a small box at
+// the view's bottom left corner (the top left has viser's notifications). The panel carries a hidden element
+// per ghost (`data-ghost-legend`); this copies their text over the view and hides the box when no ghost is
+// shown. Layout only: nothing here sends anything.
 (() => {
   "use strict";
   const MARGIN_PX = 8;
-  const STYLE = "position:fixed;z-index:5;pointer-events:none;display:none;" +
-    "align-items:center;gap:6px;padding:3px 8px;border-radius:6px;font:600 13px system-ui,sans-serif;" +
+  const STYLE = "position:fixed;z-index:5;pointer-events:none;display:none;flex-direction:column;" +
+    "gap:2px;padding:3px 8px;border-radius:6px;font:600 13px system-ui,sans-serif;" +
     "background:rgba(255,255,255,0.9);color:#212529;box-shadow:0 1px 3px rgba(0,0,0,0.25)";
+  const ROW = '<span style="display:flex;align-items:center;gap:6px"><span data-swatch ' +
+    'style="width:12px;height:12px;border-radius:3px;display:inline-block"></span><span data-words></span></span>';
   let box = null;
   let shown = null;
   function legendBox() {
@@ -17,22 +19,25 @@
     box.id = "ghost-legend";
     box.setAttribute("role", "status");
     box.style.cssText = STYLE;
-    box.innerHTML = '<span data-swatch style="width:12px;height:12px;border-radius:3px;display:inline-block"></span><span data-words></span>';
     document.body.appendChild(box);
     return box;
   }
   function apply() {
     if (document.body === null) return;
-    const source = document.querySelector("[data-ghost-legend]");
-    const words = source === null ? "" : source.dataset.ghostLegend;
-    const colour = source === null ? "" : source.dataset.ghostColour || "";
-    const key = `${words}|${colour}`;
+    const ghosts = [...document.querySelectorAll("[data-ghost-legend]")]
+      .map((source) => [source.dataset.ghostLegend, source.dataset.ghostColour || ""])
+      .filter(([words]) => words !== "");
+    const key = JSON.stringify(ghosts);
     if (key === shown && box !== null && box.isConnected) return;
     shown = key;
     const legend = legendBox();
-    legend.querySelector("[data-words]").textContent = words;
-    legend.querySelector("[data-swatch]").style.background = colour;
-    legend.style.display = words === "" ? "none" : "flex";
+    legend.innerHTML = ROW.repeat(ghosts.length);
+    ghosts.forEach(([words, colour], k) => {
+      const row = legend.children[k];
+      row.querySelector("[data-words]").textContent = words;
+      row.querySelector("[data-swatch]").style.background = colour;
+    });
+    legend.style.display = ghosts.length === 0 ? "none" : "flex";
     place();
   }
   // At the 3D view's bottom left corner, wherever the view is (beside the panel, or above a phone's sheet).

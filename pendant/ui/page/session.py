@@ -112,7 +112,7 @@ class ClientSession:
         )
         self.status = StatusPanel(target, mode_line, runner, recover_in_banner=self.banner is not None)
         self.control = ControlPanel(target, desk, client_id, url_token, remote)
-        self.ghosts = GhostStage(target)  # one ghost at a time in the view, and its legend
+        self.ghosts = GhostStage(target)  # one ghost at a time in the view (or every one), and its legend
         self.tabs = target.gui.add_tab_group()
         with self.tabs.add_tab("Jog", viser.Icon.ARROWS_MOVE):
             self.jog = JogPanel(target, jogger, runner, arm, current_tool, line)
@@ -130,6 +130,7 @@ class ClientSession:
                 if isinstance(target, viser.ClientHandle)
                 else None
             )
+            self.ghosts.add_switch()  # "Every ghost", by Fit view: what the view shows
         with self.tabs.add_tab("Target", viser.Icon.TARGET):
             self.target_panel = TargetPanel(
                 target, arm, runner, current_q, current_tool, current_cell, ghosts=self.ghosts

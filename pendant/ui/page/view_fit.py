@@ -19,7 +19,10 @@ log = logging.getLogger(__name__)
 
 MOVED_TOL_M = 1e-3  # the camera this far from where it was put: the operator moved it
 # Where viser's page has its camera before it takes the pendant's first view: its first reports say so.
+# three.js's own start (its camera at (0, 0, 5), y up) comes too, in some loads after the fit was sent.
+# And until the page has shown a fit, no report is the operator's (a start-up place not listed here).
 VISER_START_M = (3.0, 3.0, 3.0)
+THREE_JS_START_M = (-5.0, 0.0, 0.0)
 VIEW_DIRECTION = np.subtract(CAMERA_POSITION_M, CAMERA_LOOK_AT_M)
 
 
@@ -48,6 +51,9 @@ class ViewFit:
             [np.asarray(CAMERA_POSITION_M, dtype=float)] if cell is not None and cell.obstacles else None
         )
         self._size: tuple[int, int] | None = None
+        # The page has shown a fit: before that its camera is still its own start-up's (viser's start,
+        # three.js's, the pendant's first view, in an order that varies with the load), never the operator's.
+        self._shown = False
         client.camera.on_update(self._camera_changed)
         if self._following is not None:
             self.fit()  # now if the page has said how big its view is; else at its first word of it
@@ -84,10 +90,12 @@ class ViewFit:
         def at(p: np.ndarray) -> bool:
             return float(np.linalg.norm(here - p)) <= MOVED_TOL_M
 
-        earlier = [*placed[:-1], np.array(VISER_START_M), np.array(CAMERA_POSITION_M)]
+        starts = (VISER_START_M, THREE_JS_START_M, CAMERA_POSITION_M)
+        earlier = [*placed[:-1], *(np.array(p) for p in starts)]
+        self._shown = self._shown or at(placed[-1])
         if at(placed[-1]) and (camera.image_width, camera.image_height) == self._size:
             return  # where the last fit put it, in a view of the same shape
-        if not at(placed[-1]) and not any(at(p) for p in earlier):
+        if self._shown and not at(placed[-1]) and not any(at(p) for p in earlier):
             self._following = None  # the operator's own view from now on
             return
         # The view changed shape, or the page shows a view from before the last fit (its first view,

@@ -11,7 +11,15 @@
 // no readback to composite it). The next frame is drawn once the last one is read, so the page never asks
 // for frames faster than the renderer draws them.
 //
-// ?view=inline: the old way (viser's canvas drawn in the page), for comparison (benchmarks/frames.py).
+// While the arm moves (a jog held, a program, the API: client_page.js's armMoving) the view is drawn at
+// MOVING_SCALE of its size (half the pixels) and shown stretched: the software renderer's frame is what
+// bounds the frame rate (7-10 a second at 1400x900), and whoever watches a moving arm watches it move, not
+// its edges. At rest it is drawn at full size again.
+//
+// ?view=inline: the old way (viser's canvas drawn in the page), for comparison (benchmarks/frames.py);
+// ?view=none: three.js runs as usual but draws nothing (its draw calls skipped), the floor of that
+// benchmark: the page without its 3D view's pixels;
+// ?moving_scale=1: no smaller frames while the arm moves, for comparison.
 (() => {
   "use strict";
   const pendant = window.__pendant || {};
@@ -40,6 +48,8 @@
     };
   `;
   const FENCE_POLL_MS = 5;
+  const MOVING_SCALE = parseFloat(query.get("moving_scale") || "") || 0.7;
+  const DRAW_NOTHING = query.get("view") === "none";
   const DRAWS = ["clear", "drawArrays", "drawElements", "drawArraysInstanced", "drawElementsInstanced", "drawRangeElements"];
 
   let view = null; // { gl, offscreen, worker, drawn, fence }
@@ -59,11 +69,18 @@
     // As client_page.js asks of every WebGL context in software: no multisampling.
     const gl = offscreen.getContext(type, Object.assign({}, options || {}, { antialias: false }));
     if (gl === null) return null;
-    // three.js sizes the drawing buffer through the element's width and height: they size the offscreen one.
+    // three.js sizes the drawing buffer through the element's width and height: they size the offscreen one,
+    // at `scale` of what was asked while a jog is held. Its viewport and scissor are scaled alike.
+    const asked = { width: offscreen.width, height: offscreen.height };
+    const sizeOffscreen = () => {
+      const scale = view === null ? 1 : view.scale;
+      offscreen.width = Math.max(1, Math.round(asked.width * scale));
+      offscreen.height = Math.max(1, Math.round(asked.height * scale));
+    };
     for (const side of ["width", "height"]) {
       Object.defineProperty(canvas, side, {
-        get: () => offscreen[side],
-        set: (value) => { offscreen[side] = Math.max(1, value | 0); },
+        get: () => asked[side],
+        set: (value) => { asked[side] = Math.max(1, value | 0); sizeOffscreen(); },
         configurable: true,
       });
     }
@@ -81,11 +98,21 @@
     const worker = new Worker(URL.createObjectURL(new Blob([WORKER], { type: "text/javascript" })));
     const target = screen.transferControlToOffscreen();
     worker.postMessage({ canvas: target, behind: backgroundOf(parent) }, [target]);
-    view = { gl, offscreen, worker, drawn: false, fence: null, pixels: null, size: 0, pending: null, frames: 0 };
+    view = {
+      gl, offscreen, worker, drawn: false, fence: null, pixels: null, size: 0, pending: null, frames: 0,
+      scale: 1, boxes: [], sizeOffscreen,
+    };
+    for (const name of ["viewport", "scissor"]) { // three.js's boxes, kept as asked and set scaled
+      const kept = { set: gl[name].bind(gl), box: null };
+      view.boxes.push(kept);
+      gl[name] = (...box) => { kept.box = box; kept.set(...box.map((v) => Math.round(v * view.scale))); };
+    }
     for (const name of DRAWS) {
       const draw = gl[name];
       if (typeof draw !== "function") continue;
-      gl[name] = function (...args) { view.drawn = true; return draw.apply(this, args); };
+      gl[name] = DRAW_NOTHING
+        ? () => undefined
+        : function (...args) { view.drawn = true; return draw.apply(this, args); };
     }
     window.__pendant.view = "worker";
     window.__pendant.viewFrames = () => view.frames; // frames shown, for benchmarks/frames.py
@@ -154,10 +181,21 @@
   // Only the callbacks that draw the view wait for the renderer (three.js's loop passes the same function
   // each frame); the page's other frame callbacks (panel transitions, touch decisions) never wait for it.
   const drawers = new WeakSet();
+  // Before a frame is drawn: smaller while the arm moves, full size at rest (never while a copy is pending).
+  function rescale() {
+    const wanted = pendant.armMoving() ? MOVING_SCALE : 1;
+    if (view === null || view.scale === wanted || view.fence !== null) return;
+    view.scale = wanted;
+    view.sizeOffscreen();
+    for (const { set, box } of view.boxes) {
+      if (box !== null) set(...box.map((v) => Math.round(v * wanted)));
+    }
+  }
   const raf = window.requestAnimationFrame.bind(window);
   window.requestAnimationFrame = (callback) => {
     const run = (t) => {
       if (busy() && drawers.has(callback)) { raf(run); return; }
+      if (drawers.has(callback)) rescale();
       const before = view !== null && view.drawn;
       callback(t);
       if (view !== null && view.drawn && !before) drawers.add(callback);

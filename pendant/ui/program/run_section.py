@@ -47,7 +47,10 @@ class RunSection:
             )
 
         def stop(client: viser.ClientHandle | None) -> object:
-            return commands.submit("Stop", lambda _: host.shared.stop(), client, urgent=True)
+            shared = host.shared
+            return commands.submit(
+                "Stop", lambda _: shared.stop(), client, urgent=True, ending=shared.request_stop
+            )
 
         self.pause.on_click(on_stop_press(commands, pause))
         self.stop.on_click(on_stop_press(commands, stop))

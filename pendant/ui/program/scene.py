@@ -19,6 +19,7 @@ from pendant.kinematics import ArmModel
 from pendant.program import PlanError, Program, compile_program
 from pendant.program.plan import Branch, Loop, MoveGroup, Node, Pallet, Target
 from pendant.ui.kit.gui_target import GuiTarget
+from pendant.ui.program.label_layout import ScreenLabels
 
 MARKER_RADIUS_M = 0.012
 CELL_RADIUS_M = 0.006
@@ -37,6 +38,7 @@ ROOT = "/program"
 # Markers closer than this share one name label, a line per step (issue 33: a pick-and-place returns to the
 # same waypoints, and their names were drawn on top of one another: "3.2P02").
 LABEL_SHARE_M = 0.05
+LABEL_ABOVE_M = 2.0 * MARKER_RADIUS_M  # a name's bottom, over its marker
 
 
 def label_groups(markers: list[tuple[Target, np.ndarray]]) -> list[tuple[int, str]]:
@@ -80,6 +82,7 @@ class ProgramScene:
         self._markers: list[tuple[viser.IcosphereHandle, int]] = []  # (marker, step line)
         self._shown: tuple[Program, int | None, int | None] | None = None
         self.labels: list[str] = []  # the waypoint name labels drawn now
+        self.on_screen = ScreenLabels(target)  # ... and as this browser's view shows them (none overlap)
 
     @property
     def nodes(self) -> tuple[viser.SceneNodeHandle, ...]:
@@ -104,6 +107,7 @@ class ProgramScene:
             )
 
     def close(self) -> None:
+        self.on_screen.replace([])  # first: no layout touches a label once it is going
         for node in self._nodes:
             node.remove()
         self._nodes.clear()
@@ -121,6 +125,7 @@ class ProgramScene:
         self._walk(plan, drawing, None)
         scene = self._target.scene
         labels = dict(label_groups(drawing.markers))
+        drawn: list[tuple[viser.LabelHandle, np.ndarray, str]] = []
         for k, (target, point) in enumerate(drawing.markers):
             marker = scene.add_icosphere(
                 f"{ROOT}/waypoint_{k}",
@@ -131,15 +136,15 @@ class ProgramScene:
                 receive_shadow=False,
             )
             if k in labels:
-                scene.add_label(
-                    f"{ROOT}/waypoint_{k}/name",
-                    labels[k],
-                    position=(0.0, 0.0, 2.0 * MARKER_RADIUS_M),
-                    anchor="bottom-center",
+                above = np.array([0.0, 0.0, LABEL_ABOVE_M])
+                label = scene.add_label(
+                    f"{ROOT}/waypoint_{k}/name", labels[k], position=above, anchor="bottom-center"
                 )  # removed with its marker
                 self.labels.append(labels[k])
+                drawn.append((label, point + above, labels[k]))
             self._markers.append((marker, target.line))
             self._nodes.append(marker)
+        self.on_screen.replace(drawn)
         if drawing.cells:
             self._nodes.append(
                 scene.add_point_cloud(

@@ -12,13 +12,21 @@ MIN_STEP_M = 0.002  # points closer than this add nothing visible
 NEW_RGB = np.array([255.0, 120.0, 0.0])  # orange at the tool
 OLD_RGB = np.array([235.0, 235.0, 235.0])  # fading into the floor colour
 THICKNESS_M = 0.004
+# No trail: one segment of no length inside the arm's base, drawn but never seen. The trail's line is in
+# the view from the start, so the page compiles its shaders at load; hidden or made at the first motion,
+# software WebGL compiled them during the first jog (each compile waits for the frame being drawn: a
+# 70-80 ms long task just after the press).
+NO_TRAIL = np.array([[[0.0, 0.0, 0.05], [0.0, 0.0, 0.05]]])
+NO_TRAIL_RGB = OLD_RGB.astype(np.uint8)[None, None, :].repeat(2, axis=1)
 
 
 class TcpTrail:
     def __init__(self, server: viser.ViserServer) -> None:
-        self._server = server
         self._points: deque[tuple[float, np.ndarray]] = deque()
-        self._handle: viser.LineSegmentsHandle | None = None
+        self._handle = server.scene.add_line_segments(
+            "/tcp_trail", NO_TRAIL, NO_TRAIL_RGB, thickness=THICKNESS_M
+        )
+        self._empty = True
 
     def update(self, now: float, tcp: np.ndarray | None) -> None:
         """Add the TCP position `tcp` (metres, base frame) seen at `now`, and drop what is too old."""
@@ -34,8 +42,9 @@ class TcpTrail:
 
     def _draw(self, now: float) -> None:
         if len(self._points) < 2:
-            if self._handle is not None:
-                self._handle.visible = False
+            if not self._empty:
+                self._handle.points, self._handle.colors = NO_TRAIL, NO_TRAIL_RGB
+                self._empty = True
             return
         times = np.array([t for t, _ in self._points])
         xyz = np.stack([p for _, p in self._points])
@@ -43,14 +52,9 @@ class TcpTrail:
         freshness = np.clip(1.0 - (now - times) / TRAIL_SECONDS, 0.0, 1.0)
         rgb = OLD_RGB + freshness[:, None] * (NEW_RGB - OLD_RGB)
         colors = np.stack([rgb[:-1], rgb[1:]], axis=1).astype(np.uint8)
-        if self._handle is None:
-            self._handle = self._server.scene.add_line_segments(
-                "/tcp_trail", segments, colors, thickness=THICKNESS_M
-            )
-        else:
-            self._handle.points = segments
-            self._handle.colors = colors
-            self._handle.visible = True
+        self._handle.points = segments
+        self._handle.colors = colors
+        self._empty = False
 
     @property
     def n_points(self) -> int:

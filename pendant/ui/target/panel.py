@@ -28,6 +28,8 @@ from pendant.ui.target.plan_section import PlanSection, needs_plan
 GHOST_OK_RGBA = (0.25, 0.55, 1.0, 0.35)
 GHOST_BAD_RGBA = (0.95, 0.15, 0.15, 0.45)
 GIZMO_SCALE = 0.18
+# While the arm moves the gizmo waits here, far beyond the view (see follow()).
+GIZMO_PARKED_M = (0.0, 0.0, -1.0e4)
 DEFAULT_MOVE_SPEED_PERCENT = 20.0
 REACHED_TOL_RAD = 1e-3  # the arm at rest this close to the target has reached it (0.06°)
 REST_TOL_RAD = 1e-6  # the arm at rest where the target was last checked from: nothing to check again
@@ -150,9 +152,13 @@ class TargetPanel:
                 self._arrived(q)
             return
         if moving:
-            if self._gizmo.visible:
-                self._gizmo.visible = False
-        elif self.check.q is None or not np.array_equal(self.check.q, q) or not self._gizmo.visible:
+            if self.gizmo_shown:
+                # Parked out of the view, not made invisible: viser unmounts an invisible gizmo, and the
+                # page then compiles its shader programs again when it comes back; in software WebGL each
+                # compile waits for the frame being drawn (a 50-90 ms long task at each press and release).
+                # Shrinking it still remade its lines' programs.
+                self._gizmo.position = GIZMO_PARKED_M
+        elif self.check.q is None or not np.array_equal(self.check.q, q) or not self.gizmo_shown:
             with self._checking:
                 if self.following:  # still: the operator may have set a target meanwhile
                     self._target_joints(q)
@@ -308,7 +314,7 @@ class TargetPanel:
             for field, value in zip(self.joints, np.degrees(check.q), strict=True):
                 field.show(float(value))
             self._shown_texts = self._typed_texts()
-            if move_gizmo:
+            if move_gizmo or self._gizmo_parked:
                 T = self._arm.fk(check.q) @ self._current_tool()
                 self._gizmo.position = T[:3, 3]
                 self._gizmo.wxyz = vtf.SO3.from_matrix(T[:3, :3]).wxyz
@@ -371,7 +377,16 @@ class TargetPanel:
 
     @property
     def gizmo_shown(self) -> bool:
+        return bool(self._gizmo.visible) and not self._gizmo_parked
+
+    @property
+    def gizmo_in_scene(self) -> bool:
+        """The gizmo's node is visible (mounted in every page), at the TCP or parked while the arm moves."""
         return bool(self._gizmo.visible)
+
+    @property
+    def _gizmo_parked(self) -> bool:
+        return bool(np.array_equal(self._gizmo.position, GIZMO_PARKED_M))
 
     @property
     def gizmo_position(self) -> np.ndarray:
