@@ -31,7 +31,7 @@ pids=()
 logs=()
 names=()
 behind checks make -s --no-print-directory lint layers typecheck
-behind tests "$bin/pytest" -q --durations=15 -n 2 --dist worksteal --ignore=tests/browser -m "not measures" "${extra[@]}"
+behind tests "$bin/pytest" -q --durations=15 -n 2 --dist worksteal --ignore=tests/browser -m "not measures and not alone" "${extra[@]}"
 # Whoever stops `make test` (Ctrl-C, CI's time-out) stops the passes behind too: they are in our process group.
 trap 'trap - INT TERM; kill 0' INT TERM
 

@@ -28,7 +28,7 @@ def record(*args: str) -> subprocess.CompletedProcess[str]:
 
 def test_a_headless_recording_of_an_arm(tmp_path: Path) -> None:
     with running_pendant("--data", str(tmp_path / "arm")) as arm:
-        done = record("--robot", arm, "--seconds", "1.5", "--name", "ci-run", "--data", str(tmp_path))
+        done = record("--robot", arm, "--seconds", "5", "--name", "ci-run", "--data", str(tmp_path))
         assert done.returncode == 0, done.stderr
         taken = record("--robot", arm, "--seconds", "1", "--name", "ci-run", "--data", str(tmp_path))
         bad = record("--robot", arm, "--seconds", "1", "--name", "../up", "--data", str(tmp_path))
