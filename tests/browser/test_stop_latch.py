@@ -25,6 +25,7 @@ STOP_SETTLE_S = 0.3  # the stop has reached the controller by then
 STILL_WINDOW_S = 1.5  # J1 measured this long while the button stays down after the stop
 STILL_TOL_DEG = 0.01  # J1 changed by less than this over the window: still
 NOTICE_TIMEOUT_MS = 5_000
+DEADMAN_PRESSES = 3  # presses again after a release, when the deadman (not the stop) cut the one before
 
 
 @pytest.fixture(scope="module")
@@ -109,10 +110,29 @@ def test_a_freeze_ends_the_held_jog_until_the_button_is_released_and_pressed_aga
         operator.get_by_text(f"J1+ stopped: {cause}", exact=False).first.wait_for(timeout=NOTICE_TIMEOUT_MS)
     finally:
         release()
-    wait_idle(pendant.api)
-    again = j1(pendant)
-    release = press(operator, gesture)
-    try:
-        assert jogged(pendant, again), "released and pressed again, J1+ did not jog"
-    finally:
-        release()
+    for attempt in range(1, DEADMAN_PRESSES + 1):
+        wait_idle(pendant.api)
+        again, since = j1(pendant), latest_event_id(pendant)
+        release = press(operator, gesture)
+        try:
+            if jogged(pendant, again):
+                break
+            # On a loaded machine the page's confirmations can pause past the 200 ms deadman, which then
+            # rightly stops the new press: that is not the stop under test, so the press is made again.
+            cut = deadman_cut_since(pendant, since)
+            assert cut and attempt < DEADMAN_PRESSES, (
+                f"released and pressed again, J1+ did not jog (press {attempt}, deadman cut: {cut})"
+            )
+        finally:
+            release()
+
+
+def latest_event_id(pendant: Pendant) -> int:
+    events = pendant.api.get("/pendant/events", params={"limit": 1}).json()["events"]
+    return int(events[0]["id"]) if events else 0
+
+
+def deadman_cut_since(pendant: Pendant, since: int) -> bool:
+    """Whether the event log says the deadman stopped a jog after event `since`."""
+    logged = pendant.api.get("/pendant/events", params={"text": "deadman", "limit": 5}).json()["events"]
+    return any(int(event["id"]) > since for event in logged)

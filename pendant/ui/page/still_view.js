@@ -10,7 +10,8 @@
 // uniform, its textures) and geometry (its buffers' versions, draw range, instances). When that is
 // what the last drawn frame showed, nothing is drawn: the buffer keeps its picture (viser asks for
 // preserveDrawingBuffer) and view_frames.js has nothing new to show. A frame is drawn at least every
-// SAFETY_NET_MS all the same, so whatever this list might miss is on screen within that.
+// SAFETY_NET_MS all the same, so whatever this list might miss is on screen within that. While the arm moves
+// (client_page.js's armMoving) every frame is drawn, unsigned.
 //
 // ?still=off: every frame drawn, as before (benchmarks/idle_page.py compares the two).
 (() => {
@@ -127,11 +128,17 @@
       if (!scene || !scene.isScene || !camera || this.getRenderTarget() !== null) {
         return render.call(this, scene, camera); // a render to a texture (an environment map): always
       }
+      const now = performance.now();
+      if (pendant.armMoving && pendant.armMoving()) {
+        // Every frame is new while the arm moves: drawn without signing it (no work added to those frames).
+        last.length = 0;
+        drawnAt = now;
+        return render.call(this, scene, camera);
+      }
       // render() brings the matrices up to date itself; done first here so that they are what is signed.
       if (scene.matrixWorldAutoUpdate === true) scene.updateMatrixWorld();
       if (camera.parent === null && camera.matrixWorldAutoUpdate === true) camera.updateMatrixWorld();
       sign(next, this, scene, camera);
-      const now = performance.now();
       if (same(next, last) && now - drawnAt < SAFETY_NET_MS) {
         pendant.stillSkipped += 1;
         return undefined;
