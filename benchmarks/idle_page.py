@@ -7,10 +7,8 @@ process spends over a window (the GPU process, which draws WebGL in software; th
 in cores, and the frames three.js drew a second (viser's client draws on demand, with a heartbeat frame a
 second). Every variant is measured in turn, `--rounds` times, so all see the same load (printed).
 
-  worker        the default (issue 35): three.js draws into an OffscreenCanvas read back with no wait, and
-                only when the picture changed (still_view.js)
+  worker        the default (issue 35): three.js draws into an OffscreenCanvas read back with no wait
   in the page   ?view=inline: viser's canvas composited by the page
-  ..., every frame  ?still=off: every frame viser asks for is drawn (before still_view.js)
   hidden        ?view=none: three.js runs but draws nothing, the floor
 
 Run: .venv/bin/python benchmarks/idle_page.py [--rounds 2] [--window 10]
@@ -31,13 +29,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from tests.support.chromium import CHROMIUM, CHROMIUM_ARGS
 from tests.support.launchers import running_pendant_ui
 
-VARIANTS = {
-    "worker": "",
-    "worker, every frame": "?still=off",
-    "in the page": "?view=inline",
-    "in the page, every frame": "?view=inline&still=off",
-    "hidden": "?view=none",
-}
+VARIANTS = {"worker": "", "in the page": "?view=inline", "hidden": "?view=none"}
 TICKS_PER_S = os.sysconf("SC_CLK_TCK")
 SETTLE_S = 5.0  # after the last tab is built: the load's own frames are over
 PAGE_TIMEOUT_MS = 60_000
@@ -116,7 +108,7 @@ def main() -> None:
         for cores, frames in rounds:
             shown = sorted((kind, value) for kind, value in cores.items() if value >= 0.005)
             kinds = ", ".join(f"{kind} {value:.2f}" for kind, value in shown)
-            print(f"  {variant:25s} {sum(cores.values()):.2f} cores ({kinds}); {frames:.1f} frames/s")
+            print(f"  {variant:12s} {sum(cores.values()):.2f} cores ({kinds}); {frames:.1f} frames/s")
 
 
 if __name__ == "__main__":
