@@ -27,10 +27,11 @@ from playwright.sync_api import Page, sync_playwright
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from tests.support.chromium import CHROMIUM, CHROMIUM_ARGS
+from tests.support.cpu_report import CHROMIUM as CHROMIUM_NAME
+from tests.support.cpu_report import descendants
 from tests.support.launchers import running_pendant_ui
 
 VARIANTS = {"worker": "", "in the page": "?view=inline", "hidden": "?view=none"}
-TICKS_PER_S = os.sysconf("SC_CLK_TCK")
 SETTLE_S = 5.0  # after the last tab is built: the load's own frames are over
 PAGE_TIMEOUT_MS = 60_000
 # Before the page's own scripts: three.js clears once per frame.
@@ -47,29 +48,16 @@ WebGL2RenderingContext.prototype.clear = function (...args) {
 def chromium_cpu() -> dict[str, float]:
     """CPU seconds so far of this process's Chromium (its descendants), summed by process --type
     (gpu-process, renderer, ...; "browser" for the one without)."""
-    parent_of: dict[int, int] = {}
-    read: dict[int, tuple[str, float]] = {}
-    for name in os.listdir("/proc"):
-        if not name.isdigit():
+    spent: dict[str, float] = defaultdict(float)
+    for pid, process in descendants().items():
+        if process.command != CHROMIUM_NAME:
             continue
-        try:
-            stat = Path(f"/proc/{name}/stat").read_text()
-            # A child of Chromium's writes its arguments as one string, spaces between them.
-            command = Path(f"/proc/{name}/cmdline").read_bytes().replace(b"\0", b" ").split()
+        try:  # a child of Chromium's writes its arguments as one string, spaces between them
+            arguments = Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").split()
         except OSError:
             continue  # ended meanwhile
-        fields = stat[stat.rindex(")") + 2 :].split()
-        parent_of[int(name)] = int(fields[1])
-        if command and command[0].endswith(b"chromium"):
-            kind = next((a.decode()[7:] for a in command if a.startswith(b"--type=")), "browser")
-            read[int(name)] = (kind, (int(fields[11]) + int(fields[12])) / TICKS_PER_S)
-    spent: dict[str, float] = defaultdict(float)
-    for pid, (kind, cpu_s) in read.items():
-        ancestor = parent_of.get(pid, 0)
-        while ancestor not in (0, 1, os.getpid()):
-            ancestor = parent_of.get(ancestor, 0)
-        if ancestor == os.getpid():
-            spent[kind] += cpu_s
+        kind = next((a.decode()[7:] for a in arguments if a.startswith(b"--type=")), "browser")
+        spent[kind] += process.cpu_s
     return spent
 
 

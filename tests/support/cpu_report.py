@@ -22,7 +22,7 @@ from typing import NamedTuple
 import pytest
 
 TICKS_PER_S = os.sysconf("SC_CLK_TCK")
-CHROMIUM = "chromium"
+CHROMIUM = "chromium"  # the name (comm) of every Chromium process
 
 
 def _cpu_seconds() -> float:
@@ -37,8 +37,8 @@ class Descendant(NamedTuple):
     our_child: bool  # once it ends, RUSAGE_CHILDREN has its whole CPU
 
 
-def _descendants() -> dict[int, Descendant]:
-    """This process's live descendants, read from /proc."""
+def descendants() -> dict[int, Descendant]:
+    """This process's live descendants, read from /proc (benchmarks/idle_page.py reads Chromium's so too)."""
     parent_of: dict[int, int] = {}
     read: dict[int, tuple[str, float]] = {}
     for name in os.listdir("/proc"):
@@ -88,11 +88,11 @@ class CpuReport:
 
     def _charged(self, phase: str, item: pytest.Item) -> Generator[None]:
         cpu, wall = _cpu_seconds(), time.monotonic()
-        descendants = _descendants()
+        before = descendants()
         try:
             yield
         finally:
-            theirs, drawn = _spent_meanwhile(descendants, _descendants())
+            theirs, drawn = _spent_meanwhile(before, descendants())
             spent = _cpu_seconds() - cpu + theirs
             line = f"{spent:.3f}\t{drawn:.3f}\t{time.monotonic() - wall:.3f}\t{phase}\t{item.nodeid}\n"
             with self.path.open("a", encoding="utf-8") as report:
