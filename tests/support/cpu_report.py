@@ -3,9 +3,9 @@ machine the suite's wall time is at least its CPU over two).
 
 Wall durations (`--durations`) mix what a test costs with what the machine's other work costs it; CPU
 seconds do not. Each phase (set-up, call, tear-down) is charged this process's CPU plus that of the child
-processes that ended during it (a pendant started by a fixture is charged to the tear-down that stops it,
-so the module's first or last test carries it), plus what its live descendants spent meanwhile, read from
-/proc: Chromium above all (its processes belong to Playwright's driver, never our children, and they draw
+processes that ended during it, plus what its live descendants spent meanwhile (so a pendant started by a
+fixture is charged to each phase as it spends, and only its last part to the tear-down that stops it), read
+from /proc: Chromium above all (its processes belong to Playwright's driver, never our children, and they draw
 the 3D view in software). One tab-separated line per phase, appended to FILE (one file for every xdist
 worker): CPU seconds, of which Chromium's, wall seconds, phase, test id.
 """
