@@ -4,16 +4,16 @@
 #     (`measures`: jog shares, stop times; most are browser tests) and the `alone` ones.
 #   Behind them at the same time, at the lowest CPU priority (nice 19): the checks (ruff, import-linter, mypy)
 #     and every other test outside tests/browser on two workers (--dist worksteal).
-#   Once the timed pass is done, the other browser tests on two workers at normal priority, a module per
-#     worker (--dist loadfile: it shares its Chromium and pendants, tests/browser/conftest.py), while what is
-#     behind goes on with what they leave.
+#   Once both are done, the other browser tests on two workers, a module per worker (--dist loadfile: it
+#     shares its Chromium and pendants, tests/browser/conftest.py).
 # The timed pass mostly waits on its real clock (a 10 s hold, a path drawn at a hand's pace, a 3 s look at a
 # stopped arm): the work behind it fills that idle CPU, and niced it never takes a core the timed pass wants
-# (Linux gives a nice-19 task about 1/70 of a normal one's share). The other browser tests stay out of that
-# overlap: with them behind too (27 Nov) the timed pass's jog holds failed and everything took longer, the
-# machine's two cores busy with three Chromiums drawing WebGL in software.
+# (Linux gives a nice-19 task about 1/70 of a normal one's share). The other browser tests overlap neither:
+# with them behind the timed pass (27 Nov) its jog holds failed, and started beside what was still behind
+# (1 Dec, CI) their two Chromiums most likely left the niced tests so little CPU that a dozen of them, and the pendants
+# they started, missed their time-outs. Each has the machine to itself now; the CPU is the same.
 # Each pass behind writes its own log in test-artifacts/, shown when it is done; each pass prints its count
-# and its 15 slowest tests (where the ten minutes go).
+# and its 15 slowest tests (where the ten minutes go); the last lines list every failure of every pass.
 set -uo pipefail
 bin=${BIN:-.venv/bin}
 read -r -a extra <<<"${PYTEST_ARGS:-}"
@@ -35,16 +35,9 @@ behind tests "$bin/pytest" -q --durations=15 -n 2 --dist worksteal --ignore=test
 # Whoever stops `make test` (Ctrl-C, CI's time-out) stops the passes behind too: they are in our process group.
 trap 'trap - INT TERM; kill 0' INT TERM
 
-"$bin/pytest" -q --durations=15 -m "measures or alone" --reruns 1 tests "${extra[@]}"
-failed=$?
+"$bin/pytest" -q --durations=15 -m "measures or alone" --reruns 1 tests "${extra[@]}" 2>&1 | tee test-artifacts/timed-tests.log
+failed=${PIPESTATUS[0]}
 echo "== the timed tests (in front): exit $failed"
-# The other browser tests start as soon as the timed pass is done, at normal priority: what is still running
-# behind (nice 19) then takes what they leave.
-"$bin/pytest" -q --durations=15 -n 2 --dist loadfile -m "not measures and not alone" --reruns 1 tests/browser "${extra[@]}" \
-    >test-artifacts/browser-tests.log 2>&1 &
-pids+=($!)
-logs+=(browser-tests)
-names+=("the other browser tests (after the timed ones, normal priority)")
 for i in "${!pids[@]}"; do
     wait "${pids[$i]}"
     status=$?
@@ -52,4 +45,12 @@ for i in "${!pids[@]}"; do
     cat "test-artifacts/${logs[$i]}.log"
     [ "$status" -eq 0 ] || failed=1
 done
+"$bin/pytest" -q --durations=15 -n 2 --dist loadfile -m "not measures and not alone" --reruns 1 tests/browser "${extra[@]}" \
+    2>&1 | tee test-artifacts/browser-tests.log
+status=${PIPESTATUS[0]}
+echo "== the other browser tests (after the others): exit $status"
+[ "$status" -eq 0 ] || failed=1
+# Every failure of every pass, last, where a truncated log still shows them.
+echo "== failures and errors of all passes:"
+grep -h -E "^(FAILED|ERROR) " test-artifacts/timed-tests.log test-artifacts/tests.log test-artifacts/browser-tests.log || echo "none"
 exit "$failed"

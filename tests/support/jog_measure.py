@@ -72,6 +72,7 @@ class Timeline:
 
 
 SAMPLE_GAP_S = 0.004  # ~200 readings a second: fine enough for stops, and leaves the page its CPU
+MOVING_POLL_S = 0.02  # how often wait_moving looks at the samples (they come from the sampler's thread)
 
 
 class PoseSampler:
@@ -101,6 +102,15 @@ class PoseSampler:
 
     def mark(self) -> float:
         return time.monotonic() - self.t0
+
+    def wait_moving(self, timeout_s: float) -> bool:
+        """Wait until J1 has read two different values (a press reached the arm), at most `timeout_s`."""
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            if len({j1 for _, j1 in list(self._samples)}) > 1:
+                return True
+            time.sleep(MOVING_POLL_S)
+        return False
 
     def stop(self, released_at: float, settle_s: float = 0.6) -> Timeline:
         time.sleep(settle_s)
