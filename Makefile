@@ -36,11 +36,11 @@ $(SDK_STAMP):
 run: $(RUN_STAMP)
 	@$(BIN)/pendant $(if $(FOXGLOVE),--foxglove-port $(FOXGLOVE)) $(ARGS)
 
-# The suite (scripts/test_passes.sh says why): in front, one at a time, the tests that time what a user feels
-# on a real clock (`measures`: jog shares, stop times) and the `alone` ones (they failed beside another
-# worker), while ruff, the import layers, mypy and every test outside tests/browser run behind them at nice 19
-# (two workers, --dist worksteal), so they never take a core the timed tests want; then the other browser
-# tests on two workers, a module per worker (it shares a Chromium and its pendants, tests/browser/conftest.py).
+# The suite (scripts/test_passes.sh says why), one pass after another: the tests that time what a user feels
+# on a real clock (`measures`: jog shares, stop times) and the `alone` ones, one at a time with nothing beside
+# them; then every test outside tests/browser on two workers (--dist worksteal), ruff, the import layers and
+# mypy beside them at nice 19; then the other browser tests on two workers, a module per worker (it shares a
+# Chromium and its pendants, tests/browser/conftest.py).
 # A browser test that fails is run once more (pytest-rerunfailures; R in the output): some fail now and then
 # in a full run and pass alone (docs/development.md lists them).
 test: $(STAMP) $(SDK_STAMP)
