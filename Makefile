@@ -38,7 +38,7 @@ run: $(RUN_STAMP)
 
 # The suite (scripts/test_passes.sh says why), one pass after another: the tests that time what a user feels
 # on a real clock (`measures`: jog shares, stop times) and the `alone` ones, one at a time with nothing beside
-# them; then every test outside tests/browser on two workers (--dist worksteal), ruff, the import layers and
+# them; then every test outside tests/browser on three workers (--dist worksteal), ruff, the import layers and
 # mypy beside them at nice 19; then the other browser tests on two workers, a module per worker (it shares a
 # Chromium and its pendants, tests/browser/conftest.py).
 # A browser test that fails is run once more (pytest-rerunfailures; R in the output): some fail now and then

@@ -10,6 +10,8 @@ second). Every variant is measured in turn, `--rounds` times, so all see the sam
   worker        the default (issue 35): three.js draws into an OffscreenCanvas read back with no wait
   in the page   ?view=inline: viser's canvas composited by the page
   hidden        ?view=none: three.js runs but draws nothing, the floor
+  ..., viser's heartbeat   ?heartbeat_ms=1000: a frame every second at rest, as viser asks (the pendant's
+                page asks every 5 s: rest_frames.js)
 
 Run: .venv/bin/python benchmarks/idle_page.py [--rounds 2] [--window 10]
 """
@@ -31,7 +33,13 @@ from tests.support.cpu_report import CHROMIUM as CHROMIUM_NAME
 from tests.support.cpu_report import descendants
 from tests.support.launchers import running_pendant_ui
 
-VARIANTS = {"worker": "", "in the page": "?view=inline", "hidden": "?view=none"}
+VARIANTS = {
+    "worker": "",
+    "worker, viser's heartbeat": "?heartbeat_ms=1000",
+    "in the page": "?view=inline",
+    "in the page, viser's heartbeat": "?view=inline&heartbeat_ms=1000",
+    "hidden": "?view=none",
+}
 SETTLE_S = 5.0  # after the last tab is built: the load's own frames are over
 PAGE_TIMEOUT_MS = 60_000
 # Before the page's own scripts: three.js clears once per frame.
@@ -96,7 +104,7 @@ def main() -> None:
         for cores, frames in rounds:
             shown = sorted((kind, value) for kind, value in cores.items() if value >= 0.005)
             kinds = ", ".join(f"{kind} {value:.2f}" for kind, value in shown)
-            print(f"  {variant:12s} {sum(cores.values()):.2f} cores ({kinds}); {frames:.1f} frames/s")
+            print(f"  {variant:31s} {sum(cores.values()):.2f} cores ({kinds}); {frames:.1f} frames/s")
 
 
 if __name__ == "__main__":

@@ -3,8 +3,9 @@
 #   1. The tests that time what a user feels on a real clock (`measures`: jog shares, stop times, a hold
 #      beside 30 viewers; most are browser tests) and the `alone` ones, one at a time, with nothing beside
 #      them: their figures are the product's at the load it states (a page and its pendant, <= 3-4).
-#   2. Every other test outside tests/browser on two workers (--dist worksteal), with the checks (ruff,
-#      import-linter, mypy) beside them at nice 19.
+#   2. Every other test outside tests/browser on three workers (--dist worksteal), with the checks (ruff,
+#      import-linter, mypy) beside them at nice 19. Alone on two workers it kept the load at ~2: its tests
+#      wait on processes and clocks, and a third worker fills that wait.
 #   3. The other browser tests on two workers, a module per worker (--dist loadfile: it shares its Chromium
 #      and pendants, tests/browser/conftest.py).
 # Each pass had the others beside it once, to fill the CPU the timed pass leaves while it waits on its
@@ -37,7 +38,7 @@ run_pass() { # name, log, pytest arguments...: one pass of tests, shown as it ru
 run_pass "the timed tests" timed-tests -m "measures or alone" --reruns 1 tests
 behind checks make -s --no-print-directory lint layers typecheck &
 checks=$!
-run_pass "the tests outside tests/browser" tests -n 2 --dist worksteal --ignore=tests/browser -m "not measures and not alone"
+run_pass "the tests outside tests/browser" tests -n 3 --dist worksteal --ignore=tests/browser -m "not measures and not alone"
 wait "$checks"
 status=$?
 echo "== checks (beside them, nice 19): exit $status"

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import json
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import numpy as np
@@ -44,6 +44,10 @@ def record(operator: Operator, kind: str, waypoint: str) -> None:
     bar.get_by_text(f"last {waypoint}", exact=True).wait_for(timeout=UI_TIMEOUT_MS)
 
 
+def moved_from(pendant: Pendant, pose: list[float]) -> Callable[[], bool]:
+    return lambda: pendant.pose() != pose
+
+
 def taught(pendant: Pendant) -> dict[str, Any]:
     return json.loads((pendant.programs / ".autosave.json").read_text())["program"]
 
@@ -67,7 +71,7 @@ def test_a_pick_and_place_is_taught_and_run_in_at_most_20_actions_on_the_jog_tab
             ("J1+", "open", "P4"),
         ):
             wait_idle(fresh.api)
-            operator.hold(jog, HOLD_S)
+            operator.hold(jog, HOLD_S, moving=moved_from(fresh, fresh.pose()))
             wait_idle(fresh.api)
             record(operator, kind, name)
         operator.press(page.locator('#teach-bar [data-teach="run"]'), "Run")

@@ -4,12 +4,15 @@ every scroll they need to reach a control that is not in view (docs/screens.md: 
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from typing import Any
 
 from tests.support.jog_measure import button_centre, touch
 
 SCREENS = {"desk": (1400, 900), "tablet": (768, 1024), "phone": (390, 844)}
 TOUCH_SCREENS = ("tablet", "phone")
+MOVING_WITHIN_S = 15.0  # a press to the arm moving, on a loaded 2-core machine
+MOVING_POLL_S = 0.05
 
 
 def open_screen(browser: Any, url: str, screen: str) -> Any:
@@ -67,18 +70,26 @@ class Operator:
             locator.click()
         self._count(what)
 
-    def hold(self, label: str, seconds: float) -> None:
-        """A jog button held for `seconds`, then let go."""
+    def hold(self, label: str, seconds: float, moving: Callable[[], bool] = lambda: True) -> None:
+        """A jog button held for `seconds` once the arm is seen `moving` (as a person holds on until it
+        does: a loaded machine takes a moment to start it; at most MOVING_WITHIN_S), then let go."""
         button = self.page.get_by_role("button", name=label, exact=True)
         self._reach(button, label)
         x, y = button_centre(self.page, label)
         if self.cdp is not None:
             touch(self.cdp, "touchStart", x, y)
-            time.sleep(seconds)
+            self._hold_on(moving, seconds)
             touch(self.cdp, "touchEnd", x, y)
         else:
             self.page.mouse.move(x, y)
             self.page.mouse.down()
-            time.sleep(seconds)
+            self._hold_on(moving, seconds)
             self.page.mouse.up()
         self._count(f"hold {label}")
+
+    @staticmethod
+    def _hold_on(moving: Callable[[], bool], seconds: float) -> None:
+        deadline = time.monotonic() + MOVING_WITHIN_S
+        while not moving() and time.monotonic() < deadline:
+            time.sleep(MOVING_POLL_S)
+        time.sleep(seconds)

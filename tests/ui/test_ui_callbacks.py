@@ -203,3 +203,12 @@ def test_valid_tool_form_sets_the_tool(ui: ClientSession, pendant_ui: PendantUI,
 def test_a_gripper_the_controller_cannot_report_is_shown_as_unknown() -> None:
     assert "gripper <b>unknown</b>" in render_status(Snapshot(taken_at=0.0, gripper_opening=None), "robot")
     assert "gripper <b>open</b>" in render_status(Snapshot(taken_at=0.0, gripper_opening=1.0), "robot")
+
+
+def test_a_round_trip_under_10_ms_leaves_the_status_block_as_it_was() -> None:
+    def block(latency_s: float) -> str:
+        return render_status(Snapshot(taken_at=0.0, online=True, latency_s=latency_s), "simulator")
+
+    assert block(0.0004) == block(0.0016) == block(0.0093)  # nothing for a browser to redraw at rest
+    assert "online · " not in block(0.0016)
+    assert "online · 50 ms" in block(0.047) and block(0.047) == block(0.052)

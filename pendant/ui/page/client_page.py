@@ -27,6 +27,7 @@ PAGE_PATHS = ("/", "/index.html")
 STOP_JOG_PATH = "/pendant-stop-jog"
 SCRIPT_PATH = Path(__file__).with_name("client_page.js")
 VIEW_FRAMES_PATH = Path(__file__).with_name("view_frames.js")  # the 3D view's pixels off the main thread
+REST_FRAMES_PATH = Path(__file__).with_name("rest_frames.js")  # viser's heartbeat frame less often
 BANNER_SCRIPT_PATH = Path(__file__).with_name("banner_pin.js")  # the banner stays in sight
 ACCESSIBILITY_PATH = Path(__file__).with_name("accessibility.js")  # labels and contrast: a script of its own
 PHONE_LAYOUT_PATH = Path(__file__).with_name("phone_layout.js")  # the bottom sheet on a phone
@@ -48,6 +49,7 @@ def page_html() -> bytes:
         for path in (
             SCRIPT_PATH,
             VIEW_FRAMES_PATH,
+            REST_FRAMES_PATH,
             BANNER_SCRIPT_PATH,
             ACCESSIBILITY_PATH,
             PHONE_LAYOUT_PATH,
