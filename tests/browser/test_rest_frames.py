@@ -1,8 +1,8 @@
 """viser's heartbeat frame comes every 5 s, not every second, where WebGL is drawn in software
-(pendant/ui/page/rest_frames.js): at rest each of its frames is the same picture drawn again, 0.15-0.6 s of
-Chromium's GPU process (benchmarks/idle_page.py). The hook finds the heartbeat by its shape in viser
-1.1.1's client; a viser whose heartbeat changed shape fails here, not silently. A change that asks for a
-frame is still drawn at once (test_cell_page: a box added through the API)."""
+(pendant/ui/page/rest_frames.js): at rest each of its frames is the same picture drawn again, 0.5-0.7 s of
+Chromium's GPU process on the suite's machine (benchmarks/idle_page.py). The hook finds the heartbeat by
+its shape in viser 1.1.1's client; a viser whose heartbeat changed shape fails here, not silently. A change
+that asks for a frame is still drawn at once (test_cell_page: a box added through the API)."""
 
 from __future__ import annotations
 
