@@ -15,7 +15,7 @@ from typing import Any
 
 import httpx
 
-from tests.support.waiting import wait_idle
+from tests.support.waiting import wait_idle, wait_until
 
 JOG_SPEED_PERCENT = 10
 FAR_DEG = 90.0  # a target further than any hold reaches: the API-sent motion is frozen on the way
@@ -105,12 +105,13 @@ class PoseSampler:
 
     def wait_moving(self, timeout_s: float) -> bool:
         """Wait until J1 has read two different values (a press reached the arm), at most `timeout_s`."""
-        deadline = time.monotonic() + timeout_s
-        while time.monotonic() < deadline:
-            if len({j1 for _, j1 in list(self._samples)}) > 1:
-                return True
-            time.sleep(MOVING_POLL_S)
-        return False
+        try:
+            wait_until(
+                lambda: len({j1 for _, j1 in list(self._samples)}) > 1, timeout_s, "J1 moving", MOVING_POLL_S
+            )
+        except TimeoutError:
+            return False
+        return True
 
     def stop(self, released_at: float, settle_s: float = 0.6) -> Timeline:
         time.sleep(settle_s)
