@@ -4,6 +4,21 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+# viser's HDR environment maps (SceneApi.configure_environment_map's `hdri`), for --environment-map; a test
+# checks this list against viser's.
+ENVIRONMENT_MAPS = (
+    "apartment",
+    "city",
+    "dawn",
+    "forest",
+    "lobby",
+    "night",
+    "park",
+    "studio",
+    "sunset",
+    "warehouse",
+)
+
 
 @dataclass(frozen=True)
 class Settings:
@@ -30,3 +45,5 @@ class Settings:
     # --foxglove-port: the Foxglove live view (the Foxglove WebSocket protocol) on --host; None: off.
     foxglove_port: int | None = None
     fresh_cell: bool = False  # --fresh-cell: the simulator starts with no obstacle, default tool and base
+    # --environment-map: one of ENVIRONMENT_MAPS lights the 3D view; None: lights alone.
+    environment_map: str | None = None

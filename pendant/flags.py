@@ -10,7 +10,7 @@ from collections.abc import Sequence
 from pendant import __version__
 from pendant.access import TOKEN_HEADER
 from pendant.access.token import token_problem
-from pendant.config import Settings
+from pendant.config import ENVIRONMENT_MAPS, Settings
 from pendant.paths import MODEL_NAMES
 
 _DEFAULTS = Settings()
@@ -118,6 +118,13 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         help="the simulator's time runs K times the wall clock, e.g. 100 for tests (default %(default)g); "
         "the page's jog deadman and program wait steps keep wall-clock time",
     )
+    parser.add_argument(
+        "--environment-map",
+        choices=ENVIRONMENT_MAPS,
+        help="light the 3D view with one of viser's HDR environment maps (soft reflections), not lights "
+        "alone; in software WebGL each page load then costs ~10 s of CPU and shows its view after ~7 s "
+        "(default: lights)",
+    )
     args = parser.parse_args(argv)
     for port in (args.api_port, args.ui_port, args.foxglove_port):
         if port is not None and not 0 <= port <= 65535:
@@ -143,6 +150,7 @@ def parse_settings(argv: Sequence[str] | None = None) -> Settings:
         remote_control=None if args.remote_control is None else args.remote_control == "on",
         time_scale=args.time_scale,
         fresh_cell=args.fresh_cell,
+        environment_map=args.environment_map,
         foxglove_port=args.foxglove_port,
     )
 

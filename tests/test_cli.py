@@ -36,6 +36,8 @@ def test_every_flag_lands_in_settings() -> None:
         "http://10.0.0.2:8081",
         "--token",
         "s3cret",
+        "--environment-map",
+        "studio",
     ]
     assert parse_settings(argv) == Settings(
         host="0.0.0.0",
@@ -45,10 +47,14 @@ def test_every_flag_lands_in_settings() -> None:
         robot_url="http://10.0.0.2:8081",
         no_ui=True,
         token="s3cret",
+        environment_map="studio",
     )
 
 
-@pytest.mark.parametrize("argv", [["--model", "pulse60"], ["--api-port", "http"], ["--api-port", "70000"]])
+@pytest.mark.parametrize(
+    "argv",
+    [["--model", "pulse60"], ["--api-port", "http"], ["--api-port", "70000"], ["--environment-map", "moon"]],
+)
 def test_bad_flags_exit_with_usage(argv: list[str], capsys: pytest.CaptureFixture[str]) -> None:
     with pytest.raises(SystemExit) as exit_info:
         parse_settings(argv)

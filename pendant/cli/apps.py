@@ -174,6 +174,7 @@ def start_ui(
         data_dir=str(resolve_data_dir(settings)),
         metrics=metrics,
         stops=stops,
+        environment_map=settings.environment_map,
     ).start()
 
 

@@ -92,6 +92,7 @@ class PendantUI:
         clock: Callable[[], float] = time.monotonic,
         cells_folder: str | None = None,
         stops: StopBus | None = None,
+        environment_map: str | None = None,
     ) -> None:
         self.controller = controller
         self.arm = arm
@@ -143,7 +144,7 @@ class PendantUI:
         )
         # Every stop heard in this process also ends a running program, whatever its step, moving or not.
         self.stops.subscribe(self.programs.runner.stop_heard)
-        self.scene = ArmScene(self.server, arm.urdf_path)
+        self.scene = ArmScene(self.server, arm.urdf_path, environment_map=environment_map)
         self.latest = Snapshot(taken_at=0.0)
         self.cells_dir = Path(cells_folder) if cells_folder is not None else cells_dir()
         self.identity = ""  # /robot/info and /version/*, read once the controller answers

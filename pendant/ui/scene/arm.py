@@ -16,6 +16,8 @@ from pendant.ui.scene.trail import TcpTrail
 FLOOR_SIZE_M = 2.0
 FRAME_AXES_LENGTH_M = 0.12
 FRAME_AXES_RADIUS_M = 0.004
+FILL_GROUND_RGB = (170, 170, 170)  # light from below: the floor's
+FILL_INTENSITY = 1.5
 # Three-quarter view from the front right, the arm filling the view.
 CAMERA_POSITION_M = (0.9, -1.05, 0.75)
 CAMERA_LOOK_AT_M = (-0.1, -0.05, 0.3)
@@ -24,12 +26,31 @@ CAMERA_LOOK_AT_M = (-0.1, -0.05, 0.3)
 class ArmScene:
     """The live arm: call `show(q, gripper_opening, T_base_tcp)` whenever the controller's state changes."""
 
-    def __init__(self, server: viser.ViserServer, urdf_path: Path) -> None:
+    def __init__(
+        self, server: viser.ViserServer, urdf_path: Path, environment_map: str | None = None
+    ) -> None:
+        """`environment_map`: one of viser's HDR maps (pendant.config.ENVIRONMENT_MAPS) to light the view
+        with; None: lights alone."""
         self._server = server
         server.scene.set_up_direction("+z")
         # Shadow maps double the rendering work; on a pendant without a GPU (software WebGL) that is the
         # difference between the arm keeping up with a jog and lagging behind it.
         server.scene.configure_default_lights(cast_shadow=False)
+        if environment_map is None:
+            # viser's default HDR map costs a page in software WebGL ~10 s of CPU at load (decoding it and
+            # prefiltering it, on the first frame) and keeps its view at 5 % opacity for ~7 s meanwhile
+            # (benchmarks/page_load.py). A sky-and-floor fill with viser's two directional lights gives the
+            # white plastic arm nearly the same look for nothing.
+            server.scene.configure_environment_map(None)
+            server.scene.add_light_hemisphere(
+                "/fill",
+                sky_color=(255, 255, 255),
+                ground_color=FILL_GROUND_RGB,
+                intensity=FILL_INTENSITY,
+                position=(0.0, 0.0, 1.0),  # the sky above: the fill's direction is its position
+            )
+        else:
+            server.scene.configure_environment_map(environment_map)  # type: ignore[arg-type]  # checked by the CLI
         server.initial_camera.position = CAMERA_POSITION_M
         server.initial_camera.look_at = CAMERA_LOOK_AT_M
         server.scene.add_grid(
