@@ -29,7 +29,7 @@ trap 'trap - INT TERM; kill 0' INT TERM
 failed=0
 run_pass() { # name, log, pytest arguments...: one pass of tests, shown as it runs and kept in test-artifacts/
     local name=$1 log=$2
-    "$bin/pytest" -q --durations=15 "${@:3}" "${extra[@]}" 2>&1 | tee "test-artifacts/$log.log"
+    "$bin/pytest" -q -rfER --durations=15 "${@:3}" "${extra[@]}" 2>&1 | tee "test-artifacts/$log.log"
     local status=${PIPESTATUS[0]}
     echo "== $name: exit $status"
     [ "$status" -eq 0 ] || failed=1
@@ -45,7 +45,8 @@ echo "== checks (beside them, nice 19): exit $status"
 cat test-artifacts/checks.log
 [ "$status" -eq 0 ] || failed=1
 run_pass "the other browser tests" browser-tests -n 2 --dist loadfile -m "not measures and not alone" --reruns 1 tests/browser
-# Every failure of every pass, last, where a truncated log still shows them.
-echo "== failures and errors of all passes:"
-grep -h -E "^(FAILED|ERROR) " test-artifacts/timed-tests.log test-artifacts/tests.log test-artifacts/browser-tests.log || echo "none"
+# Every failure of every pass, last, where a truncated log still shows them, and every test run again
+# (-rR: a rerun that passed is a flaky test, named here so it is seen).
+echo "== failures, errors and reruns of all passes:"
+grep -h -E "^(FAILED|ERROR|RERUN) " test-artifacts/timed-tests.log test-artifacts/tests.log test-artifacts/browser-tests.log || echo "none"
 exit "$failed"
