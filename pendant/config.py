@@ -3,21 +3,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal, get_args
 
 # viser's HDR environment maps (SceneApi.configure_environment_map's `hdri`), for --environment-map; a test
 # checks this list against viser's.
-ENVIRONMENT_MAPS = (
-    "apartment",
-    "city",
-    "dawn",
-    "forest",
-    "lobby",
-    "night",
-    "park",
-    "studio",
-    "sunset",
-    "warehouse",
-)
+EnvironmentMap = Literal[
+    "apartment", "city", "dawn", "forest", "lobby", "night", "park", "studio", "sunset", "warehouse"
+]
+ENVIRONMENT_MAPS: tuple[EnvironmentMap, ...] = get_args(EnvironmentMap)
 
 
 @dataclass(frozen=True)
@@ -46,4 +39,4 @@ class Settings:
     foxglove_port: int | None = None
     fresh_cell: bool = False  # --fresh-cell: the simulator starts with no obstacle, default tool and base
     # --environment-map: one of ENVIRONMENT_MAPS lights the 3D view; None: lights alone.
-    environment_map: str | None = None
+    environment_map: EnvironmentMap | None = None

@@ -23,6 +23,7 @@ from pendant.access.remote import RemoteControl
 from pendant.access.throttle import FailedAttempts
 from pendant.cell.file import cells_dir
 from pendant.cell.geometry import CellAwareArm, CellModel
+from pendant.config import EnvironmentMap
 from pendant.controller import Controller
 from pendant.controller.stops import StopBus
 from pendant.eventlog import EventLog
@@ -92,7 +93,7 @@ class PendantUI:
         clock: Callable[[], float] = time.monotonic,
         cells_folder: str | None = None,
         stops: StopBus | None = None,
-        environment_map: str | None = None,
+        environment_map: EnvironmentMap | None = None,
     ) -> None:
         self.controller = controller
         self.arm = arm

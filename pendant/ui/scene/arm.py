@@ -10,6 +10,7 @@ import viser
 import viser.transforms as vtf
 from viser.extras import ViserUrdf
 
+from pendant.config import EnvironmentMap
 from pendant.kinematics.limits import GRIPPER_STROKE_M
 from pendant.ui.scene.trail import TcpTrail
 
@@ -27,7 +28,7 @@ class ArmScene:
     """The live arm: call `show(q, gripper_opening, T_base_tcp)` whenever the controller's state changes."""
 
     def __init__(
-        self, server: viser.ViserServer, urdf_path: Path, environment_map: str | None = None
+        self, server: viser.ViserServer, urdf_path: Path, environment_map: EnvironmentMap | None = None
     ) -> None:
         """`environment_map`: one of viser's HDR maps (pendant.config.ENVIRONMENT_MAPS) to light the view
         with; None: lights alone."""
@@ -50,7 +51,7 @@ class ArmScene:
                 position=(0.0, 0.0, 1.0),  # the sky above: the fill's direction is its position
             )
         else:
-            server.scene.configure_environment_map(environment_map)  # type: ignore[arg-type]  # checked by the CLI
+            server.scene.configure_environment_map(environment_map)
         server.initial_camera.position = CAMERA_POSITION_M
         server.initial_camera.look_at = CAMERA_LOOK_AT_M
         server.scene.add_grid(
