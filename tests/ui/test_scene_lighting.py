@@ -18,7 +18,7 @@ import zstandard
 from pendant.config import ENVIRONMENT_MAPS
 from pendant.paths import urdf_path
 from pendant.ui.scene.arm import ArmScene
-from tests.support.headless_viewer import decode_window, open_viewer
+from tests.support.headless_viewer import next_messages, open_viewer
 from tests.support.ports import LOOPBACK, free_port
 
 READ_TIMEOUT_S = 30.0  # generous: the machine may be loaded
@@ -41,9 +41,7 @@ async def first_messages(port: int) -> list[dict[str, Any]]:
     try:
         async with asyncio.timeout(READ_TIMEOUT_S):
             while not any(str(m.get("name", "")).startswith("/arm") for m in seen):
-                frame = await ws.recv()
-                assert isinstance(frame, bytes)
-                seen += decode_window(frame, zstd)
+                seen += await next_messages(ws, zstd)
     finally:
         await ws.close()
     return seen
