@@ -24,7 +24,7 @@ import time
 from collections import defaultdict
 from pathlib import Path
 
-from playwright.sync_api import Browser
+from playwright.sync_api import Browser, sync_playwright
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from benchmarks.idle_page import chromium_cpu
@@ -65,8 +65,6 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--window", type=float, default=15.0, help="seconds measured from each navigation")
     args = parser.parse_args()
-    from playwright.sync_api import sync_playwright
-
     results: dict[str, list[tuple[dict[str, float], float, float]]] = defaultdict(list)
     with contextlib.ExitStack() as stack:
         urls = {
