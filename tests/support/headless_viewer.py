@@ -98,9 +98,7 @@ async def read_jog_pad(ws: websockets.ClientConnection, timeout_s: float) -> Jog
     line: tuple[int, str] | None = None
     async with asyncio.timeout(timeout_s):
         while not (hold and speed):
-            frame = await ws.recv()
-            assert isinstance(frame, bytes)
-            for message in decode_window(frame, zstd):
+            for message in await next_messages(ws, zstd):
                 props = message.get("props", {})
                 if message.get("type") == "GuiTextMessage" and props.get("label") == "Speed %" and not speed:
                     speed = message["uuid"]

@@ -15,7 +15,7 @@ import zstandard
 from viser import _messages
 
 from pendant.ui.kit.viser_broadcast import serialise_broadcasts_once
-from tests.support.headless_viewer import decode_window, open_viewer
+from tests.support.headless_viewer import next_messages, open_viewer
 from tests.support.ports import LOOPBACK, free_port
 from tests.support.waiting import wait_until
 
@@ -39,9 +39,7 @@ async def last_position(ws: websockets.ClientConnection, x: float) -> None:
     zstd = zstandard.ZstdDecompressor()
     async with asyncio.timeout(READ_TIMEOUT_S):
         while True:
-            frame = await ws.recv()
-            assert isinstance(frame, bytes)
-            for message in decode_window(frame, zstd):
+            for message in await next_messages(ws, zstd):
                 probe = message.get("type") == "SetPositionMessage" and message.get("name") == "/probe"
                 if probe and abs(message["position"][0] - x) < 1e-9:
                     return

@@ -24,10 +24,10 @@ import zstandard
 
 from tests.support.headless_viewer import (
     HOLD_HZ,
-    decode_window,
     drain,
     gui_update,
     hold_message,
+    next_messages,
     open_viewer,
     read_jog_pad,
 )
@@ -64,9 +64,7 @@ async def _wait_for_freeze(ws: websockets.ClientConnection) -> None:
     zstd = zstandard.ZstdDecompressor()
     async with asyncio.timeout(PAGE_TIMEOUT_S):
         while True:
-            frame = await ws.recv()
-            assert isinstance(frame, bytes)
-            for message in decode_window(frame, zstd):
+            for message in await next_messages(ws, zstd):
                 if message.get("type") == "GuiButtonMessage" and message["props"].get("label") == "Freeze":
                     return
 

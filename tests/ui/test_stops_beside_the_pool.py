@@ -17,7 +17,7 @@ import zstandard
 from pendant.controller import MotionParams, MotionStatus, Pose
 from pendant.sim import SimController
 from pendant.ui.app import PendantUI
-from tests.support.headless_viewer import click_message, decode_window, open_viewer
+from tests.support.headless_viewer import click_message, next_messages, open_viewer
 from tests.support.pages import pendant_page
 from tests.support.waiting import wait_until
 
@@ -46,9 +46,7 @@ async def controls(ws: websockets.ClientConnection, wanted: set[str]) -> dict[st
     found: dict[str, str] = {}
     async with asyncio.timeout(PAGE_TIMEOUT_S):
         while not wanted <= found.keys():
-            frame = await ws.recv()
-            assert isinstance(frame, bytes)
-            for message in decode_window(frame, zstd):
+            for message in await next_messages(ws, zstd):
                 kind, props = message.get("type"), message.get("props", {})
                 if kind == "GuiButtonMessage":
                     found.setdefault(str(props.get("label")), str(message["uuid"]))
