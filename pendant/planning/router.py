@@ -47,13 +47,13 @@ def preflight_router(
         except ControllerError as error:
             return Outcome.refused(error.status_code, f"Cannot read the arm: {error.message}")
 
-    # In the thread pool (the body is read first, on the event loop), which only waits for the worker.
-    def run_preflight(body: bytes) -> Response:
-        outcome = preflights.try_run(body, job, seed)
-        if outcome is None:
-            outcome = Outcome.refused(409, MSG_BUSY)
+    def answer(outcome: Outcome) -> Response:
         kind = "application/json" if outcome.status == 200 else "text/plain"
         return Response(outcome.body, status_code=outcome.status, media_type=kind)
+
+    # In the thread pool (the body is read first, on the event loop), which only waits for the worker.
+    def run_preflight(body: bytes) -> Response:
+        return answer(preflights.run(body, job, seed))
 
     @router.post(
         PREFLIGHT_PATH,
@@ -61,6 +61,15 @@ def preflight_router(
         openapi_extra={"requestBody": _BODY_DOC},
     )
     async def post_preflight(request: Request) -> Response:
-        return await run_in_threadpool(run_preflight, await request.body())
+        # The turn first, then the body: while one pre-flight runs, the next is answered 409 unread (uvicorn
+        # drops the rest of it), so four clients sending 5 MB at once never have 20 MB held in the server.
+        if not preflights.claim():
+            return answer(Outcome.refused(409, MSG_BUSY))
+        try:
+            # Not cancelled midway: anyio waits for the thread before this returns, so the turn is never
+            # released while the worker's pipe is still in use.
+            return await run_in_threadpool(run_preflight, await request.body())
+        finally:
+            preflights.release()
 
     return router

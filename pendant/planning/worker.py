@@ -79,15 +79,19 @@ class PreflightWorker:
         process = self._process
         return process.pid if process is not None and process.is_alive() else None
 
-    def try_run(self, body: bytes, job: Job, read_seed: Callable[[], TwinSeed | Outcome]) -> Outcome | None:
-        """The pre-flight of `body`, or None when another one is running (the caller answers 409).
-        `read_seed` is called once the body is valid: the arm's state, or an Outcome to answer instead."""
-        if not self._lock.acquire(blocking=False):
-            return None
-        try:
-            return self._run(body, job, read_seed)
-        finally:
-            self._lock.release()
+    def claim(self) -> bool:
+        """Take the turn (False while another pre-flight has it): the server claims it before it reads a
+        body, so that a busy pendant answers 409 without holding several 5 MB bodies at once."""
+        return self._lock.acquire(blocking=False)
+
+    def release(self) -> None:
+        """Give the turn back (after `run`, or when the body could not be read)."""
+        self._lock.release()
+
+    def run(self, body: bytes, job: Job, read_seed: Callable[[], TwinSeed | Outcome]) -> Outcome:
+        """The pre-flight of `body`, by the caller that holds the turn (`claim`). `read_seed` is called
+        once the body is valid: the arm's state, or an Outcome to answer instead."""
+        return self._run(body, job, read_seed)
 
     def cancel(self) -> None:
         """Stop the running pre-flight (it answers 503) and refuse new ones: the pendant is quitting."""
