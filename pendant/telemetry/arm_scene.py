@@ -1,14 +1,18 @@
 """What a recording needs to draw the arm in Foxglove's 3D panel: each link's mesh with its visual origin
-(read from the URDF with yourdfpy), and each link's pose for a joint vector (the pendant's own kinematics)."""
+(read from the URDF with yourdfpy), and each link's pose for a joint vector (the pendant's own kinematics).
+
+The meshes are read when a recording first draws the arm, not when the pendant starts: yourdfpy brings in
+trimesh, scipy and networkx, 1.4 s of a `pendant --no-ui` start's 3 (the simulator a user's CI starts),
+and most pendants never record."""
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
-import yourdfpy
 
 from pendant.kinematics import ArmModel
 
@@ -27,11 +31,16 @@ class ArmDrawing:
     """The arm as a recording draws it: `link_poses(q)` gives T_base_link for every link (q in radians)."""
 
     urdf: Path
-    meshes: tuple[LinkMesh, ...]
     link_poses: LinkPoses
+
+    @cached_property
+    def meshes(self) -> tuple[LinkMesh, ...]:
+        return link_meshes(self.urdf)
 
 
 def link_meshes(urdf_path: Path) -> tuple[LinkMesh, ...]:
+    import yourdfpy
+
     robot = yourdfpy.URDF.load(str(urdf_path), load_meshes=False, build_scene_graph=False)
     meshes = []
     for link in robot.robot.links:
@@ -52,4 +61,4 @@ def arm_drawing(arm: ArmModel) -> ArmDrawing | None:
     pendant's kinematics."""
     if arm.urdf_path is None:
         return None
-    return ArmDrawing(urdf=arm.urdf_path, meshes=link_meshes(arm.urdf_path), link_poses=arm.fk_all_links)
+    return ArmDrawing(urdf=arm.urdf_path, link_poses=arm.fk_all_links)

@@ -128,6 +128,8 @@ class Telemetry:
     def start_recording(self, name: str | None = None, *, exclusive: bool = False) -> str:
         """Start a recording (named `name`, else by its start time) and return its name. The Dashboard's
         button finishes a running one first; `exclusive` (scripts) refuses instead (RecordingRefused)."""
+        if self._arm is not None:
+            _ = self._arm.meshes  # read once, outside the lock: the samples go on while the URDF is read
         with self._lock:
             if exclusive and self.running is not None:
                 raise RecordingRefused(

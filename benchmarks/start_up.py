@@ -1,0 +1,104 @@
+"""How soon `pendant --no-ui` answers (the simulator a user's script or CI starts), and how long its first
+recording takes to start: the wall clock from the start to GET /status/motion answering, the process's CPU
+by then, and POST /pendant/recordings' time. With `--against DIR` (an older checkout, e.g. a
+`git worktree add /tmp/old HEAD~1`), that checkout's pendant is started alternately with this one, so both
+are measured side by side at the same load.
+
+Run: .venv/bin/python benchmarks/start_up.py [--rounds 5] [--against DIR]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import httpx
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from tests.support.launchers import LOOPBACK, REPO_ROOT, free_port, stop
+
+ANSWER_TIMEOUT_S = 60.0
+POLL_S = 0.02
+
+
+def cpu_s(pid: int) -> float:
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime + stime
+
+
+def one_start(checkout: Path, data: Path) -> tuple[float, float, float]:
+    """(seconds to answer, CPU-s by then, seconds for the first recording to start) of one pendant."""
+    port = free_port()
+    command = [sys.executable, "-m", "pendant", "--no-ui", "--host", LOOPBACK, "--api-port", str(port)]
+    env = {**os.environ, "PYTHONPATH": str(checkout), "PENDANT_DATA_DIR": str(data)}
+    began = time.monotonic()
+    process = subprocess.Popen(
+        command, cwd=checkout, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+    )
+    try:
+        with httpx.Client(base_url=f"http://{LOOPBACK}:{port}", timeout=10.0) as client:
+            while True:
+                try:
+                    if client.get("/status/motion").status_code == 200:
+                        break
+                except httpx.TransportError:
+                    pass
+                if time.monotonic() - began > ANSWER_TIMEOUT_S:
+                    raise SystemExit(f"{checkout}: no answer in {ANSWER_TIMEOUT_S:g} s")
+                time.sleep(POLL_S)
+            answered_s, answered_cpu = time.monotonic() - began, cpu_s(process.pid)
+            asked = time.monotonic()
+            started = client.post("/pendant/recordings", json={"name": "bench"})
+            recording_s = time.monotonic() - asked
+            if started.status_code != 201:
+                raise SystemExit(
+                    f"{checkout}: the recording did not start: {started.status_code} {started.text}"
+                )
+            client.post("/pendant/recordings/bench/stop")
+    finally:
+        stop(process)
+    return answered_s, answered_cpu, recording_s
+
+
+def summary(values: list[float]) -> str:
+    return f"{statistics.median(values):.2f} ({min(values):.2f}-{max(values):.2f})"
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("--against", type=Path, help="an older checkout, started alternately with this one")
+    args = parser.parse_args()
+    checkouts = {
+        "this checkout": REPO_ROOT,
+        **({f"{args.against}": args.against.resolve()} if args.against else {}),
+    }
+    figures: dict[str, list[tuple[float, float, float]]] = {name: [] for name in checkouts}
+    with tempfile.TemporaryDirectory() as root:
+        for number in range(1, args.rounds + 1):
+            for name, checkout in checkouts.items():
+                figures[name].append(one_start(checkout, Path(tempfile.mkdtemp(dir=root))))
+                answered, cpu, recording = figures[name][-1]
+                print(
+                    f"round {number} {name}: answers in {answered:.2f} s ({cpu:.2f} CPU-s), "
+                    f"first recording started in {recording:.2f} s",
+                    flush=True,
+                )
+    print(f"load {os.getloadavg()[0]:.1f}; median (range) of {args.rounds}:")
+    for name, rows in figures.items():
+        print(
+            f"  {name}: answers in {summary([row[0] for row in rows])} s, "
+            f"{summary([row[1] for row in rows])} CPU-s; first recording "
+            f"{summary([row[2] for row in rows])} s"
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
