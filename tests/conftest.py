@@ -12,8 +12,8 @@ from pendant.program import PROGRAMS_DIR_ENV
 from pendant.sim import FakeClock, SimController
 
 # The test kit's fixtures (pendant_ui, ui, remote, controller, launch) for every test directory, and
-# `--cpu-report FILE` (each test's CPU seconds).
-pytest_plugins = ["tests.support.fixtures", "tests.support.cpu_report"]
+# `--cpu-report FILE` (each test's CPU seconds), and why each rerun test failed its first time.
+pytest_plugins = ["tests.support.fixtures", "tests.support.cpu_report", "tests.support.rerun_report"]
 
 
 @pytest.fixture(autouse=True)
