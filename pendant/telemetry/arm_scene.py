@@ -2,8 +2,8 @@
 (read from the URDF with yourdfpy), and each link's pose for a joint vector (the pendant's own kinematics).
 
 The meshes are read when a recording first draws the arm, not when the pendant starts: yourdfpy brings in
-trimesh, scipy and networkx, 1.4 s of a `pendant --no-ui` start's 3 (the simulator a user's CI starts),
-and most pendants never record."""
+trimesh, scipy and networkx, 0.65 of the 1.5 CPU-s a `pendant --no-ui` (the simulator a user's CI starts)
+took to answer, and most pendants never record (benchmarks/start_up.py)."""
 
 from __future__ import annotations
 
