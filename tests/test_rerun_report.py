@@ -8,7 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from tests.support.launchers import REPO_ROOT, child_env
+from tests.support.launchers import child_env
 
 FLAKY_TEST = """
 from pathlib import Path
@@ -42,7 +42,7 @@ def test_the_end_of_the_run_says_why_a_rerun_test_failed_first(tmp_path: Path) -
             "test_flaky.py",
         ],
         cwd=tmp_path,
-        env=child_env({"PYTHONPATH": str(REPO_ROOT)}),
+        env=child_env(),  # this checkout first on PYTHONPATH: the plugin is importable
         capture_output=True,
         text=True,
         timeout=120,

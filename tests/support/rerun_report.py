@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import pytest
 
-TAIL_LINES = 30  # the assertion and the frames nearest it; the whole traceback is the usual one-screen
+TAIL_LINES = 30  # the error and the frames nearest it: what a flaky test needs to be understood
 
 
 def _tail(text: str) -> str:
