@@ -11,6 +11,8 @@ from typing import Any
 
 import pytest
 
+from tests.support.arm_view import close_notifications
+from tests.support.jog_measure import settled
 from tests.support.launchers import Pendant
 from tests.support.teach_flow import in_view, open_screen
 
@@ -70,6 +72,10 @@ def test_on_a_phone_the_whole_pad_and_the_teach_row_are_in_view_and_the_status_i
 ) -> None:
     page = open_screen(browser, pendant.ui_url, "phone")
     try:
+        # As test_phone_layout reads the page: laid out (while it loads, the sheet opens and its text wraps
+        # for a moment) and the software-WebGL toast closed, as an operator would (CI, 2 Dec: J1- seen out).
+        settled(page, "J1-")
+        close_notifications(page)
         pad = page.locator("#jog-pad button")
         assert pad.count() == 12
         out = [pad.nth(k).get_attribute("aria-label") for k in range(12) if not in_view(pad.nth(k))]
