@@ -61,6 +61,21 @@ def parse_program(data: bytes, source: str) -> Program:
     """The program in `data`, or ProgramFileError saying why `source` is refused."""
     if len(data) > MAX_FILE_BYTES:
         raise ProgramFileError(f"{source} is too big to be a program ({len(data)} bytes)")
+    if not gentle_json.is_big(data):
+        return _parsed(data, source)
+    # A big document's hundreds of thousands of objects must be gone before the collector is back on: a
+    # collection that finds them alive moves them to the older generations, and a few readings later a full
+    # collection walks the whole heap while every thread waits (229-277 ms, benchmarks/program_files.py).
+    # A refusal keeps only its message: the error it came from holds the document's objects as its input.
+    with gentle_json.collector_off():
+        try:
+            return _parsed(data, source)
+        except ProgramFileError as error:
+            reason = str(error)
+    raise ProgramFileError(reason)
+
+
+def _parsed(data: bytes, source: str) -> Program:
     try:
         document = gentle_json.loads(data)  # a big file a bit at a time: a Freeze never waits behind it
     except (UnicodeDecodeError, json.JSONDecodeError) as error:

@@ -31,19 +31,25 @@ _was_enabled = False
 
 def loads(data: bytes) -> Any:
     """`json.loads(data)`, in small steps for a big document: the same result and the same errors."""
-    if len(data) <= C_JSON_BYTES:
+    if not is_big(data):
         return json.loads(data)
     text = data.decode(json.detect_encoding(data), "surrogatepass")  # as json.loads decodes bytes
     decoder = json.JSONDecoder()
     decoder.scan_once = json.scanner.py_make_scanner(decoder)  # type: ignore[attr-defined]  # Python's
-    with _collector_off():
+    with collector_off():
         return decoder.decode(text)
 
 
+def is_big(data: bytes) -> bool:
+    """Read a bit at a time, with the collector off (see the module)."""
+    return len(data) > C_JSON_BYTES
+
+
 @contextlib.contextmanager
-def _collector_off() -> Iterator[None]:
+def collector_off() -> Iterator[None]:
     """No automatic garbage collection in this block (the first reader turns it off, the last one back on
-    as it found it); collection counts fall back as the objects read are freed, so none is owed after."""
+    as it found it; blocks may nest); collection counts fall back as the objects read are freed, so none
+    is owed after if they are freed inside it."""
     global _readers, _was_enabled
     with _collector:
         if _readers == 0:

@@ -19,7 +19,10 @@ from tests.support.gil import longest_hold_ms
 pytestmark = pytest.mark.measures
 
 FREEZE_DELAY_MS = 50.0  # the bound for a 5 MB body
-TRIES = 3
+# Readings enough for a full collection to come during one of them, as it did before the collector stayed
+# off until a reading's objects were gone (CI, 2 Dec: the third of 3 held the other threads 211 ms;
+# benchmarks/program_files.py: once in 20 readings, 229-277 ms).
+TRIES = 20
 
 
 def test_a_5_mb_program_file_never_holds_up_the_other_threads() -> None:
@@ -30,9 +33,9 @@ def test_a_5_mb_program_file_never_holds_up_the_other_threads() -> None:
     for _ in range(TRIES):
         ms, outcome = longest_hold_ms(lambda: parse_program(data, "dense.json"))
         assert isinstance(outcome, ProgramFileError), outcome
-        held.append(ms)
+        held.append(round(ms))
     assert f"at most {MAX_STEPS} items" in str(outcome), outcome
-    assert max(held) < FREEZE_DELAY_MS, f"the other threads waited up to {max(held):.0f} ms: {held}"
+    assert max(held) < FREEZE_DELAY_MS, f"the other threads waited up to {max(held)} ms: {held}"
 
     # Past the size json.loads keeps, a real program reads as it always did (its spaces made it big).
     origin = {"point": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": {"roll": 0.0, "pitch": 0.0, "yaw": 0.0}}
