@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import argparse
 import gc
-import json
 import os
 import sys
 import time
@@ -22,8 +21,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from pendant.program.files import ProgramFileError, parse_program
 from tests.support.gil import longest_hold_ms
-
-STEPS = 170_000
+from tests.support.programs import dense_program_bytes
 
 
 def main() -> int:
@@ -32,13 +30,7 @@ def main() -> int:
     parser.add_argument("--heap", type=int, default=50_000, help="other objects the process holds")
     args = parser.parse_args()
     heap = [{"k": i, "v": [i]} for i in range(args.heap)]
-    data = json.dumps(
-        {
-            "schema_version": 2,
-            "name": "dense",
-            "steps": [{"kind": "wait", "ms": i % 1000} for i in range(STEPS)],
-        }
-    ).encode()
+    data = dense_program_bytes()
     collections: list[tuple[int, float]] = []
     started = [0.0]
 

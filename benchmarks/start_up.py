@@ -21,15 +21,12 @@ from pathlib import Path
 import httpx
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from benchmarks.viewers import cpu_seconds
 from tests.support.launchers import LOOPBACK, REPO_ROOT, free_port, stop
+from tests.support.waiting import wait_until
 
 ANSWER_TIMEOUT_S = 60.0
 POLL_S = 0.02
-
-
-def cpu_s(pid: int) -> float:
-    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime + stime
 
 
 def one_start(checkout: Path, data: Path) -> tuple[float, float, float]:
@@ -43,16 +40,13 @@ def one_start(checkout: Path, data: Path) -> tuple[float, float, float]:
     )
     try:
         with httpx.Client(base_url=f"http://{LOOPBACK}:{port}", timeout=10.0) as client:
-            while True:
-                try:
-                    if client.get("/status/motion").status_code == 200:
-                        break
-                except httpx.TransportError:
-                    pass
-                if time.monotonic() - began > ANSWER_TIMEOUT_S:
-                    raise SystemExit(f"{checkout}: no answer in {ANSWER_TIMEOUT_S:g} s")
-                time.sleep(POLL_S)
-            answered_s, answered_cpu = time.monotonic() - began, cpu_s(process.pid)
+            wait_until(
+                lambda: client.get("/status/motion").status_code == 200,
+                ANSWER_TIMEOUT_S,
+                f"{checkout}'s pendant answering",
+                poll_s=POLL_S,
+            )
+            answered_s, answered_cpu = time.monotonic() - began, cpu_seconds(process.pid)
             asked = time.monotonic()
             started = client.post("/pendant/recordings", json={"name": "bench"})
             recording_s = time.monotonic() - asked

@@ -14,6 +14,7 @@ import pytest
 from pendant.program.files import MAX_FILE_BYTES, ProgramFileError, parse_program
 from pendant.program.limits import MAX_STEPS
 from tests.support.gil import longest_hold_ms
+from tests.support.programs import dense_program_bytes
 
 # CPU time while the other threads wait (tests/support/gil.py): run alone, after the rest.
 pytestmark = pytest.mark.measures
@@ -26,8 +27,7 @@ TRIES = 20
 
 
 def test_a_5_mb_program_file_never_holds_up_the_other_threads() -> None:
-    steps = [{"kind": "wait", "ms": i % 1000} for i in range(170_000)]
-    data = json.dumps({"schema_version": 2, "name": "dense", "steps": steps}).encode()
+    data = dense_program_bytes()
     assert 4_500_000 < len(data) <= MAX_FILE_BYTES
     held = []
     for _ in range(TRIES):

@@ -4,6 +4,7 @@ that acts at a given time."""
 
 from __future__ import annotations
 
+import json
 from collections.abc import Callable
 from typing import Any, NamedTuple
 
@@ -170,3 +171,14 @@ def swings_file(passes: int) -> dict[str, object]:
         "waypoints": waypoints,
         "steps": [{"kind": "loop", "mode": "times", "times": passes, "body": moves}],
     }
+
+
+def dense_program_bytes(steps: int = 170_000) -> bytes:
+    """A program file of `steps` small Wait steps (170,000: 4.9 MB, under the 5 MB an upload may have, and
+    refused: at most 2,000 steps), the biggest pile of objects a file that size can make its reader build."""
+    document = {
+        "schema_version": 2,
+        "name": "dense",
+        "steps": [{"kind": "wait", "ms": i % 1000} for i in range(steps)],
+    }
+    return json.dumps(document).encode()
