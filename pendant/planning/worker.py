@@ -88,11 +88,6 @@ class PreflightWorker:
         """Give the turn back (after `run`, or when the body could not be read)."""
         self._lock.release()
 
-    def run(self, body: bytes, job: Job, read_seed: Callable[[], TwinSeed | Outcome]) -> Outcome:
-        """The pre-flight of `body`, by the caller that holds the turn (`claim`). `read_seed` is called
-        once the body is valid: the arm's state, or an Outcome to answer instead."""
-        return self._run(body, job, read_seed)
-
     def cancel(self) -> None:
         """Stop the running pre-flight (it answers 503) and refuse new ones: the pendant is quitting."""
         self._cancelled.set()
@@ -102,7 +97,9 @@ class PreflightWorker:
         self._end()
 
     # --- the server's side ----------------------------------------------------------------------------
-    def _run(self, body: bytes, job: Job, read_seed: Callable[[], TwinSeed | Outcome]) -> Outcome:
+    def run(self, body: bytes, job: Job, read_seed: Callable[[], TwinSeed | Outcome]) -> Outcome:
+        """The pre-flight of `body`, by the caller that holds the turn (`claim`). `read_seed` is called
+        once the body is valid: the arm's state, or an Outcome to answer instead."""
         if self._cancelled.is_set():
             return Outcome.refused(503, MSG_QUITTING)
         conn = self._connection()
