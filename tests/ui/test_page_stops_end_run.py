@@ -7,10 +7,14 @@ the wiring from each source to the run, which the runner's own tests (tests/prog
 The page in-process on loopback, its API served beside it over real HTTP, the simulator on the real clock
 (the arm really moves). The run ends "Stopped at step 1 by <cause>", the step after it (DO2 HIGH) is never
 done and the arm stays where the stop left it for 3 s. The browser tests take the same sources in Chromium
-for two steps (tests/browser/test_program_stops.py), plus Esc."""
+for two steps (tests/browser/test_program_stops.py), plus Esc. Each source is also sent during a gripper step
+and a motion while a 4.9 MB program file is read over and over beside the run (the page reads files in its
+own process)."""
 
 from __future__ import annotations
 
+import contextlib
+import threading
 import time
 from collections.abc import Callable, Iterator
 from typing import NamedTuple
@@ -31,16 +35,17 @@ from pendant.program import (
     WaitStep,
     Waypoint,
 )
+from pendant.program.files import ProgramFileError, parse_program
 from pendant.sim import MonotonicClock, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 from tests.support.pages import headless_session, pendant_page
-from tests.support.programs import Taught, move, program_of
+from tests.support.programs import Taught, dense_program_bytes, move, program_of
 from tests.support.threads import serve_in_thread
 from tests.support.waiting import wait_until
 
-# 24 runs on the real clock, 3 s of watching the arm in each; nothing in it is timed, so it runs behind the
+# 36 runs on the real clock, 3 s of watching the arm in each; nothing in it is timed, so it runs behind the
 # timed pass. There (CI, 27 Nov) it found the program Stop's two halves (its announcement on the stop bus, the
 # runner's stop on the urgent thread) landing out of order; tests/program/test_stop_order.py holds the mend.
 pytestmark = pytest.mark.slow
@@ -53,6 +58,14 @@ HELD_S = 3.0
 STILL_TOL_DEG = 0.01
 TIMEOUT_S = 30.0
 AFTER_PORT = 2  # the step after the stopped one sets it HIGH
+SOURCES = [
+    "Freeze",
+    "Protective stop",
+    "program Stop",
+    "another browser's Freeze",
+    "PUT /freeze",
+    "POST /stop",
+]
 
 
 class Page(NamedTuple):
@@ -100,13 +113,40 @@ def sources(served: Page) -> dict[str, tuple[Callable[[], object], str]]:
 
 
 @pytest.mark.parametrize("step", ["wait", "wait for an input", "gripper", "motion"])
-@pytest.mark.parametrize(
-    "source",
-    ["Freeze", "Protective stop", "program Stop", "another browser's Freeze", "PUT /freeze", "POST /stop"],
-)
+@pytest.mark.parametrize("source", SOURCES)
 def test_a_stop_from_the_page_or_its_api_ends_the_run_at_any_step(
     served: Page, source: str, step: str
 ) -> None:
+    stop_the_run(served, source, step)
+
+
+@pytest.mark.parametrize("step", ["gripper", "motion"])
+@pytest.mark.parametrize("source", SOURCES)
+def test_a_stop_ends_the_run_while_a_big_program_file_is_being_read(
+    served: Page, source: str, step: str
+) -> None:
+    """The page reads program files (Upload, Load, a Call, a version) in its own process: a 4.9 MB one read
+    over and over beside the run, while a stop arrives between two motions or during one."""
+    done = threading.Event()
+
+    def keep_reading() -> None:
+        data = dense_program_bytes()
+        while not done.is_set():
+            with contextlib.suppress(ProgramFileError):  # refused, as it should be: at most 2,000 steps
+                parse_program(data, "dense.json")
+
+    reader = threading.Thread(target=keep_reading, name="big-file-reader")
+    reader.start()
+    try:
+        stop_the_run(served, source, step)
+    finally:
+        done.set()
+        reader.join(TIMEOUT_S)
+
+
+def stop_the_run(served: Page, source: str, step: str) -> None:
+    """Run `step` then DO2 HIGH, send the stop from `source` inside the step: the run ends naming it, the arm
+    stays where the stop left it and the next step never runs."""
     page, sim = served.page, served.sim
     programs = page.programs
     sim.reset()
