@@ -36,11 +36,12 @@ $(SDK_STAMP):
 run: $(RUN_STAMP)
 	@$(BIN)/pendant $(if $(FOXGLOVE),--foxglove-port $(FOXGLOVE)) $(ARGS)
 
-# The suite (scripts/test_passes.sh says why), one pass after another: the tests that time what a user feels
-# on a real clock (`measures`: jog shares, stop times) and the `alone` ones, one at a time with nothing beside
-# them; then every test outside tests/browser on three workers (--dist worksteal), ruff, the import layers and
-# mypy beside them at nice 19; then the other browser tests on two workers, a module per worker (it shares a
-# Chromium and its pendants, tests/browser/conftest.py).
+# The suite (scripts/test_passes.sh says why), in two phases: the tests that time what a user feels on a
+# real clock (`measures`: jog shares, stop times) and the `alone` ones, one at a time at normal priority,
+# with every test outside tests/browser on three workers (--dist worksteal), ruff, the import layers and
+# mypy beside them in the idle scheduling class (they get only the CPU the timed tests leave); then the other
+# browser tests on two workers, a module per worker (it shares a Chromium and its pendants,
+# tests/browser/conftest.py).
 # A browser test that fails is run once more (pytest-rerunfailures; R in the output): some fail now and then
 # in a full run and pass alone (docs/development.md lists them).
 test: $(STAMP) $(SDK_STAMP)
