@@ -27,6 +27,18 @@ behind() { # name, command...: run the command in the idle class, its output to 
 # Whoever stops `make test` (Ctrl-C, CI's time-out) stops what runs beside it too: it is in our process group.
 trap 'trap - INT TERM; kill 0' INT TERM
 failed=0
+# The machine's busy and total CPU seconds so far (/proc/stat, every core): each phase prints what it used,
+# the figure that says how far a 2-core machine is from the suite's minutes (its CPU over two).
+cpu_now() {
+    awk -v hz="$(getconf CLK_TCK)" '/^cpu / { busy = $2 + $3 + $4 + $7 + $8 + $9; print busy / hz, (busy + $5 + $6) / hz }' /proc/stat
+}
+phase_cpu() { # name, "busy total" at its start: what the machine's cores did during the phase
+    local busy0 total0 busy1 total1
+    read -r busy0 total0 <<<"$2"
+    read -r busy1 total1 < <(cpu_now)
+    awk -v n="$1" -v b="$busy0" -v t="$total0" -v B="$busy1" -v T="$total1" \
+        'BEGIN { printf "== %s: the machine busy %.0f of %.0f CPU-s (%.0f %%)\n", n, B - b, T - t, 100 * (B - b) / (T - t) }'
+}
 run_pass() { # name, log, pytest arguments...: one pass of tests, shown as it runs and kept in test-artifacts/
     local name=$1 log=$2
     "$bin/pytest" "${pytest_args[@]}" "${@:3}" "${extra[@]}" 2>&1 | tee "test-artifacts/$log.log"
@@ -36,6 +48,7 @@ run_pass() { # name, log, pytest arguments...: one pass of tests, shown as it ru
 }
 
 pytest_args=(-q -rfER --durations=15)
+start=$(cpu_now)
 behind checks make -s --no-print-directory lint layers typecheck &
 checks=$!
 behind tests "$bin/pytest" "${pytest_args[@]}" -n 3 --dist worksteal --ignore=tests/browser \
@@ -51,7 +64,10 @@ report_behind() { # name, log, pid: how a pass beside the timed tests ended, and
 }
 report_behind "the tests outside tests/browser" tests "$outside"
 report_behind "the checks" checks "$checks"
+phase_cpu "the first phase" "$start"
+start=$(cpu_now)
 run_pass "the other browser tests" browser-tests -n 2 --dist loadfile -m "not measures and not alone" --reruns 1 tests/browser
+phase_cpu "the second phase" "$start"
 # Every failure of every pass, last, where a truncated log still shows them, and every test run again
 # (-rR: a rerun that passed is a flaky test, named here so it is seen).
 echo "== failures, errors and reruns of all passes:"
