@@ -137,16 +137,16 @@ def test_a_stop_ends_the_run_while_a_big_program_file_is_being_read(
 
     reader = threading.Thread(target=keep_reading, name="big-file-reader")
     reader.start()
-    try:
-        stop_the_run(served, source, step)
+    try:  # read until the run has ended: the 3 s after it watch the arm, not the reading (~3 CPU-s a case)
+        stop_the_run(served, source, step, ended=done.set)
     finally:
         done.set()
         reader.join(TIMEOUT_S)
 
 
-def stop_the_run(served: Page, source: str, step: str) -> None:
-    """Run `step` then DO2 HIGH, send the stop from `source` inside the step: the run ends naming it, the arm
-    stays where the stop left it and the next step never runs."""
+def stop_the_run(served: Page, source: str, step: str, ended: Callable[[], object] = lambda: None) -> None:
+    """Run `step` then DO2 HIGH, send the stop from `source` inside the step: the run ends naming it (then
+    `ended` is called), the arm stays where the stop left it and the next step never runs."""
     page, sim = served.page, served.sim
     programs = page.programs
     sim.reset()
@@ -163,6 +163,7 @@ def stop_the_run(served: Page, source: str, step: str) -> None:
 
     wait_until(lambda: programs.progress.state is RunState.STOPPED, TIMEOUT_S, "the run stopped")
     assert programs.runner.join(TIMEOUT_S)
+    ended()
     message = programs.progress.message
     assert message.startswith(f"Stopped at step 1 by {cause}"), message
     assert programs.runner.can_resume is (source != "program Stop")  # Retry / Skip; Stop ends for good
