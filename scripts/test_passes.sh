@@ -7,17 +7,18 @@
 #   2. The other browser tests on two workers, a module per worker (--dist loadfile: it shares its Chromium
 #      and pendants, tests/browser/conftest.py).
 # The timed pass waits on its clock half the time (~0.5 of the 2 cores here); the idle class gets only what
-# it leaves: a timed test's thread that wakes takes the core from an idle-class one at once, where a nice 19
-# task runs out its slice first. At nice 19 beside the timed pass its holds were cut by the deadman (1 Dec,
-# load 7-10); in the idle class all 31 timed tests passed beside the 1,676 (2 Dec), and the first phase
-# took 6 min 32 s instead of 5 min 31 s + 4 min 11 s one after the other. Where `chrt` cannot set the idle
-# class, nice 19 stands in. The browser tests stay out of the first phase: their two Chromiums would leave
+# it leaves: the kernel takes the core from an idle-class task at once for a timed test's thread that wakes
+# (a nice 19 task only weighs less). At nice 19 beside the timed pass its holds were cut by the deadman
+# (1 Dec, load 7-10); in the idle class all 31 timed tests passed beside the 1,676 (2 Dec, a clean clone:
+# the first phase 7 min 09 s, against 5 min 36 s + 4 min 11 s one after the other). Where `chrt` cannot set
+# the idle class, nice 19 stands in. The browser tests stay out of the first phase: their two Chromiums would leave
 # the timed pass's page too little (27 Nov, at nice 19: its jog holds failed).
 # Each pass writes its log in test-artifacts/ and prints its count and its 15 slowest tests (where the ten
 # minutes go); the last lines list every failure of every pass.
 set -uo pipefail
 bin=${BIN:-.venv/bin}
 read -r -a extra <<<"${PYTEST_ARGS:-}"
+pytest_args=(-q -rfER --durations=15)
 mkdir -p test-artifacts
 
 if chrt -i 0 true 2>/dev/null; then low=(chrt -i 0); else low=(nice -n 19); fi
@@ -39,6 +40,13 @@ phase_cpu() { # name, "busy total" at its start: what the machine's cores did du
     awk -v n="$1" -v b="$busy0" -v t="$total0" -v B="$busy1" -v T="$total1" \
         'BEGIN { printf "== %s: the machine busy %.0f of %.0f CPU-s (%.0f %%)\n", n, B - b, T - t, 100 * (B - b) / (T - t) }'
 }
+report_behind() { # name, log, pid: how a pass beside the timed tests ended, and its log
+    wait "$3"
+    local status=$?
+    echo "== $1 (beside the timed tests, ${low[*]}): exit $status"
+    cat "test-artifacts/$2.log"
+    [ "$status" -eq 0 ] || failed=1
+}
 run_pass() { # name, log, pytest arguments...: one pass of tests, shown as it runs and kept in test-artifacts/
     local name=$1 log=$2
     "$bin/pytest" "${pytest_args[@]}" "${@:3}" "${extra[@]}" 2>&1 | tee "test-artifacts/$log.log"
@@ -47,7 +55,6 @@ run_pass() { # name, log, pytest arguments...: one pass of tests, shown as it ru
     [ "$status" -eq 0 ] || failed=1
 }
 
-pytest_args=(-q -rfER --durations=15)
 start=$(cpu_now)
 behind checks make -s --no-print-directory lint layers typecheck &
 checks=$!
@@ -55,13 +62,6 @@ behind tests "$bin/pytest" "${pytest_args[@]}" -n 3 --dist worksteal --ignore=te
     -m "not measures and not alone" "${extra[@]}" &
 outside=$!
 run_pass "the timed tests" timed-tests -m "measures or alone" --reruns 1 tests
-report_behind() { # name, log, pid: how a pass beside the timed tests ended, and its log
-    wait "$3"
-    local status=$?
-    echo "== $1 (beside the timed tests, ${low[*]}): exit $status"
-    cat "test-artifacts/$2.log"
-    [ "$status" -eq 0 ] || failed=1
-}
 report_behind "the tests outside tests/browser" tests "$outside"
 report_behind "the checks" checks "$checks"
 phase_cpu "the first phase" "$start"

@@ -150,9 +150,9 @@ async def next_messages(
 
 async def find_button(ws: websockets.ClientConnection, label: str, timeout_s: float) -> str:
     """Read the page's messages until a button labelled `label` has come and the whole panel with it (its
-    last tab, the Dashboard's plots); its uuid. A click sent as soon as the button shows can reach the
-    pendant before the builder, a line later, gives the button its handler (seen at nice 19 beside the
-    timed tests: the click was lost), where a user first sees the page laid out."""
+    last tab, the Dashboard's plots), as a user first sees the page laid out; its uuid. viser drops a click
+    on a button that has no handler yet, and the builder gives it one just after the button: a click sent
+    the moment the button showed was lost beside the timed tests, in the idle class."""
     zstd = zstandard.ZstdDecompressor()
     found: str | None = None
     whole_panel = False
