@@ -19,7 +19,7 @@ import yourdfpy
 import zstandard
 
 from pendant.kinematics import ArmModel
-from tests.support.browser_pages import ARTIFACTS, AWAY_DEG, POSE_A_DEG, POSE_B_DEG, move_to
+from tests.support.browser_pages import ARTIFACTS, AWAY_DEG, POSE_A_DEG, POSE_B_DEG, move_to, take_control
 from tests.support.launchers import Pendant
 from tests.support.mcap_reading import read_mcap
 
@@ -89,9 +89,9 @@ def test_replay_draws_the_recorded_arm_and_steps_at_the_slider_time(
     watched_page: tuple[Any, GhostWatch], pendant: Pendant
 ) -> None:
     page, watch = watched_page
-    take = page.get_by_role("button", name="Take control")
-    if take.is_visible():
-        take.click()
+    # Not one look for Take control: a loaded page may not yet say whose control it is (a clean-clone run,
+    # 2 Dec: it stayed a viewer, its Record greyed out, and the click waited 60 s).
+    take_control(page)
     page.get_by_role("tab", name="Program").click(no_wait_after=True)
     move_to(pendant, POSE_A_DEG)
     page.get_by_role("button", name="Record", exact=True).click()
