@@ -15,49 +15,30 @@ from __future__ import annotations
 
 import contextlib
 import threading
-import time
 from collections.abc import Callable, Iterator
 from typing import NamedTuple
 
 import httpx
-import numpy as np
 import pytest
 
 from pendant.api.app import create_app
-from pendant.controller import MotionStatus, Pose, SignalLevel
-from pendant.program import (
-    GripperAction,
-    GripperStep,
-    OutputStep,
-    RunState,
-    Step,
-    WaitInputStep,
-    WaitStep,
-    Waypoint,
-)
 from pendant.program.files import ProgramFileError, parse_program
 from pendant.sim import MonotonicClock, SimController
 from pendant.ui.app import PendantUI
 from pendant.ui.page.session import ClientSession
+from tests.support import run_stops
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 from tests.support.pages import headless_session, pendant_page
-from tests.support.programs import Taught, dense_program_bytes, move, program_of
+from tests.support.programs import dense_program_bytes
 from tests.support.threads import serve_in_thread
-from tests.support.waiting import wait_until
 
 # 36 runs on the real clock, 3 s of watching the arm in each; nothing in it is timed, so it runs behind the
 # timed pass. There (CI, 27 Nov) it found the program Stop's two halves (its announcement on the stop bus, the
 # runner's stop on the urgent thread) landing out of order; tests/program/test_stop_order.py holds the mend.
 pytestmark = pytest.mark.slow
 
-FAR_DEG = [120.0, -90.0, 90.0, -90.0, -90.0, 0.0]
-SLOW_PERCENT = 5.0
-LONG_MS = 20_000
-INTO_STEP_S = 0.3
 HELD_S = 3.0
-STILL_TOL_DEG = 0.01
 TIMEOUT_S = 30.0
-AFTER_PORT = 2  # the step after the stopped one sets it HIGH
 SOURCES = [
     "Freeze",
     "Protective stop",
@@ -84,15 +65,6 @@ def served() -> Iterator[Page]:
         ui = headless_session(page)
         with serve_in_thread(create_app(sim, stops=page.stops)) as url, httpx.Client(base_url=url) as api:
             yield Page(page, ui, sim, api)
-
-
-def steps(far: Waypoint) -> dict[str, Step | Taught]:
-    return {
-        "wait": WaitStep(ms=LONG_MS),
-        "wait for an input": WaitInputStep(port=1, level=SignalLevel.HIGH, timeout_ms=LONG_MS),
-        "gripper": GripperStep(action=GripperAction.CLOSE, timeout_ms=LONG_MS),
-        "motion": move(far, speed=SLOW_PERCENT),
-    }
 
 
 def sources(served: Page) -> dict[str, tuple[Callable[[], object], str]]:
@@ -145,30 +117,11 @@ def test_a_stop_ends_the_run_while_a_big_program_file_is_being_read(
 
 
 def stop_the_run(served: Page, source: str, step: str, ended: Callable[[], object] = lambda: None) -> None:
-    """Run `step` then DO2 HIGH, send the stop from `source` inside the step: the run ends naming it (then
-    `ended` is called), the arm stays where the stop left it and the next step never runs."""
-    page, sim = served.page, served.sim
-    programs = page.programs
-    sim.reset()
-    far = Waypoint(name="Far", pose=Pose(angles=FAR_DEG), position=sim.get_position())
-    programs.open_uploaded(program_of(steps(far)[step], OutputStep(port=AFTER_PORT, level=SignalLevel.HIGH)))
-    programs.start_run(supervisor=OPERATOR)
-    wait_until(lambda: programs.progress.state is RunState.RUNNING, TIMEOUT_S, "the run")
-    if step == "motion":
-        wait_until(lambda: sim.get_motion_status() is MotionStatus.RUNNING, TIMEOUT_S, "the motion")
-    time.sleep(INTO_STEP_S)
+    """Run `step` then DO2 HIGH and send the stop from `source` inside it (tests/support/run_stops.py)."""
     send, cause = sources(served)[source]
-
-    send()
-
-    wait_until(lambda: programs.progress.state is RunState.STOPPED, TIMEOUT_S, "the run stopped")
-    assert programs.runner.join(TIMEOUT_S)
-    ended()
-    message = programs.progress.message
-    assert message.startswith(f"Stopped at step 1 by {cause}"), message
+    programs = served.page.programs
+    run_stops.stop_the_run(
+        served.page, served.sim, step, send, cause, held_s=HELD_S, timeout_s=TIMEOUT_S, ended=ended
+    )
     assert programs.runner.can_resume is (source != "program Stop")  # Retry / Skip; Stop ends for good
-    held = np.array(sim.get_pose().angles)
-    time.sleep(HELD_S)
-    np.testing.assert_allclose(sim.get_pose().angles, held, atol=STILL_TOL_DEG)
-    assert sim.get_output(AFTER_PORT) is SignalLevel.LOW  # the step after the stop never ran
     programs.stop()

@@ -1,7 +1,7 @@
 """The page's stops never wait for viser's callback pool (issue 32): with every one of its 32 threads held
 (as 40 slow clicks held them), a browser that connects still gets Freeze, and Freeze, Esc, Protective stop
 and the program's Pause and Stop still act; so do the API's PUT /freeze and POST /stop, over real HTTP,
-against a motion under way and against a program the page runs, in a still step between two motions. The
+against a motion under way and against a program the page runs, in a still step before an output step. The
 page in-process on loopback, the simulator on a fake clock (its move stays RUNNING until something stops
 it) or, for the program, the real one; browsers as bare websockets (what a browser sends)."""
 
@@ -10,25 +10,22 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import threading
-import time
 from collections.abc import Callable, Iterator
 
 import httpx
 import msgspec
-import numpy as np
 import pytest
 import websockets
 import zstandard
 
 from pendant.api.app import create_app
-from pendant.controller import MotionParams, MotionStatus, Pose, SignalLevel
-from pendant.program import GripperAction, GripperStep, OutputStep, RunState, Step, WaitStep
+from pendant.controller import MotionParams, MotionStatus, Pose
 from pendant.sim import MonotonicClock, SimController
 from pendant.ui.app import PendantUI
+from tests.support import run_stops
 from tests.support.doubles import OPERATOR
 from tests.support.headless_viewer import click_message, next_messages, open_viewer
 from tests.support.pages import pendant_page
-from tests.support.programs import program_of
 from tests.support.threads import serve_in_thread
 from tests.support.waiting import wait_until
 
@@ -160,42 +157,27 @@ def test_the_apis_stop_halts_a_motion_with_the_pool_held(
         stops(sim, after, stop)
 
 
-LONG_MS = 20_000
-INTO_STEP_S = 0.3
 HELD_S = 1.5
-STILL_TOL_DEG = 0.01
-AFTER_PORT = 2  # the step after the stopped one sets it HIGH
-STILL_STEPS: dict[str, Step] = {
-    "wait": WaitStep(ms=LONG_MS),
-    "gripper": GripperStep(action=GripperAction.CLOSE, timeout_ms=LONG_MS),
-}
 
 
-@pytest.mark.parametrize("step", STILL_STEPS)
+@pytest.mark.parametrize("step", ["wait", "gripper"])
 @pytest.mark.parametrize("stop", API_STOPS)
-def test_the_apis_stop_ends_a_run_between_two_motions_with_the_pool_held(stop: str, step: str) -> None:
+def test_the_apis_stop_ends_a_run_in_a_still_step_before_an_output_with_the_pool_held(
+    stop: str, step: str
+) -> None:
     """A run in a still step (the gripper closing, a wait) with the pool held: the API's stop ends it
     naming the API, the arm stays put and the step after it (DO2 HIGH) never runs."""
     send, _, cause = API_STOPS[stop]
     sim = SimController("pulse75", MonotonicClock())  # the real clock: the step lasts until the stop
     with page_with_its_pool_held(sim) as page, its_api(page, sim) as api:
         page.desk.join(OPERATOR)
-        programs = page.programs
-        programs.open_uploaded(
-            program_of(STILL_STEPS[step], OutputStep(port=AFTER_PORT, level=SignalLevel.HIGH))
+        run_stops.stop_the_run(
+            page,
+            sim,
+            step,
+            lambda: send(api).raise_for_status(),
+            cause,
+            held_s=HELD_S,
+            timeout_s=STOP_TIMEOUT_S,
         )
-        programs.start_run(supervisor=OPERATOR)
-        wait_until(lambda: programs.progress.state is RunState.RUNNING, STOP_TIMEOUT_S, "the run")
-        time.sleep(INTO_STEP_S)
-
-        send(api).raise_for_status()
-
-        wait_until(lambda: programs.progress.state is RunState.STOPPED, STOP_TIMEOUT_S, "the run stopped")
-        assert programs.progress.message.startswith(f"Stopped at step 1 by {cause}"), (
-            programs.progress.message
-        )
-        held = np.array(sim.get_pose().angles)
-        time.sleep(HELD_S)
-        np.testing.assert_allclose(sim.get_pose().angles, held, atol=STILL_TOL_DEG)
-        assert sim.get_output(AFTER_PORT) is SignalLevel.LOW  # the step after the stop never ran
-        programs.stop()
+        page.programs.stop()
