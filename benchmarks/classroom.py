@@ -9,8 +9,10 @@ the arm's updates (`/tcp_frame`); in this process a newcomer every 2 s times its
 busy. A cut is a "Jog J1+ stopped: ..." event (the operator then presses again).
 
 Prints: deadman cuts, updates a second per viewer (min / median), the newcomers' Freeze and whole panel
-(median / p95), the pendant's CPU with the operator alone and with the viewers, and the difference per
-viewer. `--baseline REV` measures the pendant of git revision REV first, then this checkout, side by side.
+(median / p95), the pendant's CPU with the operator alone and with the steady viewers (for STEADY_S, before
+the first newcomer, once their panels are built), the difference per viewer, and the CPU once the
+newcomers come too. `--baseline REV` measures the pendant of git revision REV first, then this checkout,
+side by side.
 
 `--program`: the operator runs a program from the page instead of holding the jog (benchmarks/
 classroom_program.py): how late each step begins against the previous step's end + its wait, timed by the
@@ -35,6 +37,7 @@ import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import httpx
 
@@ -56,10 +59,37 @@ REPO = Path(__file__).resolve().parents[1]
 START_TIMEOUT_S = 180.0  # the operator ready (--program: its Program tab built, at load 30 past a minute)
 WARM_UP_S = 5.0
 ALONE_S = 5.0  # the operator alone first: the pendant's CPU without viewers
+# Then the viewers alone, before any newcomer: the pendant's CPU per steady viewer (a newcomer's panels
+# are a build each, charged to the newcomers' own row, not to the viewers who watch).
+STEADY_S = 10.0
+# ... once their panels are built (the pendant's gauge of browsers with panels), at most this long after
+# they connect: with builds held back while the operator jogs, 60 viewers' panels take a while.
+BUILT_TIMEOUT_S = 45.0
 
 
-def viewers_process(port: int, n: int, seconds: float, results: multiprocessing.Queue) -> None:  # type: ignore[type-arg]
-    """N viewers for `seconds` (after WARM_UP_S to connect); their update rates over the last `seconds`."""
+def browsers_with_panels(api: str) -> int:
+    """The pendant's `pendant_viewers_connected` gauge: browsers whose panels are built (-1: unread)."""
+    try:
+        text = httpx.get(f"{api}/metrics", timeout=5.0).text
+    except httpx.HTTPError:
+        return -1
+    for line in text.splitlines():
+        if line.startswith("pendant_viewers_connected "):
+            return int(float(line.split()[1]))
+    return -1
+
+
+async def wait_for_panels(api: str, n: int, timeout_s: float) -> int:
+    """Until `n` browsers have their panels (or the time-out): how many had them."""
+    deadline = time.monotonic() + timeout_s
+    while (built := await asyncio.to_thread(browsers_with_panels, api)) < n and time.monotonic() < deadline:
+        await asyncio.sleep(0.5)
+    return built
+
+
+def viewers_process(port: int, n: int, done: Any, results: multiprocessing.Queue) -> None:  # type: ignore[type-arg]
+    """N viewers until `done` is set (a multiprocessing Event); their update rates from WARM_UP_S (to
+    connect) on."""
 
     async def run() -> list[float]:
         stop = asyncio.Event()
@@ -67,7 +97,7 @@ def viewers_process(port: int, n: int, seconds: float, results: multiprocessing.
         tasks = [asyncio.create_task(viewer(f"ws://127.0.0.1:{port}/", c, stop)) for c in counts]
         await asyncio.sleep(WARM_UP_S)
         t0 = time.monotonic()
-        await asyncio.sleep(seconds)
+        await asyncio.to_thread(done.wait)
         t1 = time.monotonic()
         stop.set()
         await asyncio.gather(*tasks, return_exceptions=True)
@@ -99,13 +129,15 @@ class Outcome:
     late_alone: Lateness | None = None  # --program: the steps' lateness, the operator alone
     late: Lateness | None = None  # ... and with the viewers
     ended: str = ""  # --program: the run's last line after Stop
+    built: int = 0  # steady viewers with their panels built when their CPU was measured
+    newcomer_cores: float = 0.0  # the pendant's CPU while newcomers came (a build each), the viewers too
 
 
 async def measure(
     ui: int, api: str, pid: int, n: int, seconds: float, plans: bool, program: ProgramRun | None
 ) -> Outcome:
     spawn = multiprocessing.get_context("spawn")
-    total = ALONE_S + WARM_UP_S + seconds
+    total = ALONE_S + WARM_UP_S + BUILT_TIMEOUT_S + STEADY_S + seconds  # the operator's hold: long enough
     operated: multiprocessing.Queue = spawn.Queue()  # type: ignore[type-arg]
     operates = operator_process if program is None else program_operator_process
     operator = spawn.Process(target=operates, args=(ui, api, total, operated), daemon=True)
@@ -115,17 +147,23 @@ async def measure(
     await asyncio.sleep(ALONE_S)
     alone = (cpu_seconds(pid) - cpu0) / (time.monotonic() - t0)
     rated: multiprocessing.Queue = spawn.Queue()  # type: ignore[type-arg]
-    watchers = spawn.Process(target=viewers_process, args=(ui, n, seconds, rated), daemon=True)
+    watched = spawn.Event()
+    watchers = spawn.Process(target=viewers_process, args=(ui, n, watched, rated), daemon=True)
     watchers.start()
     stop, done = threading.Event(), [0]
     planner = threading.Thread(target=keep_planning, args=(api, stop, done), daemon=True)
     await asyncio.sleep(WARM_UP_S)
     if plans:
         planner.start()
+    built = await wait_for_panels(api, n + 1, BUILT_TIMEOUT_S)  # the viewers and the operator
     t1, cpu1 = time.monotonic(), cpu_seconds(pid)
-    newcomers: list[Viewer] = []
-    await probe(ui, t1 + seconds, newcomers)
+    await asyncio.sleep(STEADY_S)
     cores = (cpu_seconds(pid) - cpu1) / (time.monotonic() - t1)
+    t_newcomers, cpu_newcomers = time.monotonic(), cpu_seconds(pid)
+    newcomers: list[Viewer] = []
+    await probe(ui, t_newcomers + seconds, newcomers)
+    newcomer_cores = (cpu_seconds(pid) - cpu_newcomers) / (time.monotonic() - t_newcomers)
+    watched.set()
     stop.set()
     t2 = time.monotonic()
     rates = await asyncio.to_thread(rated.get, True, 120.0)
@@ -134,10 +172,15 @@ async def measure(
         await asyncio.to_thread(process.join, 10.0)
     if program is None:
         cuts, gap, moved, own = operated_result
-        return Outcome("", cuts, rates, newcomers, alone, cores, done[0], moved, gap, own)
+        outcome = Outcome("", cuts, rates, newcomers, alone, cores, done[0], moved, gap, own)
+        outcome.newcomer_cores = newcomer_cores
+        outcome.built = built - 1  # the operator's own panels are not a viewer's
+        return outcome
     late_alone, late = windows(program, (t0, t0 + ALONE_S), (t1, t2))
     outcome = Outcome("", [], rates, newcomers, alone, cores, done[0], 0.0, 0.0, 0, late_alone, late)
     outcome.ended = str(operated_result)
+    outcome.newcomer_cores = newcomer_cores
+    outcome.built = built - 1  # the operator's own panels are not a viewer's
     return outcome
 
 
@@ -201,6 +244,8 @@ def report(outcomes: list[Outcome], n: int, seconds: float, plans: bool, program
         "pendant CPU: operator alone / with viewers",
         [f"{o.alone_cores:.2f} / {o.cores:.2f}" for o in outcomes],
     )
+    row("pendant CPU with the newcomers too (cores)", [f"{o.newcomer_cores:.2f}" for o in outcomes])
+    row("… steady viewers with panels built by then", [f"{o.built} of {n}" for o in outcomes])
     row("pendant CPU per viewer (cores)", [f"{(o.cores - o.alone_cores) / n:.4f}" for o in outcomes])
     if not program:
         row("operator: largest gap between holds sent ms", [f"{o.hold_gap_s * 1000:.0f}" for o in outcomes])

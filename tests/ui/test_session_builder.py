@@ -121,3 +121,28 @@ def test_builds_wait_while_the_operator_jogs_and_not_longer_than_the_hold_back_l
         assert built == [1, 2]
     finally:
         builder.stop()
+
+
+def test_while_the_operator_jogs_each_browser_waits_the_hold_back_limit_from_its_own_arrival() -> None:
+    """A jog held for minutes while newcomers keep arriving: each is built HOLD_BACK_MAX_S after it came,
+    the longest waiting first, not one whole wait per build before it (the queue then grew for as long as
+    the hold lasted: benchmarks/classroom.py)."""
+    clock = FakeClock()
+    jogging = threading.Event()
+    jogging.set()
+    builder = SessionBuilder(clock=clock, hold_back=jogging.is_set)
+    built: list[int] = []
+    done = {client: threading.Event() for client in (1, 2, 3)}
+    try:
+        builder.submit(1, _record(built, 1, done[1]))
+        clock.now += HOLD_BACK_MAX_S / 2
+        builder.submit(2, _record(built, 2, done[2]))
+        builder.submit(3, _record(built, 3, done[3]))
+        clock.now += HOLD_BACK_MAX_S / 2  # the first has waited its longest, the others half of it
+        assert done[1].wait(WAIT_S)
+        assert not done[2].wait(0.3) and not done[3].is_set(), "built before its wait was over"
+        clock.now += HOLD_BACK_MAX_S / 2  # and now the other two, the first to come first
+        assert done[2].wait(WAIT_S) and done[3].wait(WAIT_S)
+        assert built == [1, 2, 3]
+    finally:
+        builder.stop()

@@ -276,8 +276,8 @@ class CheckSection:
             host.ghosts.show("check")  # before it is drawn: the waypoint preview is this same ghost
             cfg = np.zeros(len(ghost.get_actuated_joint_names()))
             cfg[:6] = q
+            ghost.update_cfg(cfg)  # posed first: a ghost drawn at its first show stands there
             ghost.show_visual = True
-            ghost.update_cfg(cfg)
 
     def close(self) -> None:
         for node in self._nodes:

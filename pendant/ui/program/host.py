@@ -11,7 +11,6 @@ from concurrent.futures import Future
 from typing import Protocol
 
 import viser
-from viser.extras import ViserUrdf
 
 from pendant.cell.geometry import CellModel
 from pendant.controller import Controller
@@ -20,6 +19,7 @@ from pendant.program.tree import Line
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.scene.ghost_stage import GhostStage
+from pendant.ui.scene.shared_urdf import SharedUrdf
 
 
 class ProgramHost(Protocol):
@@ -58,7 +58,7 @@ class ProgramHost(Protocol):
         ...
 
     @property
-    def ghost(self) -> ViserUrdf | None:
+    def ghost(self) -> SharedUrdf | None:
         """The tab's translucent ghost arm (the Check's playback moves it)."""
         ...
 

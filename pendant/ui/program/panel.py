@@ -13,7 +13,6 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import Future
 
 import viser
-from viser.extras import ViserUrdf
 
 from pendant.cell.geometry import CellModel
 from pendant.controller import Controller
@@ -33,6 +32,7 @@ from pendant.ui.program.step_form import StepForm
 from pendant.ui.program.step_list import dropdown_lines, steps_markdown
 from pendant.ui.program.waypoint_section import WaypointSection
 from pendant.ui.scene.ghost_stage import GhostStage
+from pendant.ui.scene.shared_urdf import SharedUrdf
 
 log = logging.getLogger(__name__)
 
@@ -278,7 +278,7 @@ class ProgramPanel:
         return self.check_section.allows(label, client)
 
     @property
-    def ghost(self) -> ViserUrdf | None:
+    def ghost(self) -> SharedUrdf | None:
         return self.waypoints.ghost
 
     def redraw_program(self) -> None:

@@ -8,7 +8,6 @@ import math
 
 import numpy as np
 import viser
-from viser.extras import ViserUrdf
 
 from pendant.cell.collision_names import explain_collision
 from pendant.controller import Controller, MotionParams, MotionType
@@ -188,7 +187,7 @@ class WaypointSection:
         self._show_ghost()
 
     @property
-    def ghost(self) -> ViserUrdf | None:
+    def ghost(self) -> SharedUrdf | None:
         """The tab's translucent ghost arm (the Check's playback moves it too)."""
         return self._ghost
 
@@ -214,8 +213,8 @@ class WaypointSection:
         else:  # the Check's playback moves this same ghost: hidden, it is gone too
             self._host.ghosts.hidden("waypoint")
             self._host.ghosts.hidden("check")
-        self._ghost.show_visual = visible
-        if visible and name is not None:
+        if visible and name is not None:  # posed first: a ghost drawn at its first show stands there
             cfg = np.zeros(len(self._ghost.get_actuated_joint_names()))
             cfg[:6] = np.radians(self._host.shared.program.waypoint(name).pose.angles)
             self._ghost.update_cfg(cfg)
+        self._ghost.show_visual = visible

@@ -7,7 +7,6 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
-from viser.extras import ViserUrdf
 
 from pendant.controller.cell_types import Obstacle
 from pendant.ui.kit.gui_target import GuiTarget
@@ -21,10 +20,12 @@ class RefusedPose:
     """Hidden until `show`; `shown_q` says where the red ghost stands (None: hidden)."""
 
     def __init__(self, target: GuiTarget, urdf_path: Path | None, root: str) -> None:
-        self._target = target
-        self._urdf_path = urdf_path
-        self._root = root
-        self._ghost: ViserUrdf | None = None  # loaded on the first refusal: every browser gets its meshes
+        # Drawn at the first refusal (shared_urdf.py): until then the browser has none of its meshes.
+        self._ghost = (
+            SharedUrdf(target, urdf_path, root_node_name=root, mesh_color_override=REFUSED_RGBA)
+            if urdf_path is not None
+            else None
+        )
         self._hits = ObstacleDrawing(target.scene, f"{root}_hits", only_touching=True)
         self.shown_q: np.ndarray | None = None
         self.hits: tuple[str, ...] = ()
@@ -34,10 +35,6 @@ class RefusedPose:
             return
         self.shown_q, self.hits = q.copy(), tuple(touching)
         self._hits.show(obstacles, touching)
-        if self._ghost is None and self._urdf_path is not None:
-            self._ghost = SharedUrdf(
-                self._target, self._urdf_path, root_node_name=self._root, mesh_color_override=REFUSED_RGBA
-            )
         if self._ghost is not None:
             cfg = np.zeros(len(self._ghost.get_actuated_joint_names()))
             cfg[:6] = q

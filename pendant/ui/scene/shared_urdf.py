@@ -1,10 +1,16 @@
-"""The arm's URDF parsed once for every browser's ghosts (issue 37), not once per ghost.
+"""The arm's URDF parsed once for every browser's ghosts (issue 37), not once per ghost, and a ghost's meshes
+sent to its browser only when it is first shown.
 
 Each browser's panels draw four ghosts of the arm (the Target tab's two, the Program tab's, the banner's
 refused pose) and viser's ViserUrdf parsed the URDF and its meshes for each: a profile of 100 browsers coming
 and going found a yourdfpy parse among the panel builds' largest costs. One parse is shared here. yourdfpy's
-model keeps the last configuration it was posed in, so a ghost's posing (and its building, which reads the
+model keeps the last configuration it was posed in, so a ghost's posing (and its drawing, which reads the
 model's transforms) take turns under one lock; they only queue messages for the browsers, quickly.
+
+A ghost is drawn (its frames and meshes sent) the first time it is shown: most pages never show the
+Target tab's red ghost or the Program tab's preview, and the three eager ghosts were some 250 of the ~640
+messages of a newcomer's panels and most of its bytes (the arm's meshes, three times over), in the pendant
+and again in the browser, which parsed them into the 3D view's scene while the page loaded.
 """
 
 from __future__ import annotations
@@ -36,8 +42,10 @@ def parsed(urdf_path: Path) -> Any:
     )
 
 
-class SharedUrdf(ViserUrdf):
-    """A ViserUrdf drawn from the shared parse of `urdf_path`."""
+class SharedUrdf:
+    """A ghost of the arm drawn from the shared parse of `urdf_path` under `root_node_name`: hidden (and
+    not yet in the browser's scene) until `show_visual` is first set; `update_cfg` poses it, drawn or not
+    (a ghost not drawn yet is drawn at the last pose it was given)."""
 
     def __init__(
         self,
@@ -47,12 +55,55 @@ class SharedUrdf(ViserUrdf):
         root_node_name: str,
         mesh_color_override: tuple[float, float, float, float],
     ) -> None:
-        model = parsed(Path(urdf_path))
-        with _posing:
-            super().__init__(
-                target, model, root_node_name=root_node_name, mesh_color_override=mesh_color_override
-            )
+        self._target = target
+        self._model = parsed(Path(urdf_path))
+        self._root_node_name = root_node_name
+        self._rgba = mesh_color_override
+        self._drawn: ViserUrdf | None = None
+        self._cfg: np.ndarray | None = None  # the pose given before it was drawn
+
+    @property
+    def drawn(self) -> bool:
+        """Its frames and meshes are in the browser's scene (it was shown at least once)."""
+        return self._drawn is not None
+
+    @property
+    def show_visual(self) -> bool:
+        drawn = self._drawn
+        return drawn is not None and drawn.show_visual
+
+    @show_visual.setter
+    def show_visual(self, visible: bool) -> None:
+        drawn = self._drawn
+        if drawn is None and not visible:
+            return  # never drawn: nothing to hide, nothing to send
+        if drawn is None:
+            drawn = self._draw()
+        drawn.show_visual = visible
 
     def update_cfg(self, configuration: np.ndarray) -> None:
         with _posing:
-            super().update_cfg(configuration)
+            if self._drawn is None:
+                self._cfg = np.array(configuration, dtype=float)
+            else:
+                self._drawn.update_cfg(configuration)
+
+    def get_actuated_joint_names(self) -> tuple[str, ...]:
+        return tuple(self._model.actuated_joint_names)
+
+    def remove(self) -> None:
+        if self._drawn is not None:
+            self._drawn.remove()
+
+    def _draw(self) -> ViserUrdf:
+        with _posing:
+            if self._drawn is None:  # another thread may have drawn it meanwhile
+                if self._cfg is not None:
+                    self._model.update_cfg(self._cfg)
+                self._drawn = ViserUrdf(
+                    self._target,
+                    self._model,
+                    root_node_name=self._root_node_name,
+                    mesh_color_override=self._rgba,
+                )
+            return self._drawn

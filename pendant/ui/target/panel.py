@@ -347,11 +347,11 @@ class TargetPanel:
             self.ghosts.show("target", blocked=not self.ghost_shown)
         for ok, ghost in self._ghosts.items():
             visible = self.ghost_shown == ok
-            ghost.show_visual = visible
-            if visible and q is not None:
+            if visible and q is not None:  # posed first: a ghost drawn at its first show stands there
                 cfg = np.zeros(len(ghost.get_actuated_joint_names()))
                 cfg[:6] = q
                 ghost.update_cfg(cfg)
+            ghost.show_visual = visible
 
     def show_planned_ghost(self, q: np.ndarray) -> None:
         """The blue ghost at `q`, a point of the planned path (Plan around plays it)."""
@@ -360,11 +360,11 @@ class TargetPanel:
         self.ghosts.show("plan")
         self.ghost_shown = True
         for ok, ghost in self._ghosts.items():
-            ghost.show_visual = ok
             if ok:
                 cfg = np.zeros(len(ghost.get_actuated_joint_names()))
                 cfg[:6] = q
                 ghost.update_cfg(cfg)
+            ghost.show_visual = ok
 
     def plan_played(self) -> None:
         """The plan's playback is over: the ghost rests at the target, and the legend says so."""
