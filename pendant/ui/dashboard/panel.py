@@ -3,11 +3,14 @@ recording to MCAP and CSV (recording), their replay with a ghost arm (replay) an
 (events).
 
 The readings are shared: the refresh loop samples the motors once for everybody and renders the table, the
-plots' data and the log once per distinct view; each browser's panel only receives the result.
+plots' data and the log once per distinct view; each browser's panel only receives the result, and only
+while its page shows the tab (kit/tab_watch.py): a browser on another tab is sent the newest table and plots
+the moment it opens this one, not every refresh before.
 """
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -23,6 +26,7 @@ from pendant.ui.dashboard.replay import ReplayPanel
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.html import inset
 from pendant.ui.kit.jobs import PageJobs
+from pendant.ui.kit.tab_watch import TabWatch
 from pendant.ui.scene.ghost_stage import GhostStage
 
 # (row label, what it means, how a reading shows): one row per quantity, one column per joint, so the table
@@ -75,6 +79,11 @@ class DashboardPanel:
         ghosts: GhostStage | None = None,
     ) -> None:
         jobs = jobs if jobs is not None else PageJobs()  # replays and downloads: bounded, off viser's pool
+        # The refresh loop's drawings and the tab coming into view (viser's pool) take turns.
+        self._drawing = threading.Lock()
+        self._table_due: str | None = None  # the newest table and plots, kept while the tab is not shown
+        self._plots_due: PlotSource | None = None
+        self.on_screen = TabWatch(target, self._tab_shown)
         self.motor_table = target.gui.add_html(render_motor_table(None))
         self.plot_view = PlotView(target)
         with target.gui.add_folder("Recording (MCAP and CSV)"):
@@ -102,12 +111,36 @@ class DashboardPanel:
         self.download = self.recording.download
 
     def show_table(self, table_html: str) -> None:
+        with self._drawing:
+            if self.on_screen.shown:
+                self._draw_table(table_html)
+                self._table_due = None  # older than this one
+            else:
+                self._table_due = table_html
+
+    def show_plots(self, source: PlotSource) -> None:
+        with self._drawing:
+            if self.on_screen.shown:
+                self.plot_view.show(source)
+                self._plots_due = None  # older than this one
+            else:
+                self._plots_due = source
+
+    def _tab_shown(self, shown: bool) -> None:
+        """The page shows the tab now (or no more): what came meanwhile is drawn at once."""
+        with self._drawing:
+            if not shown:
+                return
+            if self._table_due is not None:
+                self._draw_table(self._table_due)
+            if self._plots_due is not None:
+                self.plot_view.show(self._plots_due)
+            self._table_due = self._plots_due = None
+
+    def _draw_table(self, table_html: str) -> None:
         if table_html != self._table_html:
             self.motor_table.content = table_html
             self._table_html = table_html
-
-    def show_plots(self, source: PlotSource) -> None:
-        self.plot_view.show(source)
 
     def show_events(self, render: EventsRenderer) -> None:
         self.events.show(render)

@@ -18,6 +18,8 @@
 // 8. An upload's outcome: viser's "File uploaded successfully." says "File received.", hidden by a refusal.
 // 9. The jog's confirmations and release over the hold line, a socket of their own (see section 1).
 // 10. The page's own buttons for hidden viser buttons (`data-click-uuid`: the teach row) send their click.
+// 11. Which tabs are on screen: a tab's marker (`data-tab-shown`, pendant/ui/kit/tab_watch.py) says when it
+//     comes into view and when it leaves, so the pendant sends its live drawings only while they are seen.
 (() => {
   "use strict";
   (function tokenIntoWebsocketUrl() {
@@ -154,6 +156,8 @@
         }, 1000 / d.hz);
       } else if (d.type === "pendant_alive") {
         lastAlive = performance.now();
+      } else if (d.type === "pendant_click") {  // a hidden button's click, nothing else (section 11)
+        send({ type: "GuiUpdateMessage", uuid: d.uuid, updates: { value: true } });
       } else if (d.type === "pendant_release") {
         stop();
         if (pressLine !== null && pressLine.readyState === 1) pressLine.send("release " + d.uuid);
@@ -378,6 +382,39 @@
       });
     }
     new MutationObserver(apply).observe(document.documentElement, { childList: true, subtree: true });
+  })();
+
+  // --- 11. Which tabs are on screen ---------------------------------------------------------------------
+  // Looked at (a forced layout) at most every TAB_LOOK_MS after the page changes; a click is told only once
+  // the websocket's worker is there to send it, and again after the marker is built anew.
+  (function tabsOnScreen() {
+    const TAB_LOOK_MS = 100;
+    const told = new Map(); // marker's "shown" uuid -> { shown, hidden: its "hidden" uuid }
+    let due = null;
+    function look() {
+      due = null;
+      if (socketWorker === null) { due = setTimeout(look, TAB_LOOK_MS); return; }
+      const present = new Set();
+      for (const marker of document.querySelectorAll("[data-tab-shown]")) {
+        const uuid = marker.dataset.tabShown;
+        present.add(uuid);
+        const shown = marker.offsetParent !== null;
+        const was = told.get(uuid);
+        if (was === undefined ? shown : was.shown !== shown) {
+          post({ type: "pendant_click", uuid: shown ? uuid : marker.dataset.tabHidden });
+        }
+        told.set(uuid, { shown, hidden: marker.dataset.tabHidden });
+      }
+      for (const [uuid, was] of told) {
+        if (present.has(uuid)) continue;
+        if (was.shown) post({ type: "pendant_click", uuid: was.hidden }); // unmounted: out of view
+        told.delete(uuid);
+      }
+    }
+    const soon = () => { if (due === null) due = setTimeout(look, TAB_LOOK_MS); };
+    new MutationObserver(soon).observe(document.documentElement, {
+      childList: true, subtree: true, attributes: true, attributeFilter: ["style", "class", "hidden"],
+    });
   })();
 
   // --- 8. An upload's outcome is the pendant's to say -------------------------------------------------

@@ -129,6 +129,26 @@ def _where(snapshot: Snapshot) -> str:
     return "".join(parts)
 
 
+class _LastRendering:
+    """render_status's last block, kept for the next browser: the refresh shows one snapshot to every
+    browser in turn, and each rendered the same block again (a tenth of the pendant's time beside 60
+    viewers, issue 37). One entry, keyed by the snapshot itself (not a copy), replaced as a whole."""
+
+    def __init__(self) -> None:
+        self._last: tuple[Snapshot, str, str, bool, str] | None = None
+
+    def render(self, snapshot: Snapshot, mode_line: str, system: str, protective: bool) -> str:
+        last = self._last
+        if last is not None and last[0] is snapshot and last[1:4] == (mode_line, system, protective):
+            return last[4]
+        content = render_status(snapshot, mode_line, system, protective)
+        self._last = (snapshot, mode_line, system, protective, content)
+        return content
+
+
+_rendering = _LastRendering()
+
+
 # States Recover clears: in them the button under the banner is Recover, otherwise the protective Stop.
 RECOVERABLE = {MotionStatus.ERROR, MotionStatus.MOTION_FAILED}
 
@@ -187,7 +207,7 @@ class StatusPanel:
     def _render(self) -> None:
         # With the banner, it alone says "Protective stop" and the way out (one line, one Recover).
         protective = not self._recover_in_banner and in_protective_stop(self._snapshot, self._cell_state)
-        content = render_status(self._snapshot, self._mode_line, self._system, protective)
+        content = _rendering.render(self._snapshot, self._mode_line, self._system, protective)
         if content != self._last:
             self._html.content = content
             self._last = content
