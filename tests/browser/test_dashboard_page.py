@@ -8,7 +8,7 @@ import re
 import pytest
 from playwright.sync_api import Page, expect
 
-from tests.support.browser_pages import ARTIFACTS
+from tests.support.browser_pages import ARTIFACTS, open_tab
 from tests.support.launchers import Pendant
 from tests.support.shared_pendants import NOT_REAL_TIME
 
@@ -21,7 +21,7 @@ TIMEOUT_MS = 30_000
 
 def test_dashboard_plots_log_and_join_qr(page: Page, pendant: Pendant) -> None:
     assert pendant.api.put("/signal/output/1/high").status_code == 200  # something for the event log
-    page.get_by_role("tab", name="Dashboard").click(no_wait_after=True)
+    open_tab(page, "Dashboard")
     legend = page.locator(".u-legend").first
     expect(legend).to_contain_text(JOINT_VALUE, timeout=TIMEOUT_MS)  # the plots have filled in
     text = legend.inner_text()

@@ -30,6 +30,19 @@ CONTROL_TIMEOUT_S = 60.0
 PAGE_THROTTLE_FLUSH_MS = 100  # longer than viser's page-side 50 ms send throttle (see `sent`)
 
 
+PANELS_TIMEOUT_MS = 90_000  # a loaded 2-core machine
+
+
+def open_tab(page: Page, name: str) -> None:
+    """Open the tab `name` as a person does, once the page has its whole panel (the "Loading the panels"
+    note under Freeze gone): a tab clicked while the builder was still adding tabs stayed on the Jog tab in
+    a clean-clone run (the Dashboard's legend then never filled in). The tab must then be the open one."""
+    page.get_by_text("Loading the panels").wait_for(state="detached", timeout=PANELS_TIMEOUT_MS)
+    tab = page.get_by_role("tab", name=name, exact=True)
+    tab.click()
+    tab.and_(page.locator('[aria-selected="true"]')).wait_for(timeout=UI_TIMEOUT_MS)
+
+
 def wait_idle(pendant: Pendant, timeout_s: float = MOVE_TIMEOUT_S) -> None:
     deadline = time.monotonic() + timeout_s
     while pendant.status() != "IDLE":
