@@ -146,3 +146,27 @@ def test_while_the_operator_jogs_each_browser_waits_the_hold_back_limit_from_its
         assert built == [1, 2, 3]
     finally:
         builder.stop()
+
+
+def test_with_browsers_waiting_the_builder_rests_as_long_as_its_last_build_took() -> None:
+    """Builds back to back took the interpreter from every other browser's page (benchmarks/churn.py): with
+    another browser waiting, the next build starts only after a rest as long as the last build took."""
+    clock = FakeClock()
+    builder = SessionBuilder(clock=clock)
+    built: list[int] = []
+    first_done, second = threading.Event(), threading.Event()
+
+    def slow() -> None:
+        builder.submit(2, _record(built, 2, second))  # a browser came while this one was being built
+        clock.now += 1.0  # a build of a second
+        built.append(1)
+        first_done.set()
+
+    try:
+        builder.submit(1, slow)
+        assert first_done.wait(WAIT_S)
+        assert not second.wait(0.5), "the next build started at once after a build of a second"
+        assert second.wait(WAIT_S)
+        assert built == [1, 2]
+    finally:
+        builder.stop()
