@@ -26,9 +26,8 @@ class TabWatch:
         self._on_change = on_change
         came = target.gui.add_button("Tab shown", visible=False)
         went = target.gui.add_button("Tab hidden", visible=False)
-        self.marker = target.gui.add_html(
-            f'<div data-tab-shown="{came._impl.uuid}" data-tab-hidden="{went._impl.uuid}"></div>'
-        )
+        marker = f'data-tab-shown="{came._impl.uuid}" data-tab-hidden="{went._impl.uuid}"'
+        self.marker = target.gui.add_html(f'<div {marker} style="height:1px"></div>')
         came.on_click(lambda _: self._set(True))
         went.on_click(lambda _: self._set(False))
 

@@ -385,36 +385,52 @@
   })();
 
   // --- 11. Which tabs are on screen ---------------------------------------------------------------------
-  // Looked at (a forced layout) at most every TAB_LOOK_MS after the page changes; a click is told only once
-  // the websocket's worker is there to send it, and again after the marker is built anew.
+  // An IntersectionObserver with a margin far larger than any screen says when a marker has a box at all
+  // (its tab shown) or none (display: none, unmounted), without forcing a layout (offsetParent, read at each
+  // change of the page's styles, forced one up to 10 times a second in every page while the arm moved). New
+  // markers are looked for at most every TAB_LOOK_MS after elements are added or removed. A click is told
+  // only once the websocket's worker is there to send it.
   (function tabsOnScreen() {
     const TAB_LOOK_MS = 100;
-    const told = new Map(); // marker's "shown" uuid -> { shown, hidden: its "hidden" uuid }
+    const told = new Map(); // marker element -> shown, as last told to the pendant
+    const seen = new Map(); // marker element -> shown, as last seen here
+    function tell(marker) {
+      const shown = seen.get(marker);
+      if (shown === undefined || told.get(marker) === shown) return;
+      if (socketWorker === null) { setTimeout(() => tell(marker), TAB_LOOK_MS); return; } // not yet: again soon
+      post({ type: "pendant_click", uuid: shown ? marker.dataset.tabShown : marker.dataset.tabHidden });
+      told.set(marker, shown);
+    }
+    const boxes = new IntersectionObserver((entries) => {
+      for (const entry of entries) {
+        const marker = entry.target;
+        const shown = entry.isIntersecting && marker.isConnected;
+        if (!told.has(marker) && !shown) told.set(marker, false); // hidden from the start: the pendant's default
+        seen.set(marker, shown);
+        tell(marker);
+      }
+    }, { rootMargin: "100000px" });
+    const watched = new Set();
     let due = null;
     function look() {
       due = null;
-      if (socketWorker === null) { due = setTimeout(look, TAB_LOOK_MS); return; }
-      const present = new Set();
       for (const marker of document.querySelectorAll("[data-tab-shown]")) {
-        const uuid = marker.dataset.tabShown;
-        present.add(uuid);
-        const shown = marker.offsetParent !== null;
-        const was = told.get(uuid);
-        if (was === undefined ? shown : was.shown !== shown) {
-          post({ type: "pendant_click", uuid: shown ? uuid : marker.dataset.tabHidden });
-        }
-        told.set(uuid, { shown, hidden: marker.dataset.tabHidden });
+        if (watched.has(marker)) continue;
+        watched.add(marker);
+        boxes.observe(marker);
       }
-      for (const [uuid, was] of told) {
-        if (present.has(uuid)) continue;
-        if (was.shown) post({ type: "pendant_click", uuid: was.hidden }); // unmounted: out of view
-        told.delete(uuid);
+      for (const marker of watched) {
+        if (marker.isConnected) continue;
+        boxes.unobserve(marker);
+        watched.delete(marker);
+        seen.set(marker, false); // unmounted: out of view
+        tell(marker);
+        told.delete(marker);
+        seen.delete(marker);
       }
     }
-    const soon = () => { if (due === null) due = setTimeout(look, TAB_LOOK_MS); };
-    new MutationObserver(soon).observe(document.documentElement, {
-      childList: true, subtree: true, attributes: true, attributeFilter: ["style", "class", "hidden"],
-    });
+    new MutationObserver(() => { if (due === null) due = setTimeout(look, TAB_LOOK_MS); })
+      .observe(document.documentElement, { childList: true, subtree: true });
   })();
 
   // --- 8. An upload's outcome is the pendant's to say -------------------------------------------------
