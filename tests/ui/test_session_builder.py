@@ -165,6 +165,7 @@ def test_with_browsers_waiting_the_builder_rests_as_long_as_its_last_build_took(
     try:
         builder.submit(1, slow)
         assert first_done.wait(WAIT_S)
+        builder.submit(3, lambda: None)  # another comes during the rest: it does not cut it short
         assert not second.wait(0.5), "the next build started at once after a build of a second"
         assert second.wait(WAIT_S)
         assert built == [1, 2]

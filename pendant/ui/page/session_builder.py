@@ -147,6 +147,7 @@ class SessionBuilder:
         """With more browsers waiting, as long again as the last build took before the next: builds back to
         back took the interpreter from everything else (100 browsers coming and going: the pendant at 1.1
         cores, a newcomer's Freeze 2.1 s, benchmarks/churn.py); at most half of it, they leave the rest."""
-        with self._wake:
-            if self._waiting and not self._stopped:
-                self._wake.wait(min(build_s * (1.0 / BUILD_SHARE - 1.0), MAX_REST_S))
+        until = time.monotonic() + min(build_s * (1.0 / BUILD_SHARE - 1.0), MAX_REST_S)
+        with self._wake:  # a newcomer's submit wakes it: it rests on unless stopped
+            while self._waiting and not self._stopped and (left := until - time.monotonic()) > 0:
+                self._wake.wait(left)
