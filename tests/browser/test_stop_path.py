@@ -23,7 +23,7 @@ from playwright.sync_api import Browser, Page
 from websockets.sync.client import ClientConnection, connect
 
 from tests.support.big_recordings import write_long_recording
-from tests.support.browser_pages import ARTIFACTS, take_control
+from tests.support.browser_pages import ARTIFACTS, open_tab, take_control
 from tests.support.headless_viewer import CAMERA_HELLO, click_message, decode_window, notification
 from tests.support.launchers import Pendant
 from tests.support.launchers import running_pendant_ui as running_pendant
@@ -189,7 +189,7 @@ def test_a_recording_sent_in_parts_downloads_whole_in_chromium(
     page = browser.new_page(viewport={"width": 1400, "height": 900}, accept_downloads=True)
     page.goto(pendant.ui_url)
     page.get_by_role("button", name="Freeze").wait_for(timeout=PAGE_TIMEOUT_S * 1000)
-    page.get_by_role("tab", name="Dashboard").click(no_wait_after=True)
+    open_tab(page, "Dashboard")  # once the whole panel is there (a click before stayed on the Jog tab)
     with page.expect_download(timeout=PAGE_TIMEOUT_S * 1000) as download:
         page.get_by_role("button", name="Download MCAP").click()
     saved = tmp_path / download.value.suggested_filename
