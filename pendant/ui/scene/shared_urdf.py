@@ -63,11 +63,6 @@ class SharedUrdf:
         self._cfg: np.ndarray | None = None  # the pose given before it was drawn
 
     @property
-    def drawn(self) -> bool:
-        """Its frames and meshes are in the browser's scene (it was shown at least once)."""
-        return self._drawn is not None
-
-    @property
     def show_visual(self) -> bool:
         drawn = self._drawn
         return drawn is not None and drawn.show_visual
