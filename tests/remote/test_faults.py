@@ -34,6 +34,9 @@ FAR = Pose(angles=[120.0, -60.0, 60.0, -90.0, -90.0, 90.0])
 QUIET_S = 0.5  # how long we watch a restarted controller for motion nobody asked for
 
 
+SAFETY_NET_S = 30.0  # a wait that only catches a hang (docs/development.md)
+
+
 def start_controller(launch: Launcher, port: int) -> subprocess.Popen[bytes]:
     process = launch(["--no-ui", "--api-port", str(port)], "controller")
     wait_for_port(port, START_TIMEOUT_S)
@@ -101,10 +104,12 @@ def test_emergency_and_no_response_come_through_with_their_messages(launch: Laun
     port = free_port()
     url = f"http://127.0.0.1:{port}"
     start_controller(launch, port)
+    # Waits of a safety net, not the defaults' 3 s: beside the timed tests this pass may get no CPU for
+    # seconds (a clean-clone run: "did not answer GET /pose within 3 s"); the messages are what is tested.
     with (
-        serve_in_thread(create_proxy_app(url)) as proxy_url,
-        RemoteController(proxy_url) as controller,
-        httpx.Client(base_url=proxy_url) as through_proxy,
+        serve_in_thread(create_proxy_app(url, read_timeout=SAFETY_NET_S)) as proxy_url,
+        RemoteController(proxy_url, read_timeout=SAFETY_NET_S) as controller,
+        httpx.Client(base_url=proxy_url, timeout=SAFETY_NET_S) as through_proxy,
     ):
         through_proxy.put("/sim/fault/emergency").raise_for_status()
         with pytest.raises(Emergency) as emergency:
