@@ -35,6 +35,7 @@ import time
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import httpx
 import websockets
@@ -145,6 +146,16 @@ def churn_process(port: int, n: int, seconds: float, results: multiprocessing.Qu
 
 
 @dataclass
+class Deadline:
+    """When the operator lets go (monotonic s): a time, brought forward if the benchmark is done sooner."""
+
+    at: float
+
+    def passed(self) -> bool:
+        return time.monotonic() >= self.at
+
+
+@dataclass
 class Viewer:
     """One new viewer's times (s from starting its page GET); None: not within the timeouts."""
 
@@ -248,11 +259,11 @@ class Operator:
         else:
             await self.ws.send(gui_update(self.pad.stop, True))
 
-    async def hold(self, until: float) -> None:
+    async def hold(self, until: Deadline) -> None:
         assert self.ws is not None and self.pad is not None
         drain = asyncio.create_task(self._drain())
         next_at = sent_at = time.monotonic()
-        while time.monotonic() < until:
+        while not until.passed():
             if self.regrasp.is_set():  # the jog was cut: let go, then press again
                 self.regrasp.clear()
                 await self._send_stop()
@@ -278,10 +289,10 @@ class Operator:
                 pass
 
 
-async def watch_cuts(api: str, until: float, operator: Operator, cuts: list[str]) -> None:
+async def watch_cuts(api: str, until: Deadline, operator: Operator, cuts: list[str]) -> None:
     since = time.time()
     async with httpx.AsyncClient(base_url=api, timeout=5.0) as client:
-        while time.monotonic() < until:
+        while not until.passed():
             await asyncio.sleep(EVENTS_POLL_S)
             answer = await client.get("/pendant/events", params={"text": "stopped:", "since": since})
             found = [
@@ -310,17 +321,31 @@ class Outcome:
     hold_gap_s: float
 
 
-async def operate(ui_port: int, api: str, seconds: float, ready: multiprocessing.Queue) -> tuple:  # type: ignore[type-arg]
-    """The operator: connect (first, so it has control), then hold J1+ until the end; its cuts, its largest
-    gap between two confirmations sent, and how far J1 went."""
+async def finish_early(until: Deadline, finish: Any) -> None:
+    """Brings `until` forward to the moment `finish` (a multiprocessing Event) is set, if before it."""
+    if await asyncio.to_thread(finish.wait, max(0.0, until.at - time.monotonic())):
+        until.at = min(until.at, time.monotonic())
+
+
+async def operate(
+    ui_port: int,
+    api: str,
+    seconds: float,
+    ready: multiprocessing.Queue,  # type: ignore[type-arg]
+    finish: Any = None,
+) -> tuple:  # type: ignore[type-arg]
+    """The operator: connect (first, so it has control), then hold J1+ for `seconds` or until `finish` (a
+    multiprocessing Event) is set; its cuts, its largest gap between two confirmations sent, and how far J1
+    went."""
     operator = Operator(ui_port)
     await operator.connect()
     async with httpx.AsyncClient(base_url=api, timeout=5.0) as client:
         j1_before = (await client.get("/pose")).json()["angles"][0]
         ready.put("ready")
-        until = time.monotonic() + seconds
+        until = Deadline(time.monotonic() + seconds)
         cuts: list[str] = []
-        await asyncio.gather(operator.hold(until), watch_cuts(api, until, operator, cuts))
+        early = [finish_early(until, finish)] if finish is not None else []
+        await asyncio.gather(operator.hold(until), watch_cuts(api, until, operator, cuts), *early)
         moved = (await client.get("/pose")).json()["angles"][0] - j1_before
     # A cut within a second after the operator itself sent late is this side's (a loaded machine), not the
     # pendant's: counted apart.
@@ -328,12 +353,18 @@ async def operate(ui_port: int, api: str, seconds: float, ready: multiprocessing
     return cuts, operator.largest_gap_s, moved, own
 
 
-def operator_process(ui_port: int, api: str, seconds: float, results: multiprocessing.Queue) -> None:  # type: ignore[type-arg]
+def operator_process(
+    ui_port: int,
+    api: str,
+    seconds: float,
+    results: multiprocessing.Queue,  # type: ignore[type-arg]
+    finish: Any = None,
+) -> None:
     """In a process of its own, as a tablet's page would be on a device of its own (and ahead of the
     loaded machine's other processes where it may be), so its confirmations leave on time."""
     with contextlib.suppress(OSError):
         os.nice(-10)
-    results.put(asyncio.run(operate(ui_port, api, seconds, results)))
+    results.put(asyncio.run(operate(ui_port, api, seconds, results, finish)))
 
 
 async def measure(ui_port: int, api: str, pid: int, churners: int, seconds: float) -> tuple:  # type: ignore[type-arg]

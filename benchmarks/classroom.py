@@ -16,10 +16,11 @@ side by side.
 
 `--program`: the operator runs a program from the page instead of holding the jog (benchmarks/
 classroom_program.py): how late each step begins against the previous step's end + its wait, timed by the
-simulator on its own clock, with the operator alone and then with the viewers (p50 / p99 / max).
+simulator on its own clock, with the operator alone and then with the viewers (p50 / p99 / max); the
+viewers' arm updates a second are counted while the arm moves (between moves it sends nothing new).
 
-Run: .venv/bin/python benchmarks/classroom.py [--viewers 60] [--seconds 60] [--plans] [--program]
-     [--baseline REV]
+Run: .venv/bin/python benchmarks/classroom.py [--viewers 60 | --viewers 1,20,60,100] [--seconds 60]
+     [--plans] [--program] [--baseline REV]
 """
 
 from __future__ import annotations
@@ -46,6 +47,7 @@ from benchmarks.churn import Viewer, operator_process, pendant_from, percentile,
 from benchmarks.classroom_program import (
     Lateness,
     ProgramRun,
+    moving,
     pendant_with_program,
     program_operator_process,
     summary,
@@ -54,6 +56,7 @@ from benchmarks.classroom_program import (
 from benchmarks.preflight_bodies import PLAN, SMALL
 from benchmarks.viewers import cpu_seconds
 from tests.support.headless_viewer import ViewerCounts, viewer
+from tests.support.metrics import scrape, values
 
 REPO = Path(__file__).resolve().parents[1]
 START_TIMEOUT_S = 180.0  # the operator ready (--program: its Program tab built, at load 30 past a minute)
@@ -70,13 +73,10 @@ BUILT_TIMEOUT_S = 45.0
 def browsers_with_panels(api: str) -> int:
     """The pendant's `pendant_viewers_connected` gauge: browsers whose panels are built (-1: unread)."""
     try:
-        text = httpx.get(f"{api}/metrics", timeout=5.0).text
+        gauge = values(scrape(api), "pendant_viewers_connected")
     except httpx.HTTPError:
         return -1
-    for line in text.splitlines():
-        if line.startswith("pendant_viewers_connected "):
-            return int(float(line.split()[1]))
-    return -1
+    return int(gauge[0]) if gauge else -1
 
 
 async def wait_for_panels(api: str, n: int, timeout_s: float) -> int:
@@ -88,10 +88,10 @@ async def wait_for_panels(api: str, n: int, timeout_s: float) -> int:
 
 
 def viewers_process(port: int, n: int, done: Any, results: multiprocessing.Queue) -> None:  # type: ignore[type-arg]
-    """N viewers until `done` is set (a multiprocessing Event); their update rates from WARM_UP_S (to
-    connect) on."""
+    """N viewers until `done` is set (a multiprocessing Event); when each received the arm's pose, from
+    WARM_UP_S (to connect) on."""
 
-    async def run() -> list[float]:
+    async def run() -> list[list[float]]:
         stop = asyncio.Event()
         counts = [ViewerCounts() for _ in range(n)]
         tasks = [asyncio.create_task(viewer(f"ws://127.0.0.1:{port}/", c, stop)) for c in counts]
@@ -101,9 +101,16 @@ def viewers_process(port: int, n: int, done: Any, results: multiprocessing.Queue
         t1 = time.monotonic()
         stop.set()
         await asyncio.gather(*tasks, return_exceptions=True)
-        return [len([t for t in c.state_times if t0 <= t < t1]) / (t1 - t0) for c in counts]
+        return [[t for t in c.state_times if t0 <= t < t1] for c in counts]
 
     results.put(asyncio.run(run()))
+
+
+def rates_within(times: list[list[float]], spans: list[tuple[float, float]]) -> list[float]:
+    """Each viewer's arm updates a second within `spans` (monotonic s): while the arm moved, for a program
+    (standing still between moves, the arm sends nothing new)."""
+    seconds = sum(t1 - t0 for t0, t1 in spans)
+    return [sum(t0 <= t < t1 for t in viewer for t0, t1 in spans) / seconds for viewer in times]
 
 
 def keep_planning(api: str, stop: threading.Event, done: list[int]) -> None:
@@ -137,22 +144,24 @@ async def measure(
     ui: int, api: str, pid: int, n: int, seconds: float, plans: bool, program: ProgramRun | None
 ) -> Outcome:
     spawn = multiprocessing.get_context("spawn")
-    total = ALONE_S + WARM_UP_S + BUILT_TIMEOUT_S + STEADY_S + seconds  # the operator's hold: long enough
+    # The operator's hold (or run): long enough, and let go as soon as the newcomers are done (`watched`).
+    total = ALONE_S + WARM_UP_S + BUILT_TIMEOUT_S + STEADY_S + seconds
+    watched = spawn.Event()
     operated: multiprocessing.Queue = spawn.Queue()  # type: ignore[type-arg]
     operates = operator_process if program is None else program_operator_process
-    operator = spawn.Process(target=operates, args=(ui, api, total, operated), daemon=True)
+    operator = spawn.Process(target=operates, args=(ui, api, total, operated, watched), daemon=True)
     operator.start()
     assert await asyncio.to_thread(operated.get, True, START_TIMEOUT_S) == "ready"
     t0, cpu0 = time.monotonic(), cpu_seconds(pid)
     await asyncio.sleep(ALONE_S)
     alone = (cpu_seconds(pid) - cpu0) / (time.monotonic() - t0)
     rated: multiprocessing.Queue = spawn.Queue()  # type: ignore[type-arg]
-    watched = spawn.Event()
     watchers = spawn.Process(target=viewers_process, args=(ui, n, watched, rated), daemon=True)
     watchers.start()
     stop, done = threading.Event(), [0]
     planner = threading.Thread(target=keep_planning, args=(api, stop, done), daemon=True)
     await asyncio.sleep(WARM_UP_S)
+    watching = time.monotonic()  # the viewers count from about now (their own WARM_UP_S)
     if plans:
         planner.start()
     built = await wait_for_panels(api, n + 1, BUILT_TIMEOUT_S)  # the viewers and the operator
@@ -166,17 +175,19 @@ async def measure(
     watched.set()
     stop.set()
     t2 = time.monotonic()
-    rates = await asyncio.to_thread(rated.get, True, 120.0)
+    times = await asyncio.to_thread(rated.get, True, 120.0)
     operated_result = await asyncio.to_thread(operated.get, True, 120.0)
     for process in (watchers, operator):
         await asyncio.to_thread(process.join, 10.0)
     if program is None:
+        rates = rates_within(times, [(watching, t2)])
         cuts, gap, moved, own = operated_result
         outcome = Outcome("", cuts, rates, newcomers, alone, cores, done[0], moved, gap, own)
         outcome.newcomer_cores = newcomer_cores
         outcome.built = built - 1  # the operator's own panels are not a viewer's
         return outcome
     late_alone, late = windows(program, (t0, t0 + ALONE_S), (t1, t2))
+    rates = rates_within(times, moving(program, watching, t2))
     outcome = Outcome("", [], rates, newcomers, alone, cores, done[0], 0.0, 0.0, 0, late_alone, late)
     outcome.ended = str(operated_result)
     outcome.newcomer_cores = newcomer_cores
@@ -229,7 +240,7 @@ def report(outcomes: list[Outcome], n: int, seconds: float, plans: bool, program
         row("… of which the operator had sent late (its own)", [str(o.operator_late_cuts) for o in outcomes])
         row("J1 moved while held (deg)", [f"{o.moved_deg:.1f}" for o in outcomes])
     row(
-        "arm updates per viewer /s: min / median",
+        "arm updates per viewer /s: min / median" + (" (moving)" if program else ""),
         [f"{min(o.rates):.1f} / {statistics.median(o.rates):.1f}" for o in outcomes],
     )
     for part in ("freeze", "panel"):
@@ -275,23 +286,28 @@ def report(outcomes: list[Outcome], n: int, seconds: float, plans: bool, program
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--viewers", type=int, default=60)
+    parser.add_argument(
+        "--viewers", default="60", help="how many steady viewers; a list (1,20,60,100) runs each in turn"
+    )
     parser.add_argument("--seconds", type=float, default=60.0)
     parser.add_argument("--plans", action="store_true", help="keep plans and pre-flights running too")
     parser.add_argument("--program", action="store_true", help="the operator runs a program, no jog")
     parser.add_argument("--baseline", help="a git revision to measure first (before), e.g. main")
     args = parser.parse_args()
-    measured = (args.viewers, args.seconds, args.plans, args.program)
-    outcomes = []
     with tempfile.TemporaryDirectory(prefix="pendant-baseline-") as baseline:
         if args.baseline:
             archive = subprocess.run(
                 ["git", "archive", args.baseline], cwd=REPO, check=True, capture_output=True
             ).stdout
             subprocess.run(["tar", "-x", "-C", baseline], input=archive, check=True)
-            outcomes.append(run(f"before ({args.baseline})", Path(baseline), *measured))
-        outcomes.append(run("this checkout", REPO, *measured))
-    report(outcomes, args.viewers, args.seconds, args.plans, args.program)
+        for n in (int(count) for count in args.viewers.split(",")):
+            measured = (n, args.seconds, args.plans, args.program)
+            outcomes = []
+            if args.baseline:
+                outcomes.append(run(f"before ({args.baseline})", Path(baseline), *measured))
+            outcomes.append(run("this checkout", REPO, *measured))
+            report(outcomes, n, args.seconds, args.plans, args.program)
+            print(flush=True)
     return 0
 
 

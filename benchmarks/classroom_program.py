@@ -20,6 +20,7 @@ import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from benchmarks.churn import pendant_from, percentile
@@ -52,12 +53,15 @@ def pendant_with_program(source: Path, prefix: str) -> Iterator[tuple[int, str, 
             yield ui, api, pid, ProgramRun(log)
 
 
-async def operate(ui_port: int, seconds: float, results: multiprocessing.Queue) -> str:  # type: ignore[type-arg]
+async def operate(ui_port: int, seconds: float, results: multiprocessing.Queue, finish: Any) -> str:  # type: ignore[type-arg]
     operator = ProgramOperator(await open_viewer(ui_port))
     operator.start()
     await operator.run(0, START_TIMEOUT_S)
     results.put("ready")
-    await asyncio.sleep(seconds)
+    if finish is None:
+        await asyncio.sleep(seconds)
+    else:
+        await asyncio.to_thread(finish.wait, seconds)
     await operator.stop()
     try:
         ended = await operator.ended(START_TIMEOUT_S)
@@ -66,12 +70,19 @@ async def operate(ui_port: int, seconds: float, results: multiprocessing.Queue) 
     return ended
 
 
-def program_operator_process(ui_port: int, api: str, seconds: float, results: multiprocessing.Queue) -> None:  # type: ignore[type-arg]
-    """The operator (in a process of its own, as a tablet's page): Run, `seconds`, Stop; its last line."""
+def program_operator_process(
+    ui_port: int,
+    api: str,
+    seconds: float,
+    results: multiprocessing.Queue,  # type: ignore[type-arg]
+    finish: Any = None,
+) -> None:
+    """The operator (in a process of its own, as a tablet's page): Run, then Stop after `seconds` or once
+    `finish` (a multiprocessing Event) is set; its last line."""
     del api  # the same arguments as churn.operator_process
     with contextlib.suppress(OSError):
         os.nice(-10)
-    results.put(asyncio.run(operate(ui_port, seconds, results)))
+    results.put(asyncio.run(operate(ui_port, seconds, results, finish)))
 
 
 @dataclass
@@ -102,6 +113,15 @@ def summary(late: list[float]) -> str:
         return "-"
     ms = [x * 1000 for x in late]
     return f"{percentile(ms, 0.5):.0f} / {percentile(ms, 0.99):.0f} / {max(ms):.0f} ({len(ms)})"
+
+
+def moving(run: ProgramRun, t0: float, t1: float) -> list[tuple[float, float]]:
+    """The simulator's moves between `t0` and `t1`: (sent, arrived), clipped to the window."""
+    return [
+        (max(step.t, t0), min(step.end, t1))
+        for step in read_log(run.log)
+        if step.kind == "move" and step.end > t0 and step.t < t1
+    ]
 
 
 def windows(

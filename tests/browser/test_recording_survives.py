@@ -13,7 +13,7 @@ import pytest
 from playwright.sync_api import Browser
 
 from pendant.telemetry.repair import finished
-from tests.support.browser_pages import ARTIFACTS, take_control
+from tests.support.browser_pages import ARTIFACTS, open_tab, take_control
 from tests.support.launchers import STOP_TIMEOUT_S, Pendant
 from tests.support.launchers import running_pendant_ui as running_pendant
 from tests.support.mcap_reading import read_mcap
@@ -40,7 +40,7 @@ def record_for_a_while(browser: Browser, pendant: Pendant) -> None:
         page.goto(pendant.ui_url)
         page.get_by_role("button", name="Freeze").wait_for(timeout=UI_TIMEOUT_MS)
         take_control(page)  # on a loaded machine the page may say whose control it is only later
-        page.get_by_role("tab", name="Dashboard").click(no_wait_after=True)
+        open_tab(page, "Dashboard")
         page.get_by_role("button", name="Start recording").click()
         page.get_by_text(re.compile(r"Recording · \d+ samples")).first.wait_for(timeout=UI_TIMEOUT_MS)
         pendant.api.put(

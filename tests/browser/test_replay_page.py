@@ -19,7 +19,15 @@ import yourdfpy
 import zstandard
 
 from pendant.kinematics import ArmModel
-from tests.support.browser_pages import ARTIFACTS, AWAY_DEG, POSE_A_DEG, POSE_B_DEG, move_to, take_control
+from tests.support.browser_pages import (
+    ARTIFACTS,
+    AWAY_DEG,
+    POSE_A_DEG,
+    POSE_B_DEG,
+    move_to,
+    open_tab,
+    take_control,
+)
 from tests.support.launchers import Pendant
 from tests.support.mcap_reading import read_mcap
 
@@ -79,7 +87,7 @@ def watched_page(browser: Any, pendant: Pendant) -> Iterator[tuple[Any, GhostWat
     # A failed attempt may leave its recording running: its rerun (same pendant) could not start one.
     stop = page.get_by_role("button", name="Stop recording")
     if stop.is_enabled():
-        page.get_by_role("tab", name="Dashboard").click(no_wait_after=True)
+        open_tab(page, "Dashboard")
         stop.click()
         page.get_by_text(re.compile(r"Stopped · \d+ samples")).first.wait_for()
     page.close()
@@ -92,7 +100,7 @@ def test_replay_draws_the_recorded_arm_and_steps_at_the_slider_time(
     # Not one look for Take control: a loaded page may not yet say whose control it is (a clean-clone run,
     # 2 Dec: it stayed a viewer, its Record greyed out, and the click waited 60 s).
     take_control(page)
-    page.get_by_role("tab", name="Program").click(no_wait_after=True)
+    open_tab(page, "Program")
     move_to(pendant, POSE_A_DEG)
     page.get_by_role("button", name="Record", exact=True).click()
     page.get_by_text("1. Move J to P1 @ 20%").first.wait_for()
@@ -101,13 +109,13 @@ def test_replay_draws_the_recorded_arm_and_steps_at_the_slider_time(
     page.get_by_text("2. Move J to P2 @ 20%").first.wait_for()
     move_to(pendant, AWAY_DEG)
 
-    page.get_by_role("tab", name="Dashboard").click(no_wait_after=True)
+    open_tab(page, "Dashboard")
     page.get_by_role("button", name="Start recording").click()
     page.get_by_text(re.compile(r"Recording · \d+ samples")).first.wait_for()
-    page.get_by_role("tab", name="Program").click(no_wait_after=True)
+    open_tab(page, "Program")
     page.get_by_role("button", name="Run", exact=True).click()
     page.get_by_text("Finished").first.wait_for(timeout=RUN_TIMEOUT_MS)
-    page.get_by_role("tab", name="Dashboard").click(no_wait_after=True)
+    open_tab(page, "Dashboard")
     page.get_by_role("button", name="Stop recording").click()
     page.get_by_text(re.compile(r"Stopped · \d+ samples")).first.wait_for()
 

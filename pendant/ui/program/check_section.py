@@ -274,9 +274,7 @@ class CheckSection:
         ghost = host.ghost
         if ghost is not None:
             host.ghosts.show("check")  # before it is drawn: the waypoint preview is this same ghost
-            cfg = np.zeros(len(ghost.get_actuated_joint_names()))
-            cfg[:6] = q
-            ghost.update_cfg(cfg)  # posed first: a ghost drawn at its first show stands there
+            ghost.pose(q)  # posed first: a ghost drawn at its first show stands there
             ghost.show_visual = True
 
     def close(self) -> None:

@@ -214,7 +214,5 @@ class WaypointSection:
             self._host.ghosts.hidden("waypoint")
             self._host.ghosts.hidden("check")
         if visible and name is not None:  # posed first: a ghost drawn at its first show stands there
-            cfg = np.zeros(len(self._ghost.get_actuated_joint_names()))
-            cfg[:6] = np.radians(self._host.shared.program.waypoint(name).pose.angles)
-            self._ghost.update_cfg(cfg)
+            self._ghost.pose(np.radians(self._host.shared.program.waypoint(name).pose.angles))
         self._ghost.show_visual = visible

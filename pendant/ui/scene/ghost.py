@@ -10,8 +10,6 @@ import numpy as np
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.scene.shared_urdf import SharedUrdf
 
-N_JOINTS = 6
-
 
 class GhostArm:
     """`show(q)` poses and shows it (q in radians, the six joints; a gripper stays closed); `hide()`."""
@@ -21,15 +19,12 @@ class GhostArm:
     ) -> None:
         self._urdf = SharedUrdf(target, urdf_path, root_node_name=name, mesh_color_override=rgba)
         self._urdf.show_visual = False
-        self._n_actuated = len(self._urdf.get_actuated_joint_names())
         self.q: np.ndarray | None = None  # where it stands while shown
 
     def show(self, q: np.ndarray) -> None:
         if self.q is not None and np.array_equal(self.q, q):
             return  # nothing changed: send nothing to the browser
-        cfg = np.zeros(self._n_actuated)
-        cfg[:N_JOINTS] = q[:N_JOINTS]
-        self._urdf.update_cfg(cfg)
+        self._urdf.pose(q)
         if self.q is None:
             self._urdf.show_visual = True
         self.q = np.array(q, dtype=float)

@@ -36,9 +36,7 @@ class RefusedPose:
         self.shown_q, self.hits = q.copy(), tuple(touching)
         self._hits.show(obstacles, touching)
         if self._ghost is not None:
-            cfg = np.zeros(len(self._ghost.get_actuated_joint_names()))
-            cfg[:6] = q
-            self._ghost.update_cfg(cfg)
+            self._ghost.pose(q)
             self._ghost.show_visual = True
 
     def hide(self) -> None:

@@ -26,6 +26,8 @@ from viser.extras import ViserUrdf
 
 from pendant.ui.kit.gui_target import GuiTarget
 
+ARM_JOINTS = 6  # the arm's joints come first among the actuated ones, the gripper's after
+
 _posing = threading.Lock()
 
 
@@ -82,6 +84,12 @@ class SharedUrdf:
                 self._cfg = np.array(configuration, dtype=float)
             else:
                 self._drawn.update_cfg(configuration)
+
+    def pose(self, q: np.ndarray) -> None:
+        """Poses the arm's six joints at `q` (radians); any other actuated joint (the gripper) stays at 0."""
+        configuration = np.zeros(len(self._model.actuated_joint_names))
+        configuration[:ARM_JOINTS] = q[:ARM_JOINTS]
+        self.update_cfg(configuration)
 
     def get_actuated_joint_names(self) -> tuple[str, ...]:
         return tuple(self._model.actuated_joint_names)

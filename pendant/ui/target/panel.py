@@ -348,9 +348,7 @@ class TargetPanel:
         for ok, ghost in self._ghosts.items():
             visible = self.ghost_shown == ok
             if visible and q is not None:  # posed first: a ghost drawn at its first show stands there
-                cfg = np.zeros(len(ghost.get_actuated_joint_names()))
-                cfg[:6] = q
-                ghost.update_cfg(cfg)
+                ghost.pose(q)
             ghost.show_visual = visible
 
     def show_planned_ghost(self, q: np.ndarray) -> None:
@@ -361,9 +359,7 @@ class TargetPanel:
         self.ghost_shown = True
         for ok, ghost in self._ghosts.items():
             if ok:
-                cfg = np.zeros(len(ghost.get_actuated_joint_names()))
-                cfg[:6] = q
-                ghost.update_cfg(cfg)
+                ghost.pose(q)
             ghost.show_visual = ok
 
     def plan_played(self) -> None:
