@@ -23,6 +23,7 @@ from pendant.sim import HOME_POSE_DEG
 from tests.support.launchers import Launcher
 from tests.support.ports import free_port, wait_for_port
 from tests.support.threads import serve_in_thread
+from tests.support.waiting import SAFETY_NET_S
 
 pytestmark = pytest.mark.slow
 
@@ -32,9 +33,6 @@ ANGLE_TOL_DEG = 1e-6
 SLOW = MotionParams(speed=2.0)  # a motion that lasts many seconds
 FAR = Pose(angles=[120.0, -60.0, 60.0, -90.0, -90.0, 90.0])
 QUIET_S = 0.5  # how long we watch a restarted controller for motion nobody asked for
-
-
-SAFETY_NET_S = 30.0  # a wait that only catches a hang (docs/development.md)
 
 
 def start_controller(launch: Launcher, port: int) -> subprocess.Popen[bytes]:

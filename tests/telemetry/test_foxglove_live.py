@@ -23,7 +23,7 @@ from tests.support.foxglove_client import FoxgloveClient, Received
 from tests.support.launchers import child_env, pendant_command, pendant_process
 from tests.support.mcap_reading import read_mcap
 from tests.support.ports import free_port
-from tests.support.waiting import wait_idle
+from tests.support.waiting import SAFETY_NET_S, wait_idle
 
 START_DEG = [0.0, -90.0, 0.0, -90.0, 0.0, 0.0]
 TARGET_DEG = [40.0, -90.0, 0.0, -90.0, 0.0, 0.0]
@@ -56,7 +56,7 @@ def _joints(messages: list[Received], schema: dict[str, object]) -> list[list[fl
 def test_foxglove_sees_the_recordings_channels_and_follows_a_move_live(tmp_path: Path) -> None:
     port = free_port()
     with pendant_process("--data", str(tmp_path), "--foxglove-port", str(port)) as (process, base):
-        api = httpx.Client(base_url=base, timeout=10.0)
+        api = httpx.Client(base_url=base, timeout=SAFETY_NET_S)
         assert api.put(f"/pose?speed={SPEED}", json={"angles": START_DEG}).status_code == 200
         wait_idle(api)
         # A recording made meanwhile: the live channels are the file's, schema for schema.
