@@ -15,6 +15,7 @@ from pendant.api.errors import MSG_TIMEOUT
 from pendant.api.limits import BODY_LIMITS, too_large_message
 from pendant.controller.types import GRIPPER_TIMEOUT_MAX_MS, TOOL_NAME_MAX
 from tests.support.launchers import running_pendant
+from tests.support.waiting import SAFETY_NET_S
 
 TOOL = {
     "point": {"x": 0.0, "y": 0.0, "z": 0.1},
@@ -33,7 +34,7 @@ def base_url() -> Iterator[str]:
 
 @pytest.fixture
 def api(base_url: str) -> Iterator[httpx.Client]:
-    with httpx.Client(base_url=base_url, timeout=10.0) as client:
+    with httpx.Client(base_url=base_url, timeout=SAFETY_NET_S) as client:
         yield client
         client.put("/freeze")
 

@@ -11,9 +11,10 @@ from fastapi.testclient import TestClient
 from pendant.sim import FakeClock, SimController
 from pendant.sim.controller import MAX_QUEUED_COMMANDS, MAX_WAYPOINTS
 from tests.support.api_client import TEXT, arm_state, finish_motion
+from tests.support.waiting import SAFETY_NET_S
 
 # Not a timing threshold: long enough on any machine; only a request stuck behind the plan runs into it.
-HANG_S = 10.0
+HANG_S = SAFETY_NET_S
 
 
 def hold_first_plan(

@@ -21,8 +21,9 @@ from pendant.sim import FakeClock, SimController
 from pendant.ui.app import PendantUI
 from tests.support.ports import free_port
 from tests.support.threads import serve_in_thread
+from tests.support.waiting import SAFETY_NET_S
 
-CURL_TIMEOUT_S = 10
+CURL_TIMEOUT_S = SAFETY_NET_S
 README_WALL = {  # Rozum's SDK README example 10's plane: x = -0.5 m, 13 mm into the wrist at power-on
     "obstacleType": "PLANE",
     "name": "wall",
@@ -44,7 +45,7 @@ class Cell:
 
     def curl(self, method: str, path: str, body: object = None) -> tuple[int, str]:
         """(status, body) of one request sent by the curl binary."""
-        command = ["curl", "-sS", "--max-time", str(CURL_TIMEOUT_S), "-X", method, "-w", "\n%{http_code}"]
+        command = ["curl", "-sS", "--max-time", f"{CURL_TIMEOUT_S:g}", "-X", method, "-w", "\n%{http_code}"]
         if body is not None:
             command += ["-H", "Content-Type: application/json", "--data-binary", json.dumps(body)]
         done = subprocess.run(

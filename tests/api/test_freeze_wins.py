@@ -27,7 +27,7 @@ from pendant.sim import SimController
 from tests.support.launchers import pendant_process
 from tests.support.ports import LOOPBACK
 from tests.support.threads import serve_in_thread
-from tests.support.waiting import wait_until
+from tests.support.waiting import SAFETY_NET_S, wait_until
 
 pytestmark = pytest.mark.slow
 
@@ -54,7 +54,7 @@ def pendant() -> Iterator[tuple[subprocess.Popen[str], str]]:
 
 @pytest.fixture
 def api(pendant: tuple[subprocess.Popen[str], str]) -> Iterator[httpx.Client]:
-    with httpx.Client(base_url=pendant[1], timeout=10.0) as client:
+    with httpx.Client(base_url=pendant[1], timeout=SAFETY_NET_S) as client:
         client.put("/freeze").raise_for_status()
         yield client
         client.put("/freeze").raise_for_status()
@@ -108,7 +108,9 @@ def test_the_largest_allowed_run_is_accepted(api: httpx.Client) -> None:
 def test_freeze_answers_while_a_max_size_body_is_uploaded_slowly(api: httpx.Client, pendant: tuple) -> None:
     body = run_body(RUN_BODY_LIMIT)
     head = b"PUT /poses/run?speed=20 HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: %d\r\n\r\n" % len(body)
-    with socket.create_connection((LOOPBACK, int(pendant[1].rsplit(":", 1)[1])), timeout=10.0) as upload:
+    with socket.create_connection(
+        (LOOPBACK, int(pendant[1].rsplit(":", 1)[1])), timeout=SAFETY_NET_S
+    ) as upload:
         upload.sendall(head + body[: len(body) // 2])
         assert api.put("/freeze").status_code == 200  # while half the body is still to come
         assert api.get("/status/motion").json() == "IDLE"
@@ -121,13 +123,16 @@ def test_1100_idle_connections_do_not_stop_freeze(api: httpx.Client, pendant: tu
     _, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
     resource.setrlimit(resource.RLIMIT_NOFILE, (hard, hard))  # this process holds the idle connections
     port = int(pendant[1].rsplit(":", 1)[1])
-    idle = [socket.create_connection((LOOPBACK, port), timeout=10.0) for _ in range(IDLE_CONNECTIONS)]
+    idle = [socket.create_connection((LOOPBACK, port), timeout=SAFETY_NET_S) for _ in range(IDLE_CONNECTIONS)]
     try:
-        with httpx.Client(base_url=pendant[1], timeout=10.0) as newcomer:  # a new connection, after them
+        # A new connection, after them.
+        with httpx.Client(base_url=pendant[1], timeout=SAFETY_NET_S) as newcomer:
             assert newcomer.put("/freeze").status_code == 200
             assert newcomer.get("/status/motion").json() == "IDLE"
         cap = connection_cap(AUDIT_OPEN_FILES)
-        wait_until(lambda: sum(map(still_open, idle)) <= cap, 10.0, f"at most {cap} idle connections left")
+        wait_until(
+            lambda: sum(map(still_open, idle)) <= cap, SAFETY_NET_S, f"at most {cap} idle connections left"
+        )
     finally:
         for connection in idle:
             connection.close()
@@ -136,7 +141,7 @@ def test_1100_idle_connections_do_not_stop_freeze(api: httpx.Client, pendant: tu
 
 def test_a_request_head_over_the_limit_is_refused_with_431(api: httpx.Client, pendant: tuple) -> None:
     port = int(pendant[1].rsplit(":", 1)[1])
-    with socket.create_connection((LOOPBACK, port), timeout=10.0) as connection:
+    with socket.create_connection((LOOPBACK, port), timeout=SAFETY_NET_S) as connection:
         # The server may answer and close before the end: the answer is still there to read.
         with contextlib.suppress(OSError):
             connection.sendall(b"GET /pose HTTP/1.1\r\nHost: t\r\nX-Big: " + b"a" * (4 * MAX_HEAD_BYTES))
@@ -167,7 +172,7 @@ def upload(port: int, path: str, size: int, chunked: bool) -> bytes:
     """Send a `size`-byte body as fast as the server takes it; what it answered (the 413)."""
     framing = b"Transfer-Encoding: chunked" if chunked else b"Content-Length: %d" % size
     piece = b" " * (1024 * 1024)
-    with socket.create_connection((LOOPBACK, port), timeout=10.0) as connection:
+    with socket.create_connection((LOOPBACK, port), timeout=SAFETY_NET_S) as connection:
         connection.sendall(b"PUT %s HTTP/1.1\r\nHost: 127.0.0.1\r\n%s\r\n\r\n" % (path.encode(), framing))
         try:
             for _ in range(size // len(piece)):

@@ -27,8 +27,9 @@ from pendant.controller.errors import (
 from pendant.controller.types import MotorStatus, Pose, Position, Tool
 from tests.support.api_client import JSON, TEXT, angles_close
 from tests.support.launchers import running_pendant
+from tests.support.waiting import SAFETY_NET_S
 
-MOTION_DEADLINE_S = 10.0  # a short move at full speed ends well within this
+MOTION_DEADLINE_S = SAFETY_NET_S  # a short move at full speed ends well within this
 POLL_INTERVAL_S = 0.1
 CLIENT_TIMEOUT_S = 30.0  # a safety net: the pendant runs at nice 19 beside the timed tests
 FAR_POSITION = {"point": {"x": 5.0, "y": 0.0, "z": 0.3}, "rotation": {"roll": 3.14, "pitch": 0, "yaw": 0}}

@@ -25,6 +25,7 @@ from tests.support.stop_clients import (
     start_long_move,
     urllib_request,
 )
+from tests.support.waiting import SAFETY_NET_S
 
 EVIL = "http://evil.example"
 LARGE_BODY = "x" * 4096  # more than any bodiless command may carry (1 KiB)
@@ -52,7 +53,7 @@ def api_url(request: pytest.FixtureRequest, arm_url: str) -> str:
 @pytest.fixture
 def arm(arm_url: str, api_url: str) -> Iterator[httpx.Client]:
     """Reads of the arm itself (behind the proxy, if any); ready to move at the start."""
-    with httpx.Client(base_url=arm_url, timeout=10.0) as client:
+    with httpx.Client(base_url=arm_url, timeout=SAFETY_NET_S) as client:
         ready_to_move(client)
         yield client
         ready_to_move(client)
@@ -78,7 +79,7 @@ STOPS: dict[str, StopSender] = {
 
 @pytest.mark.parametrize("form", list(STOPS))
 def test_every_form_of_stop_stops_a_motion_under_way(form: str, api_url: str, arm: httpx.Client) -> None:
-    with httpx.Client(base_url=api_url, timeout=10.0) as api:
+    with httpx.Client(base_url=api_url, timeout=SAFETY_NET_S) as api:
         start_long_move(api, arm)
         status, body = STOPS[form](api_url)
         assert status == 200, body
@@ -92,7 +93,7 @@ def test_every_form_of_stop_stops_a_motion_under_way(form: str, api_url: str, ar
 def test_urllib_empty_data_runs_a_bodiless_command(method: str, path: str, arm_url: str) -> None:
     """`urllib.request.Request(url, method=..., data=b'')` labels the empty body form-encoded: the command
     answers as it does without a body."""
-    with httpx.Client(base_url=arm_url, timeout=10.0) as arm:
+    with httpx.Client(base_url=arm_url, timeout=SAFETY_NET_S) as arm:
         status, body = urllib_request(method, f"{arm_url}{path}")
         bare = arm.request(method, path)
         assert (status, body) == (bare.status_code, bare.text.strip())
@@ -101,7 +102,7 @@ def test_urllib_empty_data_runs_a_bodiless_command(method: str, path: str, arm_u
 
 
 def test_urllib_empty_data_runs_bodiless_commands_through_the_proxy(proxy_url: str, arm_url: str) -> None:
-    with httpx.Client(base_url=arm_url, timeout=10.0) as arm:
+    with httpx.Client(base_url=arm_url, timeout=SAFETY_NET_S) as arm:
         assert urllib_request("PUT", f"{proxy_url}/relax")[0] == 200
         assert arm.get("/status/motion").text == '"ZERO_GRAVITY"'
         assert urllib_request("PUT", f"{proxy_url}/freeze")[0] == 200
@@ -113,7 +114,7 @@ def test_curl_d_json_without_a_content_type_moves_the_arm(api_url: str, arm: htt
     target = [FAR_POSE[0] / 6, *FAR_POSE[1:]]  # 10 degrees at 50 %: about a second
     status, body = curl("-X", "PUT", "-d", json.dumps({"angles": target}), f"{api_url}/pose")
     assert status == 200, body
-    with httpx.Client(base_url=api_url, timeout=10.0) as api:
+    with httpx.Client(base_url=api_url, timeout=SAFETY_NET_S) as api:
         for _ in range(100):
             if api.get("/status/motion").text == '"IDLE"':
                 break
@@ -133,7 +134,7 @@ def test_a_foreign_page_can_at_most_stop_the_arm(api_url: str, arm: httpx.Client
     assert j1_travel(arm, STILL_WINDOW_S) < STILL_DEG
     assert j1(arm) == pytest.approx(before, abs=STILL_DEG)
     assert arm.get("/status/motion").text == '"IDLE"'
-    with httpx.Client(base_url=api_url, timeout=10.0) as api:
+    with httpx.Client(base_url=api_url, timeout=SAFETY_NET_S) as api:
         start_long_move(api, arm)
         status, _ = curl("-X", "PUT", "-H", f"Origin: {EVIL}", f"{api_url}/freeze")
         assert status in (200, 403)  # a stop from anyone is harmless; refusing it is allowed too

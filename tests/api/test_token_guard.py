@@ -25,6 +25,7 @@ from pendant.sim import FakeClock, SimController
 from tests.support.bad_servers import http_answer, raw_server
 from tests.support.launchers import REPO_ROOT, START_TIMEOUT_S, running_pendant, stop
 from tests.support.threads import serve_in_thread
+from tests.support.waiting import SAFETY_NET_S
 
 TOKEN = "Zürich-Ω-token-2026-ähnlich"  # UTF-8, and long enough not to be warned about
 INTERVAL_S = 0.2  # a small turn so the test stays short; the product's is 1 s
@@ -108,7 +109,7 @@ def test_wrong_guesses_are_slowed_per_client_and_logged_once_per_burst() -> None
     guesses = 12
     with (
         serve_in_thread(create_app(sim, access=_guarded(events))) as url,
-        httpx.Client(base_url=url, timeout=10.0) as client,
+        httpx.Client(base_url=url, timeout=SAFETY_NET_S) as client,
         ThreadPoolExecutor(max_workers=guesses) as pool,
     ):
         started = time.monotonic()

@@ -15,6 +15,7 @@ import httpx
 import pytest
 
 from tests.support.launchers import REPO_ROOT, running_pendant
+from tests.support.waiting import SAFETY_NET_S
 
 PAGES = [REPO_ROOT / "README.md", *sorted((REPO_ROOT / "docs").glob("*.md"))]
 RUNNABLE = re.compile(r"^```sh runnable\n(.*?)^```", re.M | re.S)
@@ -45,7 +46,7 @@ def test_the_docs_still_mark_their_commands_runnable() -> None:
 
 @pytest.mark.parametrize("block", [block for _, block in BLOCKS], ids=[name for name, _ in BLOCKS])
 def test_a_runnable_block_runs_against_a_simulator(block: str, served: str) -> None:
-    httpx.put(f"{served}/sim/reset", timeout=10.0).raise_for_status()
+    httpx.put(f"{served}/sim/reset", timeout=SAFETY_NET_S).raise_for_status()
     bin_dir = str(Path(sys.executable).parent)
     env = {**os.environ, "PULSE_URL": served, "PATH": bin_dir + os.pathsep + os.environ.get("PATH", "")}
     done = subprocess.run(

@@ -14,6 +14,7 @@ import httpx
 import pytest
 
 from tests.support.launchers import REPO_ROOT, running_pendant
+from tests.support.waiting import SAFETY_NET_S
 
 EXAMPLES = REPO_ROOT / "examples"
 RUN_TIMEOUT_S = 120.0
@@ -30,7 +31,7 @@ def served() -> Iterator[str]:
 
 @pytest.fixture
 def url(served: str) -> str:
-    httpx.put(f"{served}/sim/reset", timeout=10.0).raise_for_status()
+    httpx.put(f"{served}/sim/reset", timeout=SAFETY_NET_S).raise_for_status()
     return served
 
 

@@ -12,11 +12,12 @@ import pytest
 from pendant.controller import MotionParams, MotionStatus, Pose
 from pendant.jog import DEADMAN_TIMEOUT_S, JOG_TCP_MAX_VELOCITY_M_S, JogFrame, Jogger, JogRequest
 from pendant.sim import FakeClock, SimController
+from tests.support.waiting import SAFETY_NET_S
 
 CONFIRM_PERIOD_S = 0.05  # the page confirms at 20 Hz while the button is held
 ANGLE_TOL_DEG = 1e-6
 POS_TOL_M = 1e-6
-THREAD_TIMEOUT_S = 10.0
+THREAD_TIMEOUT_S = SAFETY_NET_S
 
 
 def pose_deg(sim: SimController) -> np.ndarray:

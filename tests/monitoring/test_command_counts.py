@@ -10,12 +10,13 @@ import httpx
 from pendant.controller.operations import OPERATIONS
 from tests.support.launchers import running_pendant
 from tests.support.metrics import Samples, scrape, values
+from tests.support.waiting import SAFETY_NET_S
 
 REACHABLE_POSE = {"angles": [10.0, -90.0, 90.0, -90.0, -90.0, 0.0]}
 
 
 def put(base_url: str, path: str, **kwargs: Any) -> int:  # httpx.put's keywords (json=, content=)
-    return httpx.put(f"{base_url}{path}", timeout=10.0, **kwargs).status_code
+    return httpx.put(f"{base_url}{path}", timeout=SAFETY_NET_S, **kwargs).status_code
 
 
 def test_commands_are_counted_by_endpoint_and_status(tmp_path: Path) -> None:
@@ -79,8 +80,10 @@ def test_obstacle_names_make_no_new_series(tmp_path: Path) -> None:
     """100 distinct `DELETE /environment/<name>`: counted under the route template, the series unchanged."""
     with running_pendant("--data", str(tmp_path)) as base:
         before = series(scrape(base), "pendant_commands_total")
-        statuses = {httpx.delete(f"{base}/environment/box-{i}", timeout=10.0).status_code for i in range(100)}
-        httpx.put(f"{base}/no/such/{'x' * 40}", timeout=10.0)
+        statuses = {
+            httpx.delete(f"{base}/environment/box-{i}", timeout=SAFETY_NET_S).status_code for i in range(100)
+        }
+        httpx.put(f"{base}/no/such/{'x' * 40}", timeout=SAFETY_NET_S)
         after = series(scrape(base), "pendant_commands_total")
     assert len(statuses) == 1, statuses
     assert set(after) == set(before), f"new series: {set(after) - set(before)}"

@@ -21,21 +21,23 @@ from pendant.monitoring import EventQuery, EventStore, events_router
 from pendant.monitoring.events_api import parse_since
 from pendant.monitoring.eventstore import BUSY_TIMEOUT_S, DB_NAME
 from tests.support.launchers import running_pendant
-from tests.support.waiting import wait_until
+from tests.support.waiting import SAFETY_NET_S, wait_until
 
 POSE = {"angles": [10.0, -90.0, 90.0, -90.0, -90.0, 0.0]}
 
 
 def events(base: str, **params: str | int | float) -> list[dict[str, Any]]:  # the API's JSON
-    answer = httpx.get(f"{base}/pendant/events", params=params, timeout=10.0)
+    answer = httpx.get(f"{base}/pendant/events", params=params, timeout=SAFETY_NET_S)
     assert answer.status_code == 200, answer.text
     return answer.json()["events"]
 
 
 def test_events_survive_a_restart_and_a_kill(tmp_path: Path) -> None:
     with running_pendant("--data", str(tmp_path)) as base:
-        assert httpx.put(f"{base}/pose?speed=20", json=POSE, timeout=10).status_code == 200
-        assert httpx.put(f"{base}/pose?speed=20", json={"angles": [1]}, timeout=10).status_code == 400
+        assert httpx.put(f"{base}/pose?speed=20", json=POSE, timeout=SAFETY_NET_S).status_code == 200
+        assert (
+            httpx.put(f"{base}/pose?speed=20", json={"angles": [1]}, timeout=SAFETY_NET_S).status_code == 400
+        )
         before = events(base, kind="command,error")  # the API's commands (the arm's states are logged too)
     assert [e["message"] for e in before] == ["PUT /pose -> 400", "PUT /pose -> 200"]
     assert before[0]["kind"] == "error" and str(before[0]["source"]).startswith("API 127.0.0.1")
@@ -44,7 +46,7 @@ def test_events_survive_a_restart_and_a_kill(tmp_path: Path) -> None:
         quit_line, *again = events(base, kind="command,error")
         assert again == before, "the same events, ids and times after a restart"
         assert quit_line["source"] == "pendant" and str(quit_line["message"]).startswith("Quitting (SIGTERM)")
-        assert httpx.put(f"{base}/signal/output/1/high", timeout=10).status_code == 200
+        assert httpx.put(f"{base}/signal/output/1/high", timeout=SAFETY_NET_S).status_code == 200
         newest = events(base, limit=1, kind="command")[0]
         assert newest["message"] == "PUT /signal/output/1/high -> 200"
         assert newest["id"] > int(before[0]["id"]), "numbering goes on"
@@ -157,7 +159,7 @@ def test_logging_never_waits_for_the_disk(tmp_path: Path) -> None:
     elapsed = time.perf_counter() - started
     blocker.rollback()
     blocker.close()
-    assert store.flush(timeout=10.0)
+    assert store.flush(timeout=SAFETY_NET_S)
     assert store.count() == 1000
     store.close()
     # A single write waiting for the lock would have taken the whole busy timeout.
@@ -193,7 +195,7 @@ def test_the_store_folds_and_filters_as_the_memory_log_does(tmp_path: Path) -> N
 def test_without_the_page_state_changes_are_logged_too(tmp_path: Path) -> None:
     with running_pendant("--data", str(tmp_path)) as base:  # --no-ui
         wait_until(lambda: any(e["message"] == "offline → IDLE" for e in events(base)), what="IDLE logged")
-        assert httpx.put(f"{base}/sim/fault/error", timeout=10).status_code == 200
+        assert httpx.put(f"{base}/sim/fault/error", timeout=SAFETY_NET_S).status_code == 200
         wait_until(lambda: events(base, limit=1)[0]["message"] == "IDLE → ERROR", what="ERROR logged")
         newest = events(base, limit=1)[0]
         assert newest["kind"] == "error" and newest["source"] == "controller"

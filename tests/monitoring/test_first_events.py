@@ -13,6 +13,7 @@ import pytest
 
 from pendant.monitoring.fleet import Site, Timings, query, running_fleet
 from tests.support.metrics import alert_expressions, dashboard_panels, watched
+from tests.support.waiting import SAFETY_NET_S
 
 FAST = Timings(scrape_interval="1s", alert_for="2s", group_wait="1s")
 SETTLE_S = 60.0  # a generous bound for a loaded 2-core machine; typically a few seconds
@@ -108,5 +109,5 @@ def test_the_first_command_and_refusal_show_on_every_panel_and_alert() -> None:
             assert query(site.prometheus, alerts[name]) == [], f"{name} fires on a healthy arm"
 
         # An alarm: the panel that counts arms in one reads 1.
-        assert httpx.put(f"{api}/sim/fault/error", timeout=10).status_code == 200
+        assert httpx.put(f"{api}/sim/fault/error", timeout=SAFETY_NET_S).status_code == 200
         settle(site, panels["Arms in an alarm state"], lambda r: bool(r) and one(r) == 1.0, "an arm in ERROR")

@@ -14,6 +14,7 @@ import pytest
 
 from pendant.monitoring.fleet import Site, Timings, query, running_fleet
 from tests.support.metrics import dashboard_queries
+from tests.support.waiting import SAFETY_NET_S
 
 T = TypeVar("T")
 # alert_for 10 s: behind the timed pass (nice 19) a starved pendant can miss a 1 s scrape or two, and a
@@ -66,19 +67,33 @@ def test_three_pendants_scraped_alerted_and_charted_by_the_real_tools() -> None:
 
         # Something for every dashboard panel to show: a command and a refusal on each arm.
         for api in site.pendant_apis:
-            assert httpx.put(f"{api}/pose?speed=20", json=REACHABLE_POSE, timeout=10).status_code == 200
-            assert httpx.put(f"{api}/pose?speed=20", json={"angles": [1, 2]}, timeout=10).status_code == 400
+            assert (
+                httpx.put(f"{api}/pose?speed=20", json=REACHABLE_POSE, timeout=SAFETY_NET_S).status_code
+                == 200
+            )
+            assert (
+                httpx.put(f"{api}/pose?speed=20", json={"angles": [1, 2]}, timeout=SAFETY_NET_S).status_code
+                == 400
+            )
         for expr in dashboard_queries():
             eventually(partial(query, site.prometheus, expr), bool, f"dashboard query {expr}")
         assert firing_at_webhook(site) == set(), "a healthy site pages nobody"
 
         # One fault per arm: each alert must come from its own arm and no other.
-        assert httpx.put(f"{site.pendant_apis[0]}/sim/fault/overheat", timeout=10).status_code == 200
-        assert httpx.put(f"{site.pendant_apis[1]}/sim/fault/no_response", timeout=10).status_code == 200
+        assert (
+            httpx.put(f"{site.pendant_apis[0]}/sim/fault/overheat", timeout=SAFETY_NET_S).status_code == 200
+        )
+        assert (
+            httpx.put(f"{site.pendant_apis[1]}/sim/fault/no_response", timeout=SAFETY_NET_S).status_code
+            == 200
+        )
         third = site.pendant_apis[2]
-        assert httpx.put(f"{third}/sim/fault/error", timeout=10).status_code == 200
+        assert httpx.put(f"{third}/sim/fault/error", timeout=SAFETY_NET_S).status_code == 200
         for _ in range(3):
-            assert httpx.put(f"{third}/pose?speed=20", json=REACHABLE_POSE, timeout=10).status_code == 500
+            assert (
+                httpx.put(f"{third}/pose?speed=20", json=REACHABLE_POSE, timeout=SAFETY_NET_S).status_code
+                == 500
+            )
         expected = {
             ("PulseOvertemperature", instance(site, 0)),
             ("PulseControllerOffline", instance(site, 1)),

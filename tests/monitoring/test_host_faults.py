@@ -19,7 +19,7 @@ import pytest
 from tests.support.launchers import REPO_ROOT
 from tests.support.metrics import scrape, values
 from tests.support.ports import LOOPBACK, free_port
-from tests.support.waiting import wait_until
+from tests.support.waiting import SAFETY_NET_S, wait_until
 
 # Root writes anywhere: without these capabilities (util-linux's setpriv) it meets the folder's permissions.
 WITHOUT_OVERRIDES = ["setpriv", "--bounding-set=-dac_override,-dac_read_search,-fowner", "--"]
@@ -62,10 +62,10 @@ def pendant(
     finally:
         process.terminate()
         try:
-            process.wait(10)
+            process.wait(SAFETY_NET_S)
         except subprocess.TimeoutExpired:
             process.kill()
-            process.wait(10)
+            process.wait(SAFETY_NET_S)
 
 
 def test_a_read_only_data_folder_starts_with_the_log_in_memory_and_one_clear_line(tmp_path: Path) -> None:
@@ -82,8 +82,10 @@ def test_a_read_only_data_folder_starts_with_the_log_in_memory_and_one_clear_lin
         assert len(lines) == 1, said
         assert str(data) in lines[0] and "in memory" in lines[0] and "Fix:" in lines[0]
         assert "Traceback" not in said
-        assert httpx.put(f"{base}/pose?speed=20", json=REACHABLE_POSE, timeout=10).status_code == 200
-        events = httpx.get(f"{base}/pendant/events", timeout=10).json()["events"]
+        assert (
+            httpx.put(f"{base}/pose?speed=20", json=REACHABLE_POSE, timeout=SAFETY_NET_S).status_code == 200
+        )
+        events = httpx.get(f"{base}/pendant/events", timeout=SAFETY_NET_S).json()["events"]
         assert any(e["message"] == "PUT /pose -> 200" for e in events), "the log still works, in memory"
         metrics = scrape(base)
         assert values(metrics, "pendant_event_log_on_disk") == [0.0]
@@ -96,7 +98,7 @@ def test_a_disk_that_fills_up_loses_events_and_says_how_many(tmp_path: Path) -> 
 
     with pendant(tmp_path, "--data", str(tmp_path / "data"), preexec=small_disk) as (base, stderr):
         assert values(scrape(base), "pendant_events_dropped_total") == [0.0]
-        with httpx.Client(timeout=10) as client:
+        with httpx.Client(timeout=SAFETY_NET_S) as client:
             deadline = time.monotonic() + 120
             dropped = 0.0
             while dropped == 0.0 and time.monotonic() < deadline:

@@ -21,8 +21,9 @@ from pendant.ui.page.roles import ControlDesk
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser
 from tests.support.pages import headless_session, new_page
 from tests.support.programs import POLL_S, POSE_A_DEG, settle, teach
+from tests.support.waiting import SAFETY_NET_S
 
-WAIT_S = 10.0
+WAIT_S = SAFETY_NET_S
 
 
 def scraped(metrics: PendantMetrics) -> dict[str, float]:

@@ -23,7 +23,7 @@ from tests.support.doubles import FakeBrowser, fire
 from tests.support.launchers import running_pendant
 from tests.support.ports import free_port
 from tests.support.preflight_scene import BOX_NAME, LEFT_DEG, box_in_the_way, swing_program
-from tests.support.waiting import wait_until
+from tests.support.waiting import SAFETY_NET_S, wait_until
 
 WAIT_S = 30.0
 # The swing takes ~12 s at 15 %: 3 s on an arm four times faster, so a starved pass behind the timed one
@@ -46,7 +46,7 @@ def checked(
     arm = RemoteController(arm_url)
     arm.remove_obstacles()
     arm.set_pose(Pose(angles=list(LEFT_DEG)), MotionParams(speed=100.0))
-    wait_until(lambda: arm.get_motion_status() is MotionStatus.IDLE, timeout_s=20)
+    wait_until(lambda: arm.get_motion_status() is MotionStatus.IDLE, timeout_s=SAFETY_NET_S)
     arm.add_obstacle(box_in_the_way())
     server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
     commands = CommandRunner(arm)

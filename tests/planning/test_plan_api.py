@@ -14,10 +14,10 @@ from pendant.kinematics.cell_shapes import cell_check
 from pendant.planning import path_is_clear
 from pendant.planning.scenes import BOX, FLANGE
 from tests.support.planned_runs import along_segments
-from tests.support.waiting import wait_idle
+from tests.support.waiting import SAFETY_NET_S, wait_idle
 
 ANGLE_TOL_DEG = 0.01
-MOTION_TIMEOUT_S = 20.0
+MOTION_TIMEOUT_S = SAFETY_NET_S
 DENSE_RECHECK_RAD = np.radians(0.25)  # finer than the planner's own 0.5 degree re-check
 SLOW_PERCENT = 100
 # The longest search the API allows (the default is 1 s of wall clock): a pendant starved of CPU (the pass

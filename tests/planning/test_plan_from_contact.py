@@ -17,7 +17,7 @@ from pendant.kinematics.contact import CONTACT_DEEPER_TOLERANCE_M
 from pendant.planning import path_is_clear
 from pendant.planning.scenes import FLANGE
 from tests.support.planned_runs import along_segments
-from tests.support.waiting import wait_idle
+from tests.support.waiting import SAFETY_NET_S, wait_idle
 
 README_WALL = PlaneObstacle(
     obstacleType="PLANE",
@@ -27,7 +27,7 @@ README_WALL = PlaneObstacle(
 HOME = [0.0, -90.0, 90.0, -90.0, -90.0, 0.0]  # the power-on pose: the wrist is 13 mm into the wall
 ROUND = [-60.0, -90.0, 90.0, -90.0, -90.0, 0.0]  # the other way round: straight there stays in the wall
 ANGLE_TOL_DEG = 0.01
-MOTION_TIMEOUT_S = 20.0
+MOTION_TIMEOUT_S = SAFETY_NET_S
 RUN_PERCENT = 50.0
 SAMPLE_RAD = np.radians(0.25)
 

@@ -23,7 +23,7 @@ from pendant.remote import RemoteController
 from tests.support.counting_forwarder import counting_forwarder
 from tests.support.launchers import REPO_ROOT, child_env, pendant_command, running_pendant
 from tests.support.preflight_scene import BOX_NAME, LEFT_DEG, box_in_the_way, swing_program
-from tests.support.waiting import wait_until
+from tests.support.waiting import SAFETY_NET_S, wait_until
 
 CYCLE_TIME_TOLERANCE = 0.03  # the bound: within 3 % of the run's
 CLI_TIMEOUT_S = 60.0
@@ -44,7 +44,7 @@ class Rig:
         arm = self.arm
         arm.remove_obstacles()
         arm.set_pose(Pose(angles=list(LEFT_DEG)), MotionParams(speed=100.0))
-        wait_until(lambda: arm.get_motion_status() is MotionStatus.IDLE, timeout_s=20)
+        wait_until(lambda: arm.get_motion_status() is MotionStatus.IDLE, timeout_s=SAFETY_NET_S)
         if box:
             arm.add_obstacle(box_in_the_way())
 
@@ -202,7 +202,7 @@ def test_cli_exit_codes(rig: Rig, tmp_path: Path) -> None:
 
 
 def test_the_route_refuses_what_is_not_a_program_with_the_reason(rig: Rig) -> None:
-    garbage = httpx.post(f"{rig.pendant_url}/pendant/preflight", content=b"{not json", timeout=10)
+    garbage = httpx.post(f"{rig.pendant_url}/pendant/preflight", content=b"{not json", timeout=SAFETY_NET_S)
     assert garbage.status_code == 400 and "not JSON" in garbage.json()
     missing = rig.post({"program": {"schema_version": 2, "steps": [{"kind": "call", "program": "gone"}]}})
     assert missing.status_code == 400 and "gone" in missing.json()

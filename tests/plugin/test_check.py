@@ -14,6 +14,7 @@ from pendant.readiness import PROBE_TIMEOUT_S
 from pendant.simserver import SimServer
 from tests.support.launchers import REPO_ROOT, START_TIMEOUT_S, running_pendant, stop
 from tests.support.ports import LOOPBACK, free_port
+from tests.support.waiting import SAFETY_NET_S
 
 CHECK_TIMEOUT_S = START_TIMEOUT_S  # a pendant starting at nice 19 on a loaded machine: a minute or more
 # What a check against a server that answers wrongly is given (it ends only then): probes enough that on a
@@ -49,7 +50,7 @@ def not_pulse() -> Iterator[str]:
 
 def test_exits_0_when_the_simulator_answers() -> None:
     with running_pendant() as url:
-        done = check(url, "--timeout", "5")
+        done = check(url, "--timeout", f"{SAFETY_NET_S:g}")
     assert done.returncode == 0, done.stderr
     assert f"PULSE API at {url} answers: IDLE" in done.stdout
 
@@ -83,7 +84,7 @@ def test_a_controller_in_emergency_still_answers() -> None:
         from pendant.sim import Fault
 
         server.sim.inject_fault(Fault.EMERGENCY)
-        done = check(server.url, "--timeout", "5")
+        done = check(server.url, "--timeout", f"{SAFETY_NET_S:g}")
     assert done.returncode == 0, done.stderr
     assert "Robot unavailable in emergency state" in done.stdout
 

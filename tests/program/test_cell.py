@@ -34,6 +34,7 @@ from pendant.program import (
 )
 from tests.support.launchers import REPO_ROOT, running_pendant
 from tests.support.programs import move, program_of
+from tests.support.waiting import SAFETY_NET_S
 
 pytestmark = pytest.mark.slow
 
@@ -121,7 +122,7 @@ def tcp(api: httpx.Client) -> np.ndarray:
 
 @pytest.fixture
 def api(api_url: str) -> Iterator[httpx.Client]:
-    with httpx.Client(base_url=api_url, timeout=10.0) as client:
+    with httpx.Client(base_url=api_url, timeout=SAFETY_NET_S) as client:
         client.put("/sim/reset").raise_for_status()  # DI1 LOW, DO1 LOW, the arm at home
         yield client
 

@@ -32,9 +32,10 @@ from pendant.ui.program.panel import NO_SELECTION, ProgramPanel
 from tests.support.doubles import OPERATOR, FakeBrowser, fire
 from tests.support.ports import free_port
 from tests.support.programs import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, teach
+from tests.support.waiting import SAFETY_NET_S
 
 ANGLE_TOL_DEG = 1e-6
-WAIT_S = 10.0
+WAIT_S = SAFETY_NET_S
 
 
 def record(panel: ProgramPanel, client: FakeBrowser) -> None:

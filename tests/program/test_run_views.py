@@ -20,9 +20,9 @@ from pendant.program import (
     WaitStep,
 )
 from pendant.sim import SimController
-from tests.support.waiting import wait_until
+from tests.support.waiting import SAFETY_NET_S, wait_until
 
-WAIT_S = 10.0
+WAIT_S = SAFETY_NET_S
 POLL_S = 0.01
 HIGH, LOW = SignalLevel.HIGH, SignalLevel.LOW
 

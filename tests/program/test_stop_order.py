@@ -23,9 +23,10 @@ from pendant.program.runner import RunProgress
 from pendant.sim import FakeClock, SimController
 from pendant.ui.kit.commands import CommandRunner
 from tests.support.programs import POLL_S, program_of
+from tests.support.waiting import SAFETY_NET_S
 
 CAUSE = "Stop by browser #1"
-TIMEOUT_S = 10.0
+TIMEOUT_S = SAFETY_NET_S
 
 
 class Browser:

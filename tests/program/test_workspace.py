@@ -26,6 +26,7 @@ from pendant.program import (
 from pendant.program.limits import WAYPOINT_NAME_MAX
 from pendant.sim import FakeClock, SimController
 from tests.support.programs import POSE_A_DEG, POSE_B_DEG, POSE_C_DEG, settle, teach
+from tests.support.waiting import SAFETY_NET_S
 
 ANGLE_TOL_DEG = 1e-6
 
@@ -212,7 +213,7 @@ def test_runs_in_the_background_and_reports_progress(
     seen: list[Change] = []
     workspace.on_change(seen.append)
     workspace.start_run(loops=1)
-    assert workspace.runner.join(timeout=10)
+    assert workspace.runner.join(timeout=SAFETY_NET_S)
     settle(sim, clock)
     assert workspace.progress.state is RunState.FINISHED
     assert Change.RUN in seen

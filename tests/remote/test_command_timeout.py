@@ -14,11 +14,12 @@ from pendant.remote.proxy import MSG_MAY_HAVE_RUN
 from tests.support.bad_servers import http_answer, raw_server, request_path
 from tests.support.ports import free_port
 from tests.support.threads import serve_in_thread
+from tests.support.waiting import SAFETY_NET_S
 
 READ_TIMEOUT_S = 0.3
 COMMAND_TIMEOUT_S = 3.0
 SLOW_ANSWER_S = 1.0  # longer than the read timeout, shorter than the command timeout
-CLIENT_TIMEOUT_S = 10.0
+CLIENT_TIMEOUT_S = SAFETY_NET_S
 
 
 class SlowController:

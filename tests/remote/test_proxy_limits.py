@@ -12,6 +12,7 @@ from pendant.api.limits import DEFAULT_BODY_LIMIT, RUN_BODY_LIMIT, too_large_mes
 from pendant.remote import create_proxy_app
 from tests.support.bad_servers import http_answer, raw_server, request_path
 from tests.support.threads import serve_in_thread
+from tests.support.waiting import SAFETY_NET_S
 
 HUGE_BYTES = 8 * 1024 * 1024
 
@@ -32,7 +33,7 @@ def forwarded() -> Iterator[tuple[str, list[str]]]:
 def test_a_get_with_a_huge_body_is_refused_and_not_forwarded(forwarded: tuple[str, list[str]]) -> None:
     proxy_url, received = forwarded
     for content in (b" " * HUGE_BYTES, iter([b" " * DEFAULT_BODY_LIMIT, b" "])):  # declared, then chunked
-        response = httpx.request("GET", f"{proxy_url}/status/motion", content=content, timeout=10.0)
+        response = httpx.request("GET", f"{proxy_url}/status/motion", content=content, timeout=SAFETY_NET_S)
         assert response.status_code == 413
         assert response.json() == too_large_message(DEFAULT_BODY_LIMIT)
     assert received == []

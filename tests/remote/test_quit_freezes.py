@@ -19,6 +19,7 @@ from tests.support.stop_clients import (
     ready_to_move,
     start_long_move,
 )
+from tests.support.waiting import SAFETY_NET_S
 
 
 @pytest.fixture(scope="module")
@@ -30,7 +31,7 @@ def arm_url() -> Iterator[str]:
 
 @pytest.fixture
 def arm(arm_url: str) -> Iterator[httpx.Client]:
-    with httpx.Client(base_url=arm_url, timeout=10.0) as client:
+    with httpx.Client(base_url=arm_url, timeout=SAFETY_NET_S) as client:
         ready_to_move(client)
         yield client
         ready_to_move(client)
@@ -40,7 +41,7 @@ def _quit_mid_motion(arm: httpx.Client, arm_url: str, how: signal.Signals) -> tu
     """Start a long PUT /pose through a fresh proxy, send it `how`; how far J1 turns over the next 0.5 s once
     the proxy has exited, and what the proxy printed."""
     with pendant_process("--robot", arm_url) as (process, proxy_url):
-        with httpx.Client(base_url=proxy_url, timeout=10.0) as api:
+        with httpx.Client(base_url=proxy_url, timeout=SAFETY_NET_S) as api:
             start_long_move(api, arm)
         process.send_signal(how)
         try:

@@ -15,14 +15,14 @@ import pytest
 from pendant.sim import HOME_POSE_DEG
 from tests.support.launchers import Launcher
 from tests.support.ports import free_port, wait_for_port
-from tests.support.waiting import wait_until
+from tests.support.waiting import SAFETY_NET_S, wait_until
 
 pytestmark = pytest.mark.slow
 
 START_TIMEOUT_S = 60.0  # the UI loads the arm model and meshes before it serves
 OFFLINE_WITHIN_S = 30.0  # a safety net: the next health probe says so, given the CPU (nice 19)
-MOTION_DEADLINE_S = 10.0
-STOP_TIMEOUT_S = 10.0
+MOTION_DEADLINE_S = SAFETY_NET_S
+STOP_TIMEOUT_S = SAFETY_NET_S
 POLL_INTERVAL_S = 0.1
 CLIENT_TIMEOUT_S = 30.0
 ANGLE_TOL_DEG = 1e-6

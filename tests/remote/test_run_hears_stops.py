@@ -20,6 +20,7 @@ import pytest
 
 from tests.support.launchers import REPO_ROOT, child_env, running_pendant
 from tests.support.programs import a_to_b_file
+from tests.support.waiting import SAFETY_NET_S
 
 pytestmark = pytest.mark.slow
 
@@ -40,11 +41,13 @@ STEPS = {
 def freeze_by_curl(url: str) -> None:
     curl = shutil.which("curl")
     assert curl is not None, "the curl binary is part of the test set-up"
-    subprocess.run([curl, "-s", "-X", "PUT", f"{url}/freeze"], check=True, timeout=10)
+    subprocess.run([curl, "-s", "-X", "PUT", f"{url}/freeze"], check=True, timeout=SAFETY_NET_S)
 
 
 def protective_stop_by_urllib(url: str) -> None:
-    with urllib.request.urlopen(urllib.request.Request(f"{url}/stop", method="POST"), timeout=10) as answer:
+    with urllib.request.urlopen(
+        urllib.request.Request(f"{url}/stop", method="POST"), timeout=SAFETY_NET_S
+    ) as answer:
         assert answer.status == 200
 
 
@@ -69,7 +72,7 @@ def pose(api: httpx.Client) -> np.ndarray:
 def test_a_stop_sent_to_the_pendant_during_a_still_step_ends_pendant_run(
     api_url: str, tmp_path: Path, step: str, stop: str
 ) -> None:
-    api = httpx.Client(base_url=api_url, timeout=10)
+    api = httpx.Client(base_url=api_url, timeout=SAFETY_NET_S)
     api.put("/recover")  # the last case's protective stop
     api.put("/pose", json={"angles": HOME_DEG}).raise_for_status()
     saved = tmp_path / "stopped.json"

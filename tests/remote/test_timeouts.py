@@ -15,9 +15,10 @@ from pendant.remote import RemoteController, create_proxy_app
 from pendant.remote.client import DEFAULT_CONNECT_TIMEOUT_S, DEFAULT_READ_TIMEOUT_S
 from tests.support.bad_servers import http_answer, raw_server, request_path
 from tests.support.threads import serve_in_thread
+from tests.support.waiting import SAFETY_NET_S
 
 READ_TIMEOUT_S = 0.3  # short, so the hung request costs a fraction of a second
-PROXY_CLIENT_TIMEOUT_S = 10.0  # the test's own client waits well past the proxy's read timeout
+PROXY_CLIENT_TIMEOUT_S = SAFETY_NET_S  # the test's own client waits well past the proxy's read timeout
 IDLE_ANSWER = http_answer("200 OK", b'"IDLE"')
 
 

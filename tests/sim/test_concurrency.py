@@ -17,9 +17,10 @@ from pendant.kinematics.limits import JOINT_MAX_SPEED_RAD_S
 from pendant.sim import FakeClock, SimController
 from pendant.sim.controller import MAX_QUEUED_COMMANDS, MAX_WAYPOINTS, MSG_QUEUE_BUSY
 from tests.support.sim_sampling import ANGLE_TOL_DEG, POS_TOL_M, finish, record, shifted
+from tests.support.waiting import SAFETY_NET_S
 
 # Not a timing threshold: long enough on any machine; only a thread stuck behind a lock runs into it.
-HANG_S = 10.0
+HANG_S = SAFETY_NET_S
 SPEED_TOL = 1e-6
 JOINT_50 = MotionParams(speed=50)
 LINEAR_50 = MotionParams(speed=50, motion_type=MotionType.LINEAR)

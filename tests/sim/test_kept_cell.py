@@ -9,6 +9,7 @@ from pathlib import Path
 import httpx
 
 from tests.support.launchers import running_pendant
+from tests.support.waiting import SAFETY_NET_S
 
 ROTATION = {"roll": 0.0, "pitch": 0.0, "yaw": 0.0}
 BOX = {
@@ -22,11 +23,11 @@ BASE = {"point": {"x": 0.1, "y": 0.0, "z": 0.0}, "rotation": ROTATION}
 
 
 def cell(base: str) -> tuple[list[str], dict[str, object], dict[str, object]]:
-    obstacles = [o["name"] for o in httpx.get(f"{base}/environment", timeout=10.0).json()]
+    obstacles = [o["name"] for o in httpx.get(f"{base}/environment", timeout=SAFETY_NET_S).json()]
     return (
         obstacles,
-        httpx.get(f"{base}/tool", timeout=10.0).json(),
-        httpx.get(f"{base}/base", timeout=10.0).json(),
+        httpx.get(f"{base}/tool", timeout=SAFETY_NET_S).json(),
+        httpx.get(f"{base}/base", timeout=SAFETY_NET_S).json(),
     )
 
 
@@ -35,9 +36,9 @@ def test_the_cell_tool_and_base_are_there_after_a_restart(tmp_path: Path) -> Non
     with running_pendant(*data) as base:
         before = cell(base)
         assert before[0] == []
-        assert httpx.put(f"{base}/environment", json=BOX, timeout=10.0).status_code == 200
-        assert httpx.post(f"{base}/tool", json=TOOL, timeout=10.0).status_code == 200
-        assert httpx.post(f"{base}/base", json=BASE, timeout=10.0).status_code == 200
+        assert httpx.put(f"{base}/environment", json=BOX, timeout=SAFETY_NET_S).status_code == 200
+        assert httpx.post(f"{base}/tool", json=TOOL, timeout=SAFETY_NET_S).status_code == 200
+        assert httpx.post(f"{base}/base", json=BASE, timeout=SAFETY_NET_S).status_code == 200
         changed = cell(base)
     with running_pendant(*data) as base:  # the first one got SIGTERM
         assert cell(base) == changed
@@ -50,9 +51,9 @@ def test_a_damaged_cell_file_is_moved_aside_and_the_pendant_serves(tmp_path: Pat
     damaged = b'{"schema_version": 1, "obstacles": [{"obstacleType": "BOX", "na'
     (tmp_path / "sim-cell.json").write_bytes(damaged)
     with running_pendant("--data", str(tmp_path)) as base:
-        assert httpx.get(f"{base}/environment", timeout=10.0).json() == []
-        errors = httpx.get(f"{base}/pendant/events?kind=error", timeout=10.0).json()
-        assert httpx.put(f"{base}/environment", json=BOX, timeout=10.0).status_code == 200
+        assert httpx.get(f"{base}/environment", timeout=SAFETY_NET_S).json() == []
+        errors = httpx.get(f"{base}/pendant/events?kind=error", timeout=SAFETY_NET_S).json()
+        assert httpx.put(f"{base}/environment", json=BOX, timeout=SAFETY_NET_S).status_code == 200
     [aside] = tmp_path.glob("sim-cell.json.damaged-*")
     assert aside.read_bytes() == damaged, "the damaged file is kept as it was"
     said = " ".join(event["message"] for event in errors["events"])

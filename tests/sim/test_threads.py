@@ -8,6 +8,7 @@ import numpy as np
 
 from pendant.controller.types import MotionParams, Pose
 from pendant.sim import FakeClock, SimController
+from tests.support.waiting import SAFETY_NET_S
 
 
 def test_concurrent_readers_and_writers_see_consistent_states(sim: SimController, clock: FakeClock) -> None:
@@ -35,5 +36,5 @@ def test_concurrent_readers_and_writers_see_consistent_states(sim: SimController
     sim.freeze()
     stop.set()
     for reader in readers:
-        reader.join(timeout=10)
+        reader.join(timeout=SAFETY_NET_S)
     assert not errors

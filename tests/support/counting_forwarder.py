@@ -11,6 +11,7 @@ from collections.abc import Iterator
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 
 from tests.support.ports import LOOPBACK
+from tests.support.waiting import SAFETY_NET_S
 
 HOP_HEADERS = {"connection", "keep-alive", "transfer-encoding", "host", "content-length"}
 
@@ -30,7 +31,7 @@ def counting_forwarder(upstream: str) -> Iterator[tuple[str, collections.Counter
             headers = {k: v for k, v in self.headers.items() if k.lower() not in HOP_HEADERS}
             request = urllib.request.Request(upstream + self.path, body, headers, method=self.command)
             try:
-                with urllib.request.urlopen(request, timeout=10) as answer:
+                with urllib.request.urlopen(request, timeout=SAFETY_NET_S) as answer:
                     status, data, answer_headers = answer.status, answer.read(), answer.headers
             except urllib.error.HTTPError as error:
                 status, data, answer_headers = error.code, error.read(), error.headers

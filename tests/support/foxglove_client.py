@@ -20,6 +20,8 @@ from mcap_protobuf.decoder import DecoderFactory
 from websockets.sync.client import ClientConnection, connect
 from websockets.typing import Subprotocol
 
+from tests.support.waiting import SAFETY_NET_S
+
 SUBPROTOCOLS = ("foxglove.sdk.v1", "foxglove.websocket.v1")
 MESSAGE_DATA = 0x01  # binary opcode: subscription id (u32), log time ns (u64), payload; little-endian
 _HEADER = struct.Struct("<BIQ")
@@ -44,7 +46,7 @@ class Received:
 
 
 class FoxgloveClient:
-    def __init__(self, url: str, timeout_s: float = 10.0) -> None:
+    def __init__(self, url: str, timeout_s: float = SAFETY_NET_S) -> None:
         # No proxy (loopback), and room for /arm: the links' meshes come in one message.
         self.ws: ClientConnection = connect(
             url,

@@ -17,6 +17,8 @@ import viser
 import websockets
 import zstandard
 
+from tests.support.waiting import SAFETY_NET_S
+
 HOLD_HZ = 20.0  # client_page.js HOLD_HZ
 JOG_PAD_J1_PLUS = re.compile(r'data-jog-uuid="([0-9a-f-]+)" aria-label="J1\+"')
 JOG_STOP = re.compile(r'data-jog-stop="([0-9a-f-]+)"')
@@ -66,6 +68,7 @@ async def open_viewer(port: int, hello: bytes = CAMERA_HELLO) -> websockets.Clie
         subprotocols=[websockets.Subprotocol(f"viser-v{viser.__version__}")],
         max_queue=None,
         max_size=None,
+        open_timeout=SAFETY_NET_S,
     )
     await ws.send(hello)
     return ws
@@ -114,7 +117,9 @@ async def open_hold_line(pad: JogPad, host: str = "127.0.0.1") -> websockets.Cli
     """The hold line the page's worker opens (client_page.js): it sends `line_hold` and `line_release`."""
     assert pad.line is not None, "the jog pad names no hold line"
     port, key = pad.line
-    return await websockets.connect(f"ws://{host}:{port}/?key={key}", compression=None)
+    return await websockets.connect(
+        f"ws://{host}:{port}/?key={key}", compression=None, open_timeout=SAFETY_NET_S
+    )
 
 
 async def drain(ws: websockets.ClientConnection) -> None:
@@ -190,7 +195,9 @@ async def viewer(url: str, counts: ViewerCounts, stop: asyncio.Event) -> None:
     """A steady viewer until `stop`: opens the page's websocket as a browser does and reads every frame."""
     protocol = [websockets.Subprotocol(f"viser-v{viser.__version__}")]
     zstd = zstandard.ZstdDecompressor()
-    async with websockets.connect(url, subprotocols=protocol, max_queue=None, max_size=None) as ws:
+    async with websockets.connect(
+        url, subprotocols=protocol, max_queue=None, max_size=None, open_timeout=SAFETY_NET_S
+    ) as ws:
         await ws.send(CAMERA_HELLO)
         while not stop.is_set():
             try:

@@ -18,11 +18,11 @@ from pendant.monitoring import DATA_DIR_ENV
 from pendant.paths import PROGRAMS_DIR_ENV
 
 from .ports import LOOPBACK, free_port
-from .waiting import answers, wait_until
+from .waiting import SAFETY_NET_S, answers, wait_until
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 START_TIMEOUT_S = 120.0  # a pendant with its page, beside Chromiums, on a loaded 2-core machine
-STOP_TIMEOUT_S = 10.0
+STOP_TIMEOUT_S = SAFETY_NET_S  # SIGKILL only after this: a starved pendant still ends by itself
 
 
 def pendant_command(*args: str) -> list[str]:

@@ -11,12 +11,13 @@ import yaml
 from prometheus_client.parser import text_string_to_metric_families
 
 from pendant.paths import deploy_dir
+from tests.support.waiting import SAFETY_NET_S
 
 Samples = dict[str, list[tuple[dict[str, str], float]]]
 
 
 def scrape(base_url: str) -> Samples:
-    answer = httpx.get(f"{base_url}/metrics", timeout=10.0)
+    answer = httpx.get(f"{base_url}/metrics", timeout=SAFETY_NET_S)
     assert answer.status_code == 200, answer.text
     assert answer.headers["content-type"].startswith("text/plain; version=")
     samples: Samples = {}

@@ -9,9 +9,9 @@ import time
 
 import httpx
 
-from tests.support.waiting import wait_until
+from tests.support.waiting import SAFETY_NET_S, wait_until
 
-CLIENT_TIMEOUT_S = 20.0
+CLIENT_TIMEOUT_S = SAFETY_NET_S
 FAR_POSE = [60.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 HOME_POSE = [-60.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 SLOW = {"speed": 5}  # ~6 deg/s on J1: a move of 120 degrees lasts many seconds
@@ -27,7 +27,7 @@ SETTLE_DEG = 0.5  # a move counts as arrived within this of its target
 def curl(*args: str) -> tuple[int, str]:
     """`curl -s ARGS`: (status, body) as the binary reports them."""
     done = subprocess.run(
-        ["curl", "-s", "--max-time", str(CLIENT_TIMEOUT_S), "-w", "\n%{http_code}", *args],
+        ["curl", "-s", "--max-time", f"{CLIENT_TIMEOUT_S:g}", "-w", "\n%{http_code}", *args],
         capture_output=True,
         text=True,
         timeout=CLIENT_TIMEOUT_S + 5,
@@ -37,14 +37,14 @@ def curl(*args: str) -> tuple[int, str]:
     return int(status), body
 
 
-_URLLIB = """
+_URLLIB = f"""
 import sys, urllib.request, urllib.error
 method, url, data, content_type = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4]
 request = urllib.request.Request(url, method=method, data=None if data == "-" else data.encode())
 if content_type != "-":
     request.add_header("Content-Type", content_type)
 try:
-    with urllib.request.urlopen(request, timeout=20) as answer:
+    with urllib.request.urlopen(request, timeout={CLIENT_TIMEOUT_S:g}) as answer:
         print(answer.status); print(answer.read().decode())
 except urllib.error.HTTPError as error:
     print(error.code); print(error.read().decode())

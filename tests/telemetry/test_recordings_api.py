@@ -11,6 +11,7 @@ import httpx
 from mcap.reader import make_reader
 
 from tests.support.launchers import running_pendant, running_pendant_ui
+from tests.support.waiting import SAFETY_NET_S
 
 REACHABLE_POSE = {"angles": [10.0, -90.0, 90.0, -90.0, -90.0, 0.0]}
 RECORD_S = 1.5  # long enough for a dozen samples at 10 Hz
@@ -27,7 +28,7 @@ def joint_messages(mcap: Path) -> list[dict[str, object]]:
 
 def test_a_script_records_a_move_and_gets_each_refusal_with_its_reason(tmp_path: Path) -> None:
     with running_pendant("--data", str(tmp_path)) as base:
-        api = httpx.Client(base_url=base, timeout=10.0)
+        api = httpx.Client(base_url=base, timeout=SAFETY_NET_S)
         started = api.post("/pendant/recordings", json={"name": "pick-test"})
         assert started.status_code == 201, started.text
         assert started.json()["name"] == "pick-test" and started.json()["running"] is True
@@ -77,7 +78,7 @@ def test_a_script_records_a_move_and_gets_each_refusal_with_its_reason(tmp_path:
 
 def test_the_routes_are_in_the_openapi_document(tmp_path: Path) -> None:
     with running_pendant("--data", str(tmp_path)) as base:
-        paths = httpx.get(f"{base}/openapi.json", timeout=10.0).json()["paths"]
+        paths = httpx.get(f"{base}/openapi.json", timeout=SAFETY_NET_S).json()["paths"]
     assert "post" in paths["/pendant/recordings"] and "get" in paths["/pendant/recordings"]
     start = paths["/pendant/recordings"]["post"]
     assert start["requestBody"]["content"]["application/json"]["schema"]["properties"]["name"]

@@ -26,8 +26,9 @@ from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 from tests.support.obstacles import box
 from tests.support.pages import sent
 from tests.support.sim_sampling import home_q
+from tests.support.waiting import SAFETY_NET_S
 
-WAIT_S = 10.0
+WAIT_S = SAFETY_NET_S
 
 
 def wait_for(condition: Callable[[], bool], what: str) -> None:

@@ -18,8 +18,9 @@ from pendant.ui.app import PendantUI
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, drag, fire
 from tests.support.obstacles import box
+from tests.support.waiting import SAFETY_NET_S
 
-WAIT_S = 10.0
+WAIT_S = SAFETY_NET_S
 MM_TOL = 1e-6
 DRAG_EVENTS = 30  # a drag of 30 moves: the controller hears one change
 

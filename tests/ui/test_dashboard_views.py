@@ -25,12 +25,12 @@ from pendant.ui.dashboard.plots import MAX_POINTS, PLOT_HEIGHT_PX, UNITS
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 from tests.support.pages import headless_session, new_page
-from tests.support.waiting import wait_until
+from tests.support.waiting import SAFETY_NET_S, wait_until
 
 SAMPLE_PERIOD_S = 0.1
 MOVE = Pose(angles=[40.0, -70.0, 30.0, -90.0, -90.0, 20.0])
 READABLE_HEIGHT_PX = 200
-JOB_TIMEOUT_S = 10.0  # downloads run on a job thread (kit/jobs.py)
+JOB_TIMEOUT_S = SAFETY_NET_S  # downloads run on a job thread (kit/jobs.py)
 
 
 @pytest.fixture

@@ -16,8 +16,9 @@ from pendant.ui.app import PendantUI
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser
 from tests.support.obstacles import box
+from tests.support.waiting import SAFETY_NET_S
 
-WAIT_S = 10.0
+WAIT_S = SAFETY_NET_S
 STEPS = 45
 
 

@@ -12,8 +12,9 @@ from pendant.ui.app import PendantUI
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser, fire
 from tests.support.programs import POSE_A_DEG, POSE_B_DEG, teach
+from tests.support.waiting import SAFETY_NET_S
 
-WAIT_S = 10.0
+WAIT_S = SAFETY_NET_S
 
 
 def shown(ui: ClientSession) -> list[str]:

@@ -11,9 +11,9 @@ import pytest
 
 from pendant.ui.kit.jobs import VIEWER_JOBS, PageJobs
 from tests.support.doubles import OPERATOR, FakeBrowser
-from tests.support.waiting import wait_until
+from tests.support.waiting import SAFETY_NET_S, wait_until
 
-JOB_TIMEOUT_S = 10.0
+JOB_TIMEOUT_S = SAFETY_NET_S
 
 
 @pytest.fixture

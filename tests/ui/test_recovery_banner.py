@@ -25,8 +25,9 @@ from pendant.ui.app import PendantUI
 from pendant.ui.page.recovery import Recovery
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser, fire
+from tests.support.waiting import SAFETY_NET_S
 
-WAIT_S = 10.0
+WAIT_S = SAFETY_NET_S
 
 
 def wait_for(condition: Callable[[], bool], what: str) -> None:

@@ -23,13 +23,13 @@ from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 from tests.support.mcap_reading import read_mcap
 from tests.support.pages import new_page
 from tests.support.recordings import damaged_inside, make_recording
-from tests.support.waiting import wait_until
+from tests.support.waiting import SAFETY_NET_S, wait_until
 
 N_SAMPLES = 20
 FAULT_AT = 8  # the sample after which an error is logged
 ANGLE_TOL_DEG = 1e-9
-PLAY_TIMEOUT_S = 10.0
-JOB_TIMEOUT_S = 10.0  # a replay loads on a job thread (kit/jobs.py)
+PLAY_TIMEOUT_S = SAFETY_NET_S
+JOB_TIMEOUT_S = SAFETY_NET_S  # a replay loads on a job thread (kit/jobs.py)
 
 
 @pytest.fixture

@@ -21,9 +21,10 @@ from pendant.ui.page.roles import MSG_NO_TOKEN
 from tests.support.headless_viewer import CAMERA_HELLO
 from tests.support.pages import new_page
 from tests.support.ports import free_port
+from tests.support.waiting import SAFETY_NET_S
 
 TOKEN = "url-token-123"
-CONNECT_TIMEOUT_S = 20.0
+CONNECT_TIMEOUT_S = SAFETY_NET_S
 
 
 @pytest.fixture
@@ -56,9 +57,14 @@ def test_a_browser_whose_url_carries_the_token_can_take_control(exposed: tuple[P
     async def scenario() -> None:
         async with (
             websockets.connect(
-                f"ws://127.0.0.1:{port}/?token={TOKEN}", subprotocols=protocol, max_queue=None
+                f"ws://127.0.0.1:{port}/?token={TOKEN}",
+                subprotocols=protocol,
+                max_queue=None,
+                open_timeout=SAFETY_NET_S,
             ) as with_token,
-            websockets.connect(f"ws://127.0.0.1:{port}/", subprotocols=protocol, max_queue=None) as without,
+            websockets.connect(
+                f"ws://127.0.0.1:{port}/", subprotocols=protocol, max_queue=None, open_timeout=SAFETY_NET_S
+            ) as without,
         ):
             await with_token.send(CAMERA_HELLO)
             await without.send(CAMERA_HELLO)

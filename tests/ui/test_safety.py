@@ -20,8 +20,9 @@ from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, VIEWER, FakeBrowser, fire
 from tests.support.pages import new_page
 from tests.support.threads import serve_in_thread
+from tests.support.waiting import SAFETY_NET_S
 
-WAIT_S = 10.0
+WAIT_S = SAFETY_NET_S
 SDK18_ONLY = (
     "/environment",
     "/status/failure",

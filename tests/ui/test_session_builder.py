@@ -7,8 +7,9 @@ import threading
 from collections.abc import Callable
 
 from pendant.ui.page.session_builder import HOLD_BACK_MAX_S, SessionBuilder
+from tests.support.waiting import SAFETY_NET_S
 
-WAIT_S = 10.0  # for the builder thread: far more than any build here takes
+WAIT_S = SAFETY_NET_S  # for the builder thread: far more than any build here takes
 
 
 class FakeClock:

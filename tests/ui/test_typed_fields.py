@@ -17,7 +17,7 @@ from pendant.ui.kit.typed_field import format_number, parse_number
 from pendant.ui.page.session import ClientSession
 from tests.support.doubles import OPERATOR, FakeBrowser, fire
 from tests.support.sim_sampling import finish_motion, pose_deg
-from tests.support.waiting import wait_until
+from tests.support.waiting import SAFETY_NET_S, wait_until
 
 
 @pytest.fixture
@@ -77,7 +77,7 @@ def test_a_typed_j1_is_the_angle_move_j_sends(
     fire(panel.joints[0], operator, "-69.3")
     future = panel.run(MotionType.JOINT, operator)  # type: ignore[arg-type]  # a fake browser
     assert future is not None
-    future.result(timeout=10.0)
+    future.result(timeout=SAFETY_NET_S)
     finish_motion(sim, clock)
     assert math.isclose(pose_deg(sim)[0], -69.3, abs_tol=1e-6)
 
@@ -131,10 +131,10 @@ def test_a_target_reached_by_a_planned_move_is_not_cannot_execute(
     assert planned is not None
     planned.result(timeout=30.0)
     # The plan's done-callback keeps the path, then draws its course: wait for both.
-    wait_until(lambda: panel.plan.path is not None and panel.plan.course_shown, 10.0, "a plan drawn")
+    wait_until(lambda: panel.plan.path is not None and panel.plan.course_shown, SAFETY_NET_S, "a plan drawn")
     moved = panel.plan.run(operator)  # type: ignore[arg-type]
     assert moved is not None
-    moved.result(timeout=10.0)
+    moved.result(timeout=SAFETY_NET_S)
     finish_motion(sim, clock)
     pendant_ui.refresh(with_io=True)  # the arm at rest at the target: the page's verdict is made again
     np.testing.assert_allclose(pose_deg(sim), np.round(BOX.target_deg, 1), atol=1e-6)

@@ -23,8 +23,9 @@ from tests.support.doubles import upload_states
 from tests.support.headless_viewer import CAMERA_HELLO
 from tests.support.pages import new_page
 from tests.support.ports import free_port
+from tests.support.waiting import SAFETY_NET_S
 
-WAIT_S = 20.0
+WAIT_S = SAFETY_NET_S
 PART_BYTES = 1024 * 1024
 HUGE_PARTS = 60  # 60 MB, as in the audit
 
@@ -78,7 +79,9 @@ def test_an_upload_larger_than_a_program_is_refused_before_it_is_kept(page: tupl
     program = json.dumps({"schema_version": 1, "name": "x", "steps": [{"kind": "wait", "ms": 10}]}).encode()
 
     async def scenario() -> None:
-        async with websockets.connect(f"ws://127.0.0.1:{port}/", subprotocols=protocol, max_queue=None) as ws:
+        async with websockets.connect(
+            f"ws://127.0.0.1:{port}/", subprotocols=protocol, max_queue=None, open_timeout=SAFETY_NET_S
+        ) as ws:
             await ws.send(CAMERA_HELLO)
             await wait_for(lambda: len(ui.sessions) == 1)
             session: ClientSession = next(iter(ui.sessions.values()))
