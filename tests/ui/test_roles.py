@@ -98,6 +98,7 @@ def test_a_viewers_page_has_its_controls_disabled_except_freeze(local_ui: Pendan
     local_ui.desk.join(2)
     viewer = local_ui.open_session(local_ui.server, client_id=2)
     assert viewer.locked
+    assert viewer.status.viewer and viewer.jog.locked  # its live readouts at a viewer's rate
     assert viewer.jog.buttons[(0, 1)].disabled and viewer.target_panel.move_j.disabled
     assert viewer.io.outputs[1].disabled and viewer.robot_buttons["Home"].disabled
     assert (
@@ -115,7 +116,7 @@ def test_a_viewers_page_has_its_controls_disabled_except_freeze(local_ui: Pendan
     with local_ui.browsers.lock:
         local_ui.sessions[2] = viewer
     assert viewer.control.take() is None  # no token on loopback
-    assert not viewer.locked
+    assert not viewer.locked and not viewer.status.viewer
     assert not viewer.jog.buttons[(0, 1)].disabled and not viewer.target_panel.joints[0].disabled
     assert viewer.target_panel.set_joint_target(np.radians(HOME_MOVE.angles)).ok
     assert not viewer.target_panel.move_j.disabled

@@ -27,6 +27,7 @@ from pendant.ui.jog.pad import (
 from pendant.ui.kit.commands import CommandRunner, notify_refusal
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.hold_line import HoldLine
+from pendant.ui.kit.readout_rates import readout_period_s
 from pendant.ui.kit.snapshot import Snapshot
 from pendant.ui.kit.typed_field import FieldInvalid, NumberField
 
@@ -36,7 +37,6 @@ CONTINUOUS = "Continuous"
 STEP_CHOICES = (CONTINUOUS, "0.1", "1", "10")  # mm for X Y Z, degrees for joints and rotations
 DEFAULT_SPEED_PERCENT = 10.0
 HOLD_CONFIRM_HZ = 20.0  # four confirmations inside one deadman period
-PAD_REFRESH_S = 0.1  # the live values in the pad: 10 Hz is plenty to read, and spares the browsers
 REFUSAL_REPEAT_S = 2.0  # a held button is refused once per press, not 20 times a second
 
 
@@ -123,9 +123,9 @@ class JogPanel:
         return JogRequest(frame, axis, direction, speed, step)
 
     def show(self, snapshot: Snapshot) -> None:
-        """The live values (at most every PAD_REFRESH_S)."""
+        """The live values (at most as often as readout_rates.py says: a viewer's pad is greyed out)."""
         self._snapshot = snapshot
-        if time.monotonic() - self._shown_at >= PAD_REFRESH_S:
+        if time.monotonic() - self._shown_at >= readout_period_s(self._locked):
             self._render()
 
     def _render(self) -> None:

@@ -226,6 +226,7 @@ class ClientSession:
             self._view_only.apply(handle, self.locked)  # greyed out, the tooltip saying why
         self.target_panel.locked = self.locked
         self.jog.locked = self.locked
+        self.status.viewer = self.locked
         self.teach.set_locked(self.locked)
         self.cell.set_locked(self.locked)
         self.robot_safety.set_locked(self.locked)

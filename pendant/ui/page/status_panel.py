@@ -15,6 +15,7 @@ from pendant.ui.kit.cell_state import CellState
 from pendant.ui.kit.commands import CommandRunner
 from pendant.ui.kit.gui_target import GuiTarget
 from pendant.ui.kit.html import inset
+from pendant.ui.kit.readout_rates import readout_period_s
 from pendant.ui.kit.snapshot import Snapshot
 from pendant.ui.kit.stop_path import on_stop_press
 from pendant.ui.robot.safety_panel import PROTECTIVE_STOP_HINT, render_system_state
@@ -33,10 +34,6 @@ _ALARM_STATES = {MotionStatus.ERROR, MotionStatus.EMERGENCY, MotionStatus.MOTION
 # would only flicker (the simulator's 0-2 ms changed the block 3 times a second at rest: 2.4 KB to every
 # browser each time, and a re-render of each page).
 SLOW_LINK_S = 0.010
-# The joints and the TCP while the arm moves: at most this often to a browser (the refresh runs at 30 Hz,
-# each change was the whole block to every browser: 60 viewers of a jog, 30 blocks a second each). A change
-# of anything else (the motion state, a fault, IO, the tool) is sent at once.
-VALUES_REFRESH_S = 0.1
 
 
 def _led(level: SignalLevel | None, label: str) -> str:
@@ -188,6 +185,7 @@ class StatusPanel:
         self._last = ""
         self._headline: tuple[object, ...] = ()  # what the last block sent said, but for the live values
         self._sent_at = 0.0
+        self.viewer = False  # a browser without control: its live values less often (readout_rates.py)
 
     @property
     def content(self) -> str:
@@ -232,7 +230,7 @@ class StatusPanel:
             snapshot.q is None,
             snapshot.last_known is None,
         )
-        if headline == self._headline and now - self._sent_at < VALUES_REFRESH_S:
+        if headline == self._headline and now - self._sent_at < readout_period_s(self.viewer):
             return  # only the live values moved, and they were sent a moment ago: the next tick sends them
         self._html.content = content
         self._last, self._headline, self._sent_at = content, headline, now
