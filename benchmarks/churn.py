@@ -25,6 +25,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import contextlib
+import math
 import multiprocessing
 import os
 import random
@@ -237,6 +238,7 @@ class Operator:
         self.largest_gap_s = 0.0  # between two confirmations sent: a gap on this side is not the pendant's
         self.late_sends: list[float] = []  # wall times of confirmations sent after a gap >= LATE_GAP_S
         self.cut_times: list[float] = []  # wall times of the cuts (the events' own)
+        self.let_go_at = math.inf  # wall time the operator let go at the end (what follows is no cut)
 
     async def connect(self) -> None:
         self.ws = await open_viewer(self.port)
@@ -276,6 +278,8 @@ class Operator:
                 self.late_sends.append(time.time())
             next_at += 1.0 / HOLD_HZ
             await asyncio.sleep(max(0.0, next_at - time.monotonic()))
+        # Its socket closes right after: a jog still pressed then ends as "control changed", not a cut.
+        self.let_go_at = time.time()
         await self._send_stop()
         drain.cancel()
         await self.ws.close()
@@ -298,8 +302,10 @@ async def watch_cuts(api: str, until: Deadline, operator: Operator, cuts: list[s
             found = [
                 e
                 for e in answer.json()["events"]
-                if e["message"].startswith("Jog J1+ stopped") and not e["message"].endswith(": released")
-            ]  # "released": the operator's own letting go before pressing again
+                if e["message"].startswith("Jog J1+ stopped")
+                and not e["message"].endswith(": released")
+                and e["time"] < operator.let_go_at
+            ]  # "released": the operator's own letting go before pressing again; after let_go_at: its end
             if found:
                 since = max(e["time"] for e in found) + 1e-3
                 cuts.extend(e["message"] for e in found)
