@@ -25,6 +25,9 @@ QUEUE_MAX = 100_000  # events waiting for the writer; beyond that they are dropp
 MAX_LIMIT = 1000  # rows one query may return
 TEXT_MAX_CHARS = 200  # a search string
 BUSY_TIMEOUT_S = 5.0  # how long a write waits for a lock held by another connection
+# A full disk lets some writes through (SQLite reuses the pages a prune freed), so failures come and go: the
+# line that says so is written when they start, and again only this long after the last one.
+PROBLEM_REPEAT_S = 60.0
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS events (
@@ -96,6 +99,7 @@ class EventStore:
     def _write_loop(self) -> None:
         db = self._connect()
         written = 0
+        said_at = -PROBLEM_REPEAT_S  # monotonic time the last write failure was logged
         while True:
             item = self._queue.get()
             batch = [item]
@@ -118,8 +122,10 @@ class EventStore:
             except sqlite3.Error as error:
                 self.dropped += len(rows)
                 problem = f"Events could not be written to {self.path} ({error}): {self.dropped} lost so far"
-                if self.write_problem is None:  # once per run of failures, not once per batch
+                now = time.monotonic()
+                if self.write_problem is None and now - said_at >= PROBLEM_REPEAT_S:  # not once per batch
                     log.error("%s. Fix: free space on that disk or make the folder writable.", problem)
+                    said_at = now
                 self.write_problem = problem
             else:
                 self.write_problem = None
