@@ -234,10 +234,10 @@ class PendantUI:
         it at once rather than in viser's next 1/60 s window (the first motion after a jog press)."""
         snapshot = self.reader.read(self.latest, with_io=with_io)
         if snapshot.q is not None:
-            T_base_tcp = self.arm.fk(snapshot.q) @ self.T_flange_tool
+            T_base_flange = self.arm.fk(snapshot.q)
             opening = snapshot.gripper_opening if snapshot.gripper_opening is not None else 0.0
-            self.scene.show(snapshot.q, opening, T_base_tcp, snapshot.taken_at)
-            self.tool_shape.show(self.cell_state.tool_shape, self.arm.fk(snapshot.q))
+            self.scene.show(snapshot.q, opening, T_base_flange @ self.T_flange_tool, snapshot.taken_at)
+            self.tool_shape.show(self.cell_state.tool_shape, T_base_flange)
         self.recorder.add(snapshot.taken_at, snapshot.q, snapshot.position, snapshot.outputs, snapshot.inputs)
         snapshot = carry_last_known(self.latest, snapshot)  # a fault shows where the arm last was, greyed
         if snapshot.motion_status != self.latest.motion_status and snapshot.online:

@@ -188,6 +188,7 @@ class ViewerCounts:
     state_times: list[float] = field(default_factory=list)
     gui_updates: int = 0
     bytes_received: int = 0
+    frames: int = 0  # websocket frames (viser's windows of messages)
     whole_panel: asyncio.Event = field(default_factory=asyncio.Event)  # its last tab (the Dashboard's plots)
 
 
@@ -206,6 +207,7 @@ async def viewer(url: str, counts: ViewerCounts, stop: asyncio.Event) -> None:
                 continue
             assert isinstance(frame, bytes)
             counts.bytes_received += len(frame)
+            counts.frames += 1
             now = time.monotonic()
             for message in decode_window(frame, zstd):
                 kind = message.get("type")
