@@ -33,7 +33,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Coroutine, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -333,25 +333,30 @@ async def finish_early(until: Deadline, finish: Any) -> None:
         until.at = min(until.at, time.monotonic())
 
 
-async def operate(
-    ui_port: int,
-    api: str,
-    seconds: float,
-    ready: multiprocessing.Queue,  # type: ignore[type-arg]
-    finish: Any = None,
-) -> tuple:  # type: ignore[type-arg]
-    """The operator: connect (first, so it has control), then hold J1+ for `seconds` or until `finish` (a
-    multiprocessing Event) is set; its cuts, its largest gap between two confirmations sent, and how far J1
-    went."""
-    operator = Operator(ui_port)
+@dataclass
+class OperatorJob:
+    """What an operator process is given: the pendant's ports, how long to go on (or until `finish`, a
+    multiprocessing Event, is set), and the queue for its "ready" and then its outcome."""
+
+    ui_port: int
+    api: str
+    seconds: float
+    results: Any  # a multiprocessing Queue
+    finish: Any = None
+
+
+async def operate(job: OperatorJob) -> tuple:  # type: ignore[type-arg]
+    """The operator: connect (first, so it has control), then hold J1+ for the job's time; its cuts, its
+    largest gap between two confirmations sent, and how far J1 went."""
+    operator = Operator(job.ui_port)
     await operator.connect()
-    async with httpx.AsyncClient(base_url=api, timeout=5.0) as client:
+    async with httpx.AsyncClient(base_url=job.api, timeout=5.0) as client:
         j1_before = (await client.get("/pose")).json()["angles"][0]
-        ready.put("ready")
-        until = Deadline(time.monotonic() + seconds)
+        job.results.put("ready")
+        until = Deadline(time.monotonic() + job.seconds)
         cuts: list[str] = []
-        early = [finish_early(until, finish)] if finish is not None else []
-        await asyncio.gather(operator.hold(until), watch_cuts(api, until, operator, cuts), *early)
+        early = [finish_early(until, job.finish)] if job.finish is not None else []
+        await asyncio.gather(operator.hold(until), watch_cuts(job.api, until, operator, cuts), *early)
         moved = (await client.get("/pose")).json()["angles"][0] - j1_before
     # A cut within a second after the operator itself sent late is this side's (a loaded machine), not the
     # pendant's: counted apart.
@@ -360,24 +365,23 @@ async def operate(
 
 
 def operator_process(
-    ui_port: int,
-    api: str,
-    seconds: float,
-    results: multiprocessing.Queue,  # type: ignore[type-arg]
-    finish: Any = None,
+    operates: Callable[[OperatorJob], Coroutine[Any, Any, object]], job: OperatorJob
 ) -> None:
-    """In a process of its own, as a tablet's page would be on a device of its own (and ahead of the
-    loaded machine's other processes where it may be), so its confirmations leave on time."""
+    """`operates` (this module's `operate`, or classroom_program's) in a process of its own, as a tablet's
+    page would be on a device of its own (and ahead of the loaded machine's other processes where it may
+    be), so its confirmations leave on time; its outcome goes to the job's queue, after its "ready"."""
     with contextlib.suppress(OSError):
         os.nice(-10)
-    results.put(asyncio.run(operate(ui_port, api, seconds, results, finish)))
+    job.results.put(asyncio.run(operates(job)))
 
 
 async def measure(ui_port: int, api: str, pid: int, churners: int, seconds: float) -> tuple:  # type: ignore[type-arg]
     spawn = multiprocessing.get_context("spawn")
     operated: multiprocessing.Queue = spawn.Queue()  # type: ignore[type-arg]
     operator = spawn.Process(
-        target=operator_process, args=(ui_port, api, WARM_UP_S + seconds, operated), daemon=True
+        target=operator_process,
+        args=(operate, OperatorJob(ui_port, api, WARM_UP_S + seconds, operated)),
+        daemon=True,
     )
     operator.start()
     assert await asyncio.to_thread(operated.get, True, START_TIMEOUT_S) == "ready"

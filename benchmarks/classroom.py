@@ -43,15 +43,17 @@ from typing import Any
 import httpx
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from benchmarks.churn import Viewer, operator_process, pendant_from, percentile, probe
+from benchmarks.churn import OperatorJob, Viewer, operate, operator_process, pendant_from, percentile, probe
 from benchmarks.classroom_program import (
     Lateness,
     ProgramRun,
     moving,
     pendant_with_program,
-    program_operator_process,
     summary,
     windows,
+)
+from benchmarks.classroom_program import (
+    operate as operate_program,
 )
 from benchmarks.preflight_bodies import PLAN, SMALL
 from benchmarks.viewers import cpu_seconds
@@ -148,8 +150,9 @@ async def measure(
     total = ALONE_S + WARM_UP_S + BUILT_TIMEOUT_S + STEADY_S + seconds
     watched = spawn.Event()
     operated: multiprocessing.Queue = spawn.Queue()  # type: ignore[type-arg]
-    operates = operator_process if program is None else program_operator_process
-    operator = spawn.Process(target=operates, args=(ui, api, total, operated, watched), daemon=True)
+    job = OperatorJob(ui, api, total, operated, watched)
+    operates = operate if program is None else operate_program
+    operator = spawn.Process(target=operator_process, args=(operates, job), daemon=True)
     operator.start()
     assert await asyncio.to_thread(operated.get, True, START_TIMEOUT_S) == "ready"
     t0, cpu0 = time.monotonic(), cpu_seconds(pid)

@@ -13,17 +13,14 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import itertools
-import multiprocessing
-import os
 import sys
 import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from benchmarks.churn import pendant_from, percentile
+from benchmarks.churn import OperatorJob, pendant_from, percentile
 from tests.support import sim_step_log
 from tests.support.headless_viewer import open_viewer
 from tests.support.program_page import WAIT_MS, ProgramOperator, save_classroom_program
@@ -53,36 +50,23 @@ def pendant_with_program(source: Path, prefix: str) -> Iterator[tuple[int, str, 
             yield ui, api, pid, ProgramRun(log)
 
 
-async def operate(ui_port: int, seconds: float, results: multiprocessing.Queue, finish: Any) -> str:  # type: ignore[type-arg]
-    operator = ProgramOperator(await open_viewer(ui_port))
+async def operate(job: OperatorJob) -> str:
+    """The operator (churn.operator_process runs it in a process of its own, as a tablet's page): Run, then
+    Stop after the job's time or once its `finish` is set; the run's last line."""
+    operator = ProgramOperator(await open_viewer(job.ui_port))
     operator.start()
     await operator.run(0, START_TIMEOUT_S)
-    results.put("ready")
-    if finish is None:
-        await asyncio.sleep(seconds)
+    job.results.put("ready")
+    if job.finish is None:
+        await asyncio.sleep(job.seconds)
     else:
-        await asyncio.to_thread(finish.wait, seconds)
+        await asyncio.to_thread(job.finish.wait, job.seconds)
     await operator.stop()
     try:
         ended = await operator.ended(START_TIMEOUT_S)
     finally:
         await operator.close()
     return ended
-
-
-def program_operator_process(
-    ui_port: int,
-    api: str,
-    seconds: float,
-    results: multiprocessing.Queue,  # type: ignore[type-arg]
-    finish: Any = None,
-) -> None:
-    """The operator (in a process of its own, as a tablet's page): Run, then Stop after `seconds` or once
-    `finish` (a multiprocessing Event) is set; its last line."""
-    del api  # the same arguments as churn.operator_process
-    with contextlib.suppress(OSError):
-        os.nice(-10)
-    results.put(asyncio.run(operate(ui_port, seconds, results, finish)))
 
 
 @dataclass
