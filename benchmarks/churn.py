@@ -304,8 +304,9 @@ async def watch_cuts(api: str, until: Deadline, operator: Operator, cuts: list[s
                 for e in answer.json()["events"]
                 if e["message"].startswith("Jog J1+ stopped")
                 and not e["message"].endswith(": released")
-                and e["time"] < operator.let_go_at
-            ]  # "released": the operator's own letting go before pressing again; after let_go_at: its end
+                and not (e["message"].endswith(": control changed") and e["time"] >= operator.let_go_at)
+            ]  # "released": the operator's own letting go before pressing again; "control changed" after
+            # let_go_at: its socket closing at the end
             if found:
                 since = max(e["time"] for e in found) + 1e-3
                 cuts.extend(e["message"] for e in found)

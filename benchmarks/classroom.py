@@ -43,7 +43,17 @@ from typing import Any
 import httpx
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from benchmarks.churn import OperatorJob, Viewer, operate, operator_process, pendant_from, percentile, probe
+from benchmarks.churn import (
+    PAGE_TIMEOUT_S,
+    PANEL_TIMEOUT_S,
+    OperatorJob,
+    Viewer,
+    operate,
+    operator_process,
+    pendant_from,
+    percentile,
+    probe,
+)
 from benchmarks.classroom_program import (
     Lateness,
     ProgramRun,
@@ -76,7 +86,7 @@ def browsers_with_panels(api: str) -> int:
     """The pendant's `pendant_viewers_connected` gauge: browsers whose panels are built (-1: unread)."""
     try:
         gauge = values(scrape(api), "pendant_viewers_connected")
-    except httpx.HTTPError:
+    except (httpx.HTTPError, AssertionError):  # no answer, or not /metrics' (scrape checks it)
         return -1
     return int(gauge[0]) if gauge else -1
 
@@ -90,10 +100,10 @@ async def wait_for_panels(api: str, n: int, timeout_s: float) -> int:
 
 
 def viewers_process(port: int, n: int, done: Any, results: multiprocessing.Queue) -> None:  # type: ignore[type-arg]
-    """N viewers until `done` is set (a multiprocessing Event); when each received the arm's pose, from
-    WARM_UP_S (to connect) on."""
+    """N viewers until `done` is set (a multiprocessing Event); when they began counting (WARM_UP_S after
+    connecting) and when each received the arm's pose from then on."""
 
-    async def run() -> list[list[float]]:
+    async def run() -> tuple[float, list[list[float]]]:
         stop = asyncio.Event()
         counts = [ViewerCounts() for _ in range(n)]
         tasks = [asyncio.create_task(viewer(f"ws://127.0.0.1:{port}/", c, stop)) for c in counts]
@@ -103,7 +113,7 @@ def viewers_process(port: int, n: int, done: Any, results: multiprocessing.Queue
         t1 = time.monotonic()
         stop.set()
         await asyncio.gather(*tasks, return_exceptions=True)
-        return [[t for t in c.state_times if t0 <= t < t1] for c in counts]
+        return t0, [[t for t in c.state_times if t0 <= t < t1] for c in counts]
 
     results.put(asyncio.run(run()))
 
@@ -147,7 +157,7 @@ async def measure(
 ) -> Outcome:
     spawn = multiprocessing.get_context("spawn")
     # The operator's hold (or run): long enough, and let go as soon as the newcomers are done (`watched`).
-    total = ALONE_S + WARM_UP_S + BUILT_TIMEOUT_S + STEADY_S + seconds
+    total = ALONE_S + WARM_UP_S + BUILT_TIMEOUT_S + STEADY_S + seconds + PAGE_TIMEOUT_S + PANEL_TIMEOUT_S
     watched = spawn.Event()
     operated: multiprocessing.Queue = spawn.Queue()  # type: ignore[type-arg]
     job = OperatorJob(ui, api, total, operated, watched)
@@ -178,7 +188,8 @@ async def measure(
     watched.set()
     stop.set()
     t2 = time.monotonic()
-    times = await asyncio.to_thread(rated.get, True, 120.0)
+    counted_from, times = await asyncio.to_thread(rated.get, True, 120.0)
+    watching = max(watching, counted_from)  # the viewers' process may have started counting later
     operated_result = await asyncio.to_thread(operated.get, True, 120.0)
     for process in (watchers, operator):
         await asyncio.to_thread(process.join, 10.0)

@@ -100,6 +100,7 @@ class EventStore:
         db = self._connect()
         written = 0
         said_at = -PROBLEM_REPEAT_S  # monotonic time the last write failure was logged
+        unsaid = False  # a run of failures began that no line has named yet
         while True:
             item = self._queue.get()
             batch = [item]
@@ -123,9 +124,10 @@ class EventStore:
                 self.dropped += len(rows)
                 problem = f"Events could not be written to {self.path} ({error}): {self.dropped} lost so far"
                 now = time.monotonic()
-                if self.write_problem is None and now - said_at >= PROBLEM_REPEAT_S:  # not once per batch
+                unsaid = unsaid or self.write_problem is None  # a run of failures begins: said, not per batch
+                if unsaid and now - said_at >= PROBLEM_REPEAT_S:
                     log.error("%s. Fix: free space on that disk or make the folder writable.", problem)
-                    said_at = now
+                    said_at, unsaid = now, False
                 self.write_problem = problem
             else:
                 self.write_problem = None

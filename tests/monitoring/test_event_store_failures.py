@@ -16,9 +16,21 @@ from pendant.monitoring.eventstore import EventStore
 from tests.support.waiting import SAFETY_NET_S
 
 
-def test_failures_that_come_and_go_are_said_once_and_every_lost_event_counted(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
+@pytest.mark.parametrize(
+    ("repeat_s", "lines"),
+    [
+        (3600.0, 1),  # within the repeat interval: the first run of failures is said, the next two are not
+        (0.0, 3),  # past it: each run of failures is said once, not each of its three failing batches
+    ],
+)
+def test_failures_that_come_and_go_are_said_once_a_while_and_every_lost_event_counted(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    caplog: pytest.LogCaptureFixture,
+    repeat_s: float,
+    lines: int,
 ) -> None:
+    monkeypatch.setattr(eventstore, "PROBLEM_REPEAT_S", repeat_s)
     refusing = [False]
     connect = EventStore._connect
 
@@ -49,6 +61,6 @@ def test_failures_that_come_and_go_are_said_once_and_every_lost_event_counted(
         refusing[0] = False
         store.close()
     said = [r.getMessage() for r in caplog.records if "could not be written" in r.getMessage()]
-    assert len(said) == 1, said
+    assert len(said) == lines, said
     assert "Fix:" in said[0]
     assert store.dropped == 9, "three failing runs of three events each"

@@ -109,7 +109,7 @@ def test_a_disk_that_fills_up_loses_events_and_says_how_many(tmp_path: Path) -> 
             assert client.get(f"{base}/robot/id").status_code == 200, "the pendant goes on"
         said = stderr.read_text()
         assert "could not be written" in said and "Fix:" in said
-        assert said.count("could not be written") == 1, "one line per run of failures, not one per event"
+        assert said.count("could not be written") == 1, "one line for the failures, not one per event"
 
 
 def test_temporary_files_orphaned_by_a_crash_are_removed_on_start(tmp_path: Path) -> None:

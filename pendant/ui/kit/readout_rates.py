@@ -5,7 +5,7 @@ The operator reads them to jog and teach: 10 Hz. A viewer (a browser without con
 and laptops) watches the arm itself, drawn at the refresh's full rate for everybody, and reads the numbers
 as one reads a multimeter's: 4 Hz. Each browser's readouts are messages of its own (viser's GUI handles are
 per browser), and at 10 Hz they were half of what a viewer cost the pendant (issue 37: 60 viewers of a held
-jog, 0.0084-0.0089 cores per viewer, 0.0043-0.0057 with no readouts sent at all). A change of anything else
+jog, 0.0084-0.0099 cores per viewer, 0.0043-0.0057 with no readouts sent at all). A change of anything else
 (the motion state, a fault, IO, the tool) is sent at once, to every browser.
 """
 
