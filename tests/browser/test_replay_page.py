@@ -119,7 +119,8 @@ def test_replay_draws_the_recorded_arm_and_steps_at_the_slider_time(
     page.get_by_role("button", name="Stop recording").click()
     page.get_by_text(re.compile(r"Stopped · \d+ samples")).first.wait_for()
 
-    [path] = sorted(Path(pendant.data, "recordings").glob("pendant-*.mcap"))
+    # The newest: a rerun's pendant still holds the first try's recording.
+    path = max(Path(pendant.data, "recordings").glob("pendant-*.mcap"), key=lambda p: p.stat().st_mtime)
     _, messages = read_mcap(path)
     joints = [(t, m["position_deg"]) for topic, t, m in messages if topic == "/joints"]
     start_ns = joints[0][0]

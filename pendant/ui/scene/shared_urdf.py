@@ -109,4 +109,6 @@ class SharedUrdf:
                     root_node_name=self._root_node_name,
                     mesh_color_override=self._rgba,
                 )
+                if self._cfg is not None:  # ViserUrdf adds its joint frames unposed (at 0) until posed
+                    self._drawn.update_cfg(self._cfg)
             return self._drawn
