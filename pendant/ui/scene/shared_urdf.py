@@ -101,8 +101,6 @@ class SharedUrdf:
     def _draw(self) -> ViserUrdf:
         with _posing:
             if self._drawn is None:  # another thread may have drawn it meanwhile
-                if self._cfg is not None:
-                    self._model.update_cfg(self._cfg)
                 self._drawn = ViserUrdf(
                     self._target,
                     self._model,
