@@ -8,7 +8,7 @@ import asyncio
 import contextlib
 import re
 import time
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -92,17 +92,23 @@ class JogPad:
     stop: str
     speed: str
     line: tuple[int, str] | None = None  # the browser's hold line (pendant/ui/kit/hold_line.py): port, key
+    buttons: dict[str, str] = field(default_factory=dict)  # label -> uuid, of those asked for
 
 
-async def read_jog_pad(ws: websockets.ClientConnection, timeout_s: float) -> JogPad:
-    """Read the page's messages until its jog pad and speed box have come."""
+async def read_jog_pad(
+    ws: websockets.ClientConnection, timeout_s: float, buttons: Collection[str] = ()
+) -> JogPad:
+    """Read the page's messages until its jog pad and speed box have come, and the buttons so labelled."""
     zstd = zstandard.ZstdDecompressor()
     hold = stop = speed = ""
     line: tuple[int, str] | None = None
+    labelled: dict[str, str] = {}
     async with asyncio.timeout(timeout_s):
-        while not (hold and speed):
+        while not (hold and speed and labelled.keys() >= set(buttons)):
             for message in await next_messages(ws, zstd):
                 props = message.get("props", {})
+                if message.get("type") == "GuiButtonMessage" and props.get("label") in buttons:
+                    labelled.setdefault(str(props["label"]), str(message["uuid"]))
                 if message.get("type") == "GuiTextMessage" and props.get("label") == "Speed %" and not speed:
                     speed = message["uuid"]
                 content = str(props.get("content", ""))
@@ -110,7 +116,7 @@ async def read_jog_pad(ws: websockets.ClientConnection, timeout_s: float) -> Jog
                     hold, stop = pad.group(1), pad_stop.group(1)
                     if found := JOG_LINE.search(content):
                         line = (int(found.group(1)), found.group(2))
-    return JogPad(hold, stop, speed, line)
+    return JogPad(hold, stop, speed, line, labelled)
 
 
 async def open_hold_line(pad: JogPad, host: str = "127.0.0.1") -> websockets.ClientConnection:

@@ -11,10 +11,8 @@ How it goes with 1 to 100 viewers and newcomers: `benchmarks/classroom.py`."""
 from __future__ import annotations
 
 import asyncio
-import multiprocessing
 import time
 from dataclasses import dataclass
-from multiprocessing.synchronize import Event
 
 import pytest
 import websockets
@@ -22,7 +20,6 @@ import websockets
 from tests.support.headless_viewer import (
     HOLD_HZ,
     JogPad,
-    ViewerCounts,
     drain,
     gui_update,
     line_hold,
@@ -30,9 +27,9 @@ from tests.support.headless_viewer import (
     open_hold_line,
     open_viewer,
     read_jog_pad,
-    viewer,
 )
 from tests.support.launchers import Pendant, running_pendant_ui
+from tests.support.room import Room
 from tests.support.waiting import wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.measures]  # a 10 s hold against the deadman's 200 ms
@@ -47,25 +44,6 @@ RELEASED = "Jog J1+ stopped: released"
 OPERATOR_LATE_S = 0.15  # the test's own operator sent a confirmation this late: a cut then is this side's
 TRIES = 3
 EVENT_TIMEOUT_S = 10.0
-
-
-def watch(port: int, viewers: int, ready: Event, done: Event, results: multiprocessing.Queue) -> None:
-    """The viewers, in a spawned process: `ready` once every panel is built, reading until `done`; then
-    each viewer's arm update times (monotonic, shared by the machine's processes) go to `results`."""
-
-    async def run() -> list[list[float]]:
-        stop = asyncio.Event()
-        counts = [ViewerCounts() for _ in range(viewers)]
-        reading = [asyncio.create_task(viewer(f"ws://127.0.0.1:{port}/", c, stop)) for c in counts]
-        async with asyncio.timeout(PAGE_TIMEOUT_S):
-            await asyncio.gather(*(c.whole_panel.wait() for c in counts))
-        ready.set()
-        await asyncio.to_thread(done.wait, PAGE_TIMEOUT_S)
-        stop.set()
-        await asyncio.gather(*reading, return_exceptions=True)
-        return [c.state_times for c in counts]
-
-    results.put(asyncio.run(run()))
 
 
 @dataclass(frozen=True)
@@ -110,28 +88,22 @@ async def _holds_beside_viewers(pendant: Pendant) -> tuple[list[Hold], list[list
     """The operator connects first, then the viewers come; then the holds: a hold cut after the operator
     itself sent late (this test's process starved) says nothing of the pendant, and is held again (at most
     TRIES times). The holds, and each viewer's arm update times."""
-    spawn = multiprocessing.get_context("spawn")
-    ready, done, results = spawn.Event(), spawn.Event(), spawn.Queue()
     operator = await open_viewer(pendant.ui_port)
     pad = await read_jog_pad(operator, PAGE_TIMEOUT_S)
     draining = asyncio.create_task(drain(operator))
     await operator.send(gui_update(pad.speed, JOG_SPEED_PERCENT))
     line = await open_hold_line(pad)
-    watchers = spawn.Process(target=watch, args=(pendant.ui_port, VIEWERS, ready, done, results), daemon=True)
-    watchers.start()
+    room = Room(pendant.ui_port, VIEWERS, PAGE_TIMEOUT_S)
     try:
-        assert await asyncio.to_thread(ready.wait, PAGE_TIMEOUT_S), "the viewers' panels were not built"
+        await asyncio.to_thread(room.open)
         holds: list[Hold] = []
         while len(holds) < TRIES:
             holds.append(await _hold(pendant, line, pad))
             if holds[-1].stops == [RELEASED] or holds[-1].largest_gap_s < OPERATOR_LATE_S:
                 break  # a verdict: not cut, or cut while the operator sent on time
-        done.set()
-        updates = await asyncio.to_thread(results.get, True, PAGE_TIMEOUT_S)
-        return holds, updates
+        return holds, await asyncio.to_thread(room.arm_update_times)
     finally:
-        done.set()
-        await asyncio.to_thread(watchers.join, PAGE_TIMEOUT_S)
+        await asyncio.to_thread(room.close)
         draining.cancel()
         await line.close()
         await operator.close()
