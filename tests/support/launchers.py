@@ -158,6 +158,11 @@ class Pendant:
     def status(self) -> str:
         return self.api.get("/status/motion").text.strip('"')
 
+    def events(self, text: str, since: float) -> list[str]:
+        """The messages of the event log's events holding `text`, since `since` (epoch s)."""
+        query: dict[str, str | float] = {"text": text, "since": since}
+        return [e["message"] for e in self.api.get("/pendant/events", params=query).json()["events"]]
+
 
 @contextlib.contextmanager
 def running_pendant_ui(

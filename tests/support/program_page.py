@@ -60,7 +60,8 @@ class ProgramOperator:
     uuids: dict[str, str] = field(default_factory=dict)  # saved, file, loops, run, status, stop
     status: list[str] = field(default_factory=list)  # the run's line, each time it changed
     loaded: asyncio.Event = field(default_factory=asyncio.Event)
-    controls: asyncio.Event = field(default_factory=asyncio.Event)
+    controls: asyncio.Event = field(default_factory=asyncio.Event)  # the six, and the whole panel after them
+    whole_panel: bool = False  # its last tab (the Dashboard's plots) came: every control has its handler
     _reader: asyncio.Task[None] | None = None
 
     def start(self) -> None:
@@ -79,6 +80,7 @@ class ProgramOperator:
         props = message.get("props")
         label = props.get("label") if isinstance(props, dict) else None
         found = self.uuids
+        self.whole_panel = self.whole_panel or kind == "GuiUplotMessage"
         if kind == "GuiDropdownMessage" and label == "Saved programs":
             found["saved"] = uuid
         elif kind == "GuiButtonGroupMessage" and label == "File":
@@ -99,7 +101,7 @@ class ProgramOperator:
                 self.status.append(str(updates["_markdown"]))
             elif updates.get("value") == PROGRAM_NAME and uuid != found.get("saved"):
                 self.loaded.set()  # the file's name written in "Save as name": the program is open
-        if len(found) == 6:
+        if len(found) == 6 and self.whole_panel:  # viser drops a click on a control with no handler yet
             self.controls.set()
 
     async def run(self, loops: int, timeout_s: float) -> None:

@@ -40,7 +40,8 @@ JOG_SPEED_PERCENT = 5.0  # J1 at 6 deg/s: far from its limits
 MIN_MOVED_DEG = 20.0  # 60 deg if the whole hold moves it; a cut costs a second or more
 MIN_UPDATES_HZ = 5.0  # each viewer's arm updates during the hold (30 a second on a quiet machine)
 PAGE_TIMEOUT_S = 120.0  # generous: every viewer's whole panel on a loaded machine; not what is tested
-RELEASED = "Jog J1+ stopped: released"
+STOPPED = "Jog J1+ stopped"
+RELEASED = f"{STOPPED}: released"
 OPERATOR_LATE_S = 0.15  # the test's own operator sent a confirmation this late: a cut then is this side's
 TRIES = 3
 EVENT_TIMEOUT_S = 10.0
@@ -58,12 +59,10 @@ class Hold:
 def _stops_since(pendant: Pendant, since: float) -> list[str]:
     """The jog's stops in the event log since `since` (epoch s; the log is written by its own thread)."""
 
-    def stops() -> list[str]:
-        query: dict[str, str | float] = {"text": "Jog J1+ stopped", "since": since}
-        return [e["message"] for e in pendant.api.get("/pendant/events", params=query).json()["events"]]
-
-    wait_until(lambda: bool(stops()), EVENT_TIMEOUT_S, "the hold's stop in the event log")
-    return stops()
+    wait_until(
+        lambda: bool(pendant.events(STOPPED, since)), EVENT_TIMEOUT_S, "the hold's stop in the event log"
+    )
+    return pendant.events(STOPPED, since)
 
 
 async def _hold(pendant: Pendant, line: websockets.ClientConnection, pad: JogPad) -> Hold:
