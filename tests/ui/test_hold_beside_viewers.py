@@ -18,19 +18,16 @@ import pytest
 import websockets
 
 from tests.support.headless_viewer import (
-    HOLD_HZ,
     JogPad,
     drain,
     gui_update,
-    line_hold,
-    line_release,
     open_hold_line,
     open_viewer,
     read_jog_pad,
 )
+from tests.support.holds import RELEASED, hold_j1, j1_stops_since
 from tests.support.launchers import Pendant, running_pendant_ui
 from tests.support.room import Room
-from tests.support.waiting import wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.measures]  # a 10 s hold against the deadman's 200 ms
 
@@ -40,8 +37,6 @@ JOG_SPEED_PERCENT = 5.0  # J1 at 6 deg/s: far from its limits
 MIN_MOVED_DEG = 20.0  # 60 deg if the whole hold moves it; a cut costs a second or more
 MIN_UPDATES_HZ = 5.0  # each viewer's arm updates during the hold (30 a second on a quiet machine)
 PAGE_TIMEOUT_S = 120.0  # generous: every viewer's whole panel on a loaded machine; not what is tested
-STOPPED = "Jog J1+ stopped"
-RELEASED = f"{STOPPED}: released"
 OPERATOR_LATE_S = 0.15  # the test's own operator sent a confirmation this late: a cut then is this side's
 TRIES = 3
 EVENT_TIMEOUT_S = 10.0
@@ -56,31 +51,14 @@ class Hold:
     moved_deg: float
 
 
-def _stops_since(pendant: Pendant, since: float) -> list[str]:
-    """The jog's stops in the event log since `since` (epoch s; the log is written by its own thread)."""
-
-    wait_until(
-        lambda: bool(pendant.events(STOPPED, since)), EVENT_TIMEOUT_S, "the hold's stop in the event log"
-    )
-    return pendant.events(STOPPED, since)
-
-
 async def _hold(pendant: Pendant, line: websockets.ClientConnection, pad: JogPad) -> Hold:
     """J1+ held for HOLD_S over the hold line, a confirmation every 1 / HOLD_HZ s, then released."""
     since = time.time()
     j1 = (await asyncio.to_thread(pendant.pose))[0]
-    started = sent = time.monotonic()
-    largest_gap = 0.0
-    while sent < started + HOLD_S:
-        await line.send(line_hold(pad.hold))
-        now = time.monotonic()
-        largest_gap, sent = max(largest_gap, now - sent), now
-        await asyncio.sleep(1.0 / HOLD_HZ)
-    await line.send(line_release(pad.hold))
-    ended = time.monotonic()
-    stops = await asyncio.to_thread(_stops_since, pendant, since)
+    held = await hold_j1(line, pad, HOLD_S)
+    stops = await asyncio.to_thread(j1_stops_since, pendant, since, EVENT_TIMEOUT_S)
     moved = (await asyncio.to_thread(pendant.pose))[0] - j1
-    return Hold(started, ended, largest_gap, stops, moved)
+    return Hold(held.started, held.ended, held.largest_gap_s, stops, moved)
 
 
 async def _holds_beside_viewers(pendant: Pendant) -> tuple[list[Hold], list[list[float]]]:

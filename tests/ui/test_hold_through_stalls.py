@@ -19,17 +19,14 @@ import pytest
 
 from tests.support import stalling_pendant
 from tests.support.headless_viewer import (
-    HOLD_HZ,
     drain,
     gui_update,
-    line_hold,
-    line_release,
     open_hold_line,
     open_viewer,
     read_jog_pad,
 )
+from tests.support.holds import DEADMAN, RELEASED, hold_j1, j1_stops_since
 from tests.support.launchers import Pendant, running_pendant_ui
-from tests.support.waiting import wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.measures]  # confirmations every 50 ms against a 200 ms deadman
 
@@ -37,9 +34,6 @@ STALL_MS, EVERY_MS = 200, 1000  # longer than the deadman's 200 ms with the 50 m
 HOLD_S = 8.0  # seven stalls
 JOG_SPEED_PERCENT = 5.0  # J1 at 6 deg/s
 MIN_MOVED_DEG = 20.0  # 48 deg if the whole hold moves it
-STOPPED = "Jog J1+ stopped"
-RELEASED = f"{STOPPED}: released"
-DEADMAN = f"{STOPPED}: deadman"
 OPERATOR_LATE_S = 0.15  # the test's own process sent a confirmation this late: it, not the pendant, was late
 PAGE_TIMEOUT_S = 120.0  # generous: the page's panels through the stalls; not what is tested
 EVENT_TIMEOUT_S = 10.0
@@ -48,8 +42,8 @@ STILL_DEG = 0.01
 
 
 async def _hold(pendant: Pendant, seconds: float, release: bool) -> tuple[list[str], float, float]:
-    """J1+ held for `seconds` over the hold line, released or not; its stops, J1's travel, the largest gap
-    between two of this side's sends (s)."""
+    """A browser comes and holds J1+ for `seconds` over the hold line, released or not: its stops, J1's
+    travel, the largest gap between two of this side's sends (s)."""
     operator = await open_viewer(pendant.ui_port)
     try:
         pad = await read_jog_pad(operator, PAGE_TIMEOUT_S)
@@ -58,29 +52,14 @@ async def _hold(pendant: Pendant, seconds: float, release: bool) -> tuple[list[s
         line = await open_hold_line(pad)
         since = time.time()
         j1 = (await asyncio.to_thread(pendant.pose))[0]
-        started = sent = time.monotonic()
-        largest_gap = 0.0
-        while sent < started + seconds:
-            await line.send(line_hold(pad.hold))
-            now = time.monotonic()
-            largest_gap, sent = max(largest_gap, now - sent), now
-            await asyncio.sleep(1.0 / HOLD_HZ)
-        if release:
-            await line.send(line_release(pad.hold))
-        stops = await asyncio.to_thread(_stops, pendant, since)
+        held = await hold_j1(line, pad, seconds, release)
+        stops = await asyncio.to_thread(j1_stops_since, pendant, since, EVENT_TIMEOUT_S)
         moved = (await asyncio.to_thread(pendant.pose))[0] - j1
         await line.close()
         draining.cancel()
-        return stops, moved, largest_gap
+        return stops, moved, held.largest_gap_s
     finally:
         await operator.close()
-
-
-def _stops(pendant: Pendant, since: float) -> list[str]:
-    wait_until(
-        lambda: bool(pendant.events(STOPPED, since)), EVENT_TIMEOUT_S, "the hold's stop in the event log"
-    )
-    return pendant.events(STOPPED, since)
 
 
 def _still(pendant: Pendant) -> bool:
