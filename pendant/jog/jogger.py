@@ -14,7 +14,7 @@ from pendant.controller import Controller, ControllerError, MotionParams, Motion
 from pendant.controller.stops import StopBus
 from pendant.jog.arm import JogArm
 from pendant.jog.blocked import Touching, why_blocked
-from pendant.jog.deadman import DEADMAN_TIMEOUT_S, Deadman
+from pendant.jog.deadman import DEADMAN_TIMEOUT_S, STALL_GRACE_S, Deadman, StallGrace
 from pendant.jog.latch import Latch, SentJog
 from pendant.jog.targets import (
     JOG_TCP_MAX_VELOCITY_M_S,
@@ -29,13 +29,6 @@ from pendant.kinematics.transforms import matrix_to_position, position_to_matrix
 log = logging.getLogger(__name__)
 
 WATCHDOG_PERIOD_S = 0.01
-# The watchdog woke this much later than it asked: the whole process stood still (a full garbage collection
-# holds every thread: 114-139 ms with 100 browsers' panels, 2-core machine), the hold line's thread too,
-# with the operator's confirmations waiting unread in its socket. Before it judges, the watchdog gives the
-# line STALL_GRACE_S to read them, once: the next judgement is never put off (a process that stalls on
-# every wake still gets its cut, at most STALL_GRACE_S later than it would have).
-WATCHDOG_STALL_S = 0.05
-STALL_GRACE_S = 0.025
 # A target closer than this to where the arm is means "no progress possible" (limit, collision, edge).
 MIN_PROGRESS_RAD = 1e-4
 MSG_DEADMAN = "deadman: no confirmation from the page for {ms:.0f} ms"
@@ -243,21 +236,18 @@ class Jogger:
 
     def start_watchdog(self) -> None:
         def run() -> None:
-            woke = time.monotonic()  # the real clock: the watchdog's own waits are real
-            graced = False
+            wakes = StallGrace(WATCHDOG_PERIOD_S, time.monotonic())  # the real clock: its waits are real
             while not self._stop_watchdog.wait(WATCHDOG_PERIOD_S):
-                was, woke = woke, time.monotonic()
-                if woke - was > WATCHDOG_PERIOD_S + WATCHDOG_STALL_S and not graced:
-                    graced = True
+                if wakes.woke_late(time.monotonic()):
                     if self._stop_watchdog.wait(STALL_GRACE_S):
                         return
-                    woke = time.monotonic()
-                else:
-                    graced = False
+                    wakes.restart(time.monotonic())
                 try:
                     self.check_deadman()
                 except ControllerError as error:
                     log.warning("deadman freeze refused: %s", error.message)
+                except Exception:  # whatever a listener does, the watchdog must go on watching
+                    log.exception("deadman check failed")
 
         self._watchdog = threading.Thread(target=run, name="jog-deadman", daemon=True)
         self._watchdog.start()

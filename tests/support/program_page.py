@@ -61,7 +61,9 @@ class ProgramOperator:
     status: list[str] = field(default_factory=list)  # the run's line, each time it changed
     loaded: asyncio.Event = field(default_factory=asyncio.Event)
     controls: asyncio.Event = field(default_factory=asyncio.Event)  # the six, and the whole panel after them
-    whole_panel: bool = False  # its last tab (the Dashboard's plots) came: every control has its handler
+    whole_panel: bool = field(
+        default=False, init=False
+    )  # its last tab (the Dashboard's plots) came: every control has its handler
     _reader: asyncio.Task[None] | None = None
 
     def start(self) -> None:

@@ -5,7 +5,10 @@ test goes on, and when the room ends, says when the arm's pose came to each."""
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import multiprocessing
+import queue
+import time
 from multiprocessing.synchronize import Event
 
 from tests.support.headless_viewer import ViewerCounts, viewer
@@ -39,6 +42,7 @@ class Room:
         spawn = multiprocessing.get_context("spawn")
         self._ready, self._done, self._results = spawn.Event(), spawn.Event(), spawn.Queue()
         self._timeout_s = timeout_s
+        self._collected = False
         self._process = spawn.Process(
             target=_watch,
             args=(port, viewers, self._ready, self._done, self._results, timeout_s),
@@ -54,8 +58,17 @@ class Room:
         """The viewers stop watching: when each saw the arm's pose (monotonic s)."""
         self._done.set()
         updates: list[list[float]] = self._results.get(True, self._timeout_s)
+        self._collected = True
         return updates
 
     def close(self) -> None:
         self._done.set()
-        self._process.join(self._timeout_s)
+        if self._process.pid is None:
+            return  # never opened
+        # Read what it sends if nobody has: a child exits only once its queue's data is in the pipe.
+        until = time.monotonic() + self._timeout_s
+        while not self._collected and self._process.is_alive() and time.monotonic() < until:
+            with contextlib.suppress(queue.Empty):
+                self._results.get(True, 0.5)
+                self._collected = True
+        self._process.join(max(0.0, until - time.monotonic()))

@@ -24,7 +24,7 @@ def _stall_now_and_then(stall_ms: int, every_ms: int) -> None:
 
     def run() -> None:
         while True:
-            time.sleep(every_ms / 1000.0)
+            time.sleep((every_ms - stall_ms) / 1000.0)  # a stall begins every `every_ms`
             usleep(stall_ms * 1000)
 
     threading.Thread(target=run, name="test-stall", daemon=True).start()

@@ -85,7 +85,9 @@ async def _scene_as_seen(port: int) -> dict[str, np.ndarray]:
 
 def _tcp_in_root(scene: dict[str, np.ndarray], root: str) -> np.ndarray:
     """The TCP's position under `root`, composed from the browser's frames along its path."""
-    path = next(name for name in scene if name.startswith(root + "/") and name.endswith("/tcp"))
+    paths = [name for name in scene if name.startswith(root + "/") and name.endswith("/tcp")]
+    assert len(paths) == 1, f"the browser got no single TCP frame under {root}: {paths}"
+    path = paths[0]
     T = np.eye(4)
     parts = path.split("/")
     for depth in range(2, len(parts) + 1):

@@ -6,8 +6,8 @@ frame of the page (tests/support/room.py).
 Each stop comes while the arm moves: the page's Freeze and Protective stop (the operator's clicks on viser's
 websocket, the same one the 30 viewers load), and the API's PUT /freeze and POST /stop over real HTTP. The
 operator's button stays down (confirmations keep coming, messages already on their way); the arm must
-stop and stay still. After a protective stop, a new press does not move it either: only the operator's
-Recover lifts it. Then a new press moves again."""
+stop and stay still. After a protective stop, a new press does not move it either: only Recover (`PUT
+/recover` here) lifts it. Then a new press moves again."""
 
 from __future__ import annotations
 
@@ -87,18 +87,26 @@ async def held(line: websockets.ClientConnection, pad: JogPad) -> AsyncIterator[
         await line.send(line_release(pad.hold))
 
 
-async def moves(
-    pendant: Pendant, line: websockets.ClientConnection, pad: JogPad, within_s: float = MOVE_TIMEOUT_S
-) -> bool:
-    """A new press moves J1 (by MOVING_DEG within `within_s`)."""
+async def moves(pendant: Pendant, line: websockets.ClientConnection, pad: JogPad) -> bool:
+    """A new press moves J1 (by MOVING_DEG within MOVE_TIMEOUT_S)."""
     start = await asyncio.to_thread(j1, pendant)
     async with held(line, pad):
-        until = time.monotonic() + within_s
+        until = time.monotonic() + MOVE_TIMEOUT_S
         while time.monotonic() < until:
             if await asyncio.to_thread(j1, pendant) > start + MOVING_DEG:
                 return True
             await asyncio.sleep(0.1)
     return False
+
+
+async def travel_while_pressed(
+    pendant: Pendant, line: websockets.ClientConnection, pad: JogPad, seconds: float
+) -> float:
+    """How far J1 goes while a new press is held for `seconds` (deg)."""
+    start = await asyncio.to_thread(j1, pendant)
+    async with held(line, pad):
+        await asyncio.sleep(seconds)
+    return abs(await asyncio.to_thread(j1, pendant) - start)
 
 
 async def stops_and_stays(
@@ -144,8 +152,9 @@ async def _every_stop_beside_viewers(pendant: Pendant) -> dict[str, str]:
             await stops_and_stays(pendant, line, pad, name, send)
             left[name] = await asyncio.to_thread(pendant.status)
             if left[name] == "ERROR":
-                assert not await moves(pendant, line, pad, HELD_S), (
-                    f"after {name}, a new press moved without Recover"
+                travel = await travel_while_pressed(pendant, line, pad, HELD_S)
+                assert travel < STILL_DEG, (
+                    f"after {name}, a new press moved J1 {travel:.3f} deg without Recover"
                 )
                 (await asyncio.to_thread(pendant.api.put, "/recover")).raise_for_status()
             assert await moves(pendant, line, pad), f"after {name} (and Recover), a new press did not jog"
