@@ -363,6 +363,10 @@ class ProgramRunner:
             return failure.reason
 
     def _interrupted(self, run: _Run) -> RunProgress:
+        # Frozen before the page hears of it: the Stop or Pause that asked freezes too, but on its own thread,
+        # which may come after this one has said "Stopped" (a clean clone's run, beside a big file being read,
+        # said so with the arm still moving: 0.05 deg more).
+        self._freeze_quietly()
         line = run.interpreter.place
         if self._stop_requested:
             with self._lock:
@@ -371,9 +375,8 @@ class ProgramRunner:
             cause = f" by {said}" if said else ""
             return self._finish(state=RunState.STOPPED, message=f"Stopped at step {line + 1}{cause}")
         if self._heard.since_start:
-            # Frozen here too: a stop heard late (`pendant run` polls its pendant's stops) may have come
-            # after the next command went out, and that command's motion must not run on.
-            self._freeze_quietly()
+            # A stop heard late (`pendant run` polls its pendant's stops) may have come after the next command
+            # went out: the freeze above keeps that command's motion from running on.
             return self._stopped_by(run)
         because = self._paused_because
         message = f"Paused before step {line + 1}" + (f": {because}" if because else "")
