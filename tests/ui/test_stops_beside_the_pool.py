@@ -160,13 +160,13 @@ def test_the_apis_stop_halts_a_motion_with_the_pool_held(
 HELD_S = 1.5
 
 
-@pytest.mark.parametrize("step", ["wait", "gripper"])
+@pytest.mark.parametrize("step", ["wait", "gripper", "motion"])
 @pytest.mark.parametrize("stop", API_STOPS)
 def test_the_apis_stop_ends_a_run_in_a_still_step_before_an_output_with_the_pool_held(
     stop: str, step: str
 ) -> None:
-    """A run in a still step (the gripper closing, a wait) with the pool held: the API's stop ends it
-    naming the API, the arm stays put and the step after it (DO2 HIGH) never runs."""
+    """A run in a still step (the gripper closing, a wait) or a motion with the pool held: the API's stop
+    ends it naming the API, the arm stays put and the step after it (DO2 HIGH) never runs."""
     send, _, cause = API_STOPS[stop]
     sim = SimController("pulse75", MonotonicClock())  # the real clock: the step lasts until the stop
     with page_with_its_pool_held(sim) as page, its_api(page, sim) as api:
