@@ -1,8 +1,9 @@
 """The page's stops never wait for viser's callback pool (issue 32): with every one of its 32 threads held
 (as 40 slow clicks held them), a browser that connects still gets Freeze, and Freeze, Esc, Protective stop
 and the program's Pause and Stop still act; so do the API's PUT /freeze and POST /stop, over real HTTP,
-against a motion under way and against a program the page runs, in a still step before an output step. The
-page in-process on loopback, the simulator on a fake clock (its move stays RUNNING until something stops
+against a motion under way and against a program the page runs, in a still step before an output step or
+in a motion; and so do a browser's Freeze, Esc and Protective stop against such a run. The page in-process
+on loopback, the simulator on a fake clock (its move stays RUNNING until something stops
 it) or, for the program, the real one; browsers as bare websockets (what a browser sends)."""
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from pendant.sim import MonotonicClock, SimController
 from pendant.ui.app import PendantUI
 from tests.support import run_stops
 from tests.support.doubles import OPERATOR
-from tests.support.headless_viewer import click_message, next_messages, open_viewer
+from tests.support.headless_viewer import click_message, drain, next_messages, open_viewer
 from tests.support.pages import pendant_page
 from tests.support.threads import serve_in_thread
 from tests.support.waiting import wait_until
@@ -180,4 +181,56 @@ def test_the_apis_stop_ends_a_run_in_a_still_step_before_an_output_with_the_pool
             held_s=HELD_S,
             timeout_s=STOP_TIMEOUT_S,
         )
+        page.programs.stop()
+
+
+# The page's stops, as a browser sends them: the control (as `controls` names it), its message, how a run
+# names the stop.
+PAGE_STOPS: dict[str, tuple[str, Callable[[str], bytes], str]] = {
+    "Freeze": ("Freeze", click_message, "Freeze by browser #"),
+    "Esc": ("command Freeze", trigger, "Freeze (Esc) by browser #"),
+    "Protective stop": ("Protective stop", click_message, "Protective stop by browser #"),
+}
+
+
+async def stop_the_run_from_a_browser(page: PendantUI, sim: SimController, step: str, stop: str) -> None:
+    """A browser connected to the page sends `stop` 0.3 s into `step` (run_stops.stop_the_run)."""
+    label, message, cause = PAGE_STOPS[stop]
+    ws = await open_viewer(page.server.get_port())
+    reading: asyncio.Task[None] | None = None
+    try:
+        uuid = (await controls(ws, {label}))[label]
+        reading = asyncio.create_task(drain(ws))  # a browser reads on: viser never waits for it
+        loop = asyncio.get_running_loop()
+
+        def send() -> None:
+            asyncio.run_coroutine_threadsafe(ws.send(message(uuid)), loop).result(STOP_TIMEOUT_S)
+
+        await asyncio.to_thread(
+            run_stops.stop_the_run,
+            page,
+            sim,
+            step,
+            send,
+            cause,
+            held_s=HELD_S,
+            timeout_s=STOP_TIMEOUT_S,
+        )
+    finally:
+        await ws.close()
+        if reading is not None:
+            await reading
+
+
+@pytest.mark.parametrize("step", ["wait", "gripper", "motion"])
+@pytest.mark.parametrize("stop", PAGE_STOPS)
+def test_a_browsers_stop_ends_a_run_in_a_still_step_or_a_motion_with_the_pool_held(
+    stop: str, step: str
+) -> None:
+    """As the API's stops above, from a browser's websocket: its Freeze, Esc and Protective stop end the
+    run naming the browser, the arm stays put and DO2 is never set, with every thread of the pool busy."""
+    sim = SimController("pulse75", MonotonicClock())
+    with page_with_its_pool_held(sim) as page:
+        page.desk.join(OPERATOR)
+        asyncio.run(stop_the_run_from_a_browser(page, sim, step, stop))
         page.programs.stop()
