@@ -188,22 +188,30 @@ def ensure_operator(page: Any) -> None:
     wait_settled(page)
 
 
+# The main thread's gaps, by a 50 ms timer (not by animation frames: the page spaces those itself, one a
+# second with ?frame_ms=1000, and a frame gap then said nothing of the page and made every wait run out,
+# 20 s), and at least one frame drawn within the quiet stretch (the view draws at all).
 SETTLED = """([quietMs, maxGapMs, timeoutMs]) => new Promise((done) => {
   const start = performance.now();
-  let last = start, quietSince = start;
-  const frame = (now) => {
+  let last = start, quietSince = start, framedAt = -Infinity, ended = false;
+  const frame = () => { framedAt = performance.now(); if (!ended) requestAnimationFrame(frame); };
+  requestAnimationFrame(frame);
+  const tick = () => {
+    const now = performance.now();
     if (now - last > maxGapMs) quietSince = now;
     last = now;
-    if (now - quietSince >= quietMs || now - start > timeoutMs) { done(now - quietSince >= quietMs); return; }
-    requestAnimationFrame(frame);
+    const quiet = now - quietSince >= quietMs && framedAt >= quietSince;
+    if (quiet || now - start > timeoutMs) { ended = true; done(quiet); return; }
+    setTimeout(tick, 50);
   };
-  requestAnimationFrame(frame);
+  setTimeout(tick, 50);
 })"""
 
 
 def wait_settled(page: Any, quiet_ms: int = 1_500, max_gap_ms: int = 250, timeout_ms: int = 20_000) -> bool:
-    """Wait until the page has drawn for `quiet_ms` with no frame gap over `max_gap_ms` (at most `timeout_ms`;
-    False if it never settled: a machine that busy is the test's to report, not this wait's)."""
+    """Wait until the page's main thread has been free for `quiet_ms` (no gap over `max_gap_ms`) and drew a
+    frame meanwhile (at most `timeout_ms`; False if it never settled: a machine that busy is the test's to
+    report, not this wait's)."""
     return bool(page.evaluate(SETTLED, [quiet_ms, max_gap_ms, timeout_ms]))
 
 
