@@ -93,19 +93,23 @@ def trigger(uuid: str) -> bytes:
     return msgspec.msgpack.encode({"type": "CommandTriggerMessage", "uuid": uuid})
 
 
+# The page's stops, as a browser sends them: the control (as `controls` names it), its message, the state
+# it leaves a motion in, how a run names the stop.
+PAGE_STOPS: dict[str, tuple[str, Callable[[str], bytes], MotionStatus, str]] = {
+    "Freeze": ("Freeze", click_message, MotionStatus.IDLE, "Freeze by browser #"),
+    "Esc": ("command Freeze", trigger, MotionStatus.IDLE, "Freeze (Esc) by browser #"),
+    "Protective stop": ("Protective stop", click_message, MotionStatus.ERROR, "Protective stop by browser #"),
+}
+
+
 async def press_stops(page: PendantUI, sim: SimController) -> None:
     ws = await open_viewer(page.server.get_port())
     try:
-        found = await controls(ws, {"Freeze", "command Freeze", "Protective stop"})
-        moving(sim)
-        await ws.send(click_message(found["Freeze"]))
-        await asyncio.to_thread(stops, sim, MotionStatus.IDLE, "Freeze")
-        moving(sim)
-        await ws.send(trigger(found["command Freeze"]))
-        await asyncio.to_thread(stops, sim, MotionStatus.IDLE, "Esc")
-        moving(sim)
-        await ws.send(click_message(found["Protective stop"]))
-        await asyncio.to_thread(stops, sim, MotionStatus.ERROR, "Protective stop")
+        found = await controls(ws, {label for label, *_ in PAGE_STOPS.values()})
+        for stop, (label, message, after, _) in PAGE_STOPS.items():
+            moving(sim)
+            await ws.send(message(found[label]))
+            await asyncio.to_thread(stops, sim, after, stop)
     finally:
         await ws.close()
 
@@ -184,18 +188,9 @@ def test_the_apis_stop_ends_a_run_in_a_still_step_before_an_output_with_the_pool
         page.programs.stop()
 
 
-# The page's stops, as a browser sends them: the control (as `controls` names it), its message, how a run
-# names the stop.
-PAGE_STOPS: dict[str, tuple[str, Callable[[str], bytes], str]] = {
-    "Freeze": ("Freeze", click_message, "Freeze by browser #"),
-    "Esc": ("command Freeze", trigger, "Freeze (Esc) by browser #"),
-    "Protective stop": ("Protective stop", click_message, "Protective stop by browser #"),
-}
-
-
 async def stop_the_run_from_a_browser(page: PendantUI, sim: SimController, step: str, stop: str) -> None:
     """A browser connected to the page sends `stop` 0.3 s into `step` (run_stops.stop_the_run)."""
-    label, message, cause = PAGE_STOPS[stop]
+    label, message, _, cause = PAGE_STOPS[stop]
     ws = await open_viewer(page.server.get_port())
     reading: asyncio.Task[None] | None = None
     try:
