@@ -167,6 +167,7 @@ CLOSE_TRIES = 4
 # software-rendered frame can hold the page's main thread past 400 ms on a busy 2-core machine, which lets the
 # deadman cut the hold before the close (the designed stop, which the hang test above covers).
 QUIET_PAGE = "frame_ms=1000&jog_frame_ms=1000"
+QUIET_FRAME_S = 1.0  # its frames' spacing
 PAGE_STOPS = {"Jog J1+ stopped: released", "Jog J1+ stopped: page closed"}
 DEADMAN_S = 0.2
 
@@ -181,6 +182,10 @@ def test_closing_the_tab_while_a_jog_button_is_held_stops_the_arm(browser: Brows
     for _ in range(CLOSE_TRIES):
         tab = browser.new_page(viewport={"width": 1400, "height": 900})
         open_as_operator(tab, with_query(pendant.ui_url, QUIET_PAGE))
+        # Pressed where the button stays: on a loaded machine this page's panel was seen to open a frame a
+        # second, J1+ 422 px lower (half off the page) for seconds after its frames had settled, and the press
+        # then missed it (4 of 12 tries beside four busy loops, 4 Dec).
+        settled(tab, "J1+", still_s=QUIET_FRAME_S + 0.3)
         timeline = close_while_held(tab, pendant.api, "J1+", 0.6)
         assert timeline.moved_deg > 1.0, "the held button did not jog"
         assert timeline.stop_after_release_s() < STOP_WITHIN_S, "the arm went on after the tab closed"

@@ -256,13 +256,14 @@ def close_while_held(page: Any, api: httpx.Client, label: str, hold_s: float) ->
     return timed_press(api, page.mouse.down, lambda: page.close(run_before_unload=True), hold_s)
 
 
-def settled(page: Any, label: str, timeout_s: float = 15.0) -> None:
-    """Wait until `label` stays put: while the page loads, the docked panel opens and its text wraps narrower
-    for a moment (on a loaded machine, J1 was seen 400 px lower for a second)."""
+def settled(page: Any, label: str, timeout_s: float = 15.0, still_s: float = 0.3) -> None:
+    """Wait until `label` stays put for `still_s`: while the page loads, the docked panel opens and its text
+    wraps narrower for a moment (on a loaded machine, J1 was seen 400 px lower for a second). A page that
+    draws a frame a second (`?frame_ms=1000`) moves it a step a second: wait longer than that there."""
     deadline = time.monotonic() + timeout_s
     last = button_box(page, label)
     while time.monotonic() < deadline:
-        time.sleep(0.3)
+        time.sleep(still_s)
         now = button_box(page, label)
         if abs(now["x"] - last["x"]) < 0.5 and abs(now["y"] - last["y"]) < 0.5:
             return
