@@ -8,7 +8,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from tests.support.jog_measure import button_centre, touch
+from tests.support.jog_measure import button_centre, settled, touch
 from tests.support.waiting import wait_until
 
 SCREENS = {"desk": (1400, 900), "tablet": (768, 1024), "phone": (390, 844)}
@@ -77,6 +77,10 @@ class Operator:
         does: a loaded machine takes a moment to start it; at most MOVING_WITHIN_S), then let go."""
         button = self.page.get_by_role("button", name=label, exact=True)
         self._reach(button, label)
+        # Held where the button stays, as a person watching it does: a press at coordinates misses a button
+        # that is still moving (test_closing_the_tab's misses, 4 Dec). Likely the same: a clean clone's
+        # tablet case whose J2+ hold never moved the arm (P2 recorded on P1).
+        settled(self.page, label)
         x, y = button_centre(self.page, label)
         if self.cdp is not None:
             touch(self.cdp, "touchStart", x, y)
