@@ -13,7 +13,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import Page
 
-from tests.support.browser_pages import ARTIFACTS
+from tests.support.browser_pages import ARTIFACTS, open_tab
 from tests.support.launchers import Pendant
 from tests.support.launchers import running_pendant_ui as running_pendant
 
@@ -68,7 +68,7 @@ def steps_listed(page: Any, text: str) -> None:
 
 
 def test_new_load_and_delete_ask_in_a_dialog_that_takes_the_focus(page: Page, pendant: Pendant) -> None:
-    page.get_by_role("tab", name="Program").click()
+    open_tab(page, "Program")  # once the page has its whole panel (a tab clicked sooner can stay unopened)
     page.get_by_role("button", name="Record", exact=True).click()
     steps_listed(page, "1. Move J to P1 @ 20%")
     page.get_by_role("textbox", name="Save as name").fill("keep")
