@@ -5,7 +5,8 @@
 #      beside them, in Linux's idle scheduling class (SCHED_IDLE, `chrt -i 0`), every other test outside
 #      tests/browser on three workers (--dist worksteal) and the checks (ruff, import-linter, mypy).
 #   2. The other browser tests on two workers, a module per worker (--dist loadfile: it shares its Chromium
-#      and pendants, tests/browser/conftest.py).
+#      and pendants, tests/browser/conftest.py); beside them, back in the normal class, what is left of the
+#      passes of the first phase.
 # The timed pass waits on its clock half the time (~0.5 of the 2 cores here); the idle class gets only what
 # it leaves: the kernel takes the core from an idle-class task at once for a timed test's thread that wakes
 # (a nice 19 task only weighs less). At nice 19 beside the timed pass its holds were cut by the deadman
@@ -40,6 +41,12 @@ phase_cpu() { # name, "busy total" at its start: what the machine's cores did du
     awk -v n="$1" -v b="$busy0" -v t="$total0" -v B="$busy1" -v T="$total1" \
         'BEGIN { printf "== %s: the machine busy %.0f of %.0f CPU-s (%.0f %%)\n", n, B - b, T - t, 100 * (B - b) / (T - t) }'
 }
+to_normal_class() { # pid: it and its descendants, every thread, in the normal class (top down: a child
+    # started meanwhile inherits its parent's class); gone already, nothing to do
+    local pid=$1 child
+    if [ "${low[0]}" = chrt ]; then chrt -a -o -p 0 "$pid" >/dev/null 2>&1; else renice -n 0 -p "$pid" >/dev/null 2>&1; fi
+    for child in $(cat /proc/"$pid"/task/*/children 2>/dev/null); do to_normal_class "$child"; done
+}
 report_behind() { # name, log, pid: how a pass beside the timed tests ended, and its log
     wait "$3"
     local status=$?
@@ -62,11 +69,16 @@ behind tests "$bin/pytest" "${pytest_args[@]}" -n 3 --dist worksteal --ignore=te
     -m "not measures and not alone" "${extra[@]}" &
 outside=$!
 run_pass "the timed tests" timed-tests -m "measures or alone" --reruns 1 tests
-report_behind "the tests outside tests/browser" tests "$outside"
-report_behind "the checks" checks "$checks"
 phase_cpu "the first phase" "$start"
+# Nothing is timed any more: what is left of the passes behind goes on at normal priority, beside the
+# other browser tests, rather than keeping them waiting (the pass outside tests/browser ended 60 s after
+# the timed pass on 4 Dec, the machine's two cores busy).
+to_normal_class "$outside"
+to_normal_class "$checks"
 start=$(cpu_now)
 run_pass "the other browser tests" browser-tests -n 2 --dist loadfile -m "not measures and not alone" --reruns 1 tests/browser
+report_behind "the tests outside tests/browser" tests "$outside"
+report_behind "the checks" checks "$checks"
 phase_cpu "the second phase" "$start"
 # Every failure of every pass, last, where a truncated log still shows them, and every test run again
 # (-rR: a rerun that passed is a flaky test, named here so it is seen).
