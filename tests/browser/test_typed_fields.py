@@ -237,8 +237,9 @@ def test_an_empty_or_lettered_box_refuses_the_action_with_the_reason(page: Page,
     # An obstacle's position emptied: Add obstacle adds nothing, and says why.
     page.get_by_role("tab", name="Cell").click()
     type_into(page, "Position mm", "")
-    # Marked by the box first: the mark's line moves Add obstacle down, and a click aimed before it came
-    # landed beside the button (a full run, 4 Dec: no refusal, no obstacle, the box marked).
+    # The box marked first, as the operator sees it before pressing: the mark's line moves Add obstacle
+    # down. In two full runs (4 Dec) the press came before it and nothing followed (no refusal, no
+    # obstacle, the box marked); most likely it was aimed at the button's old place (not reproduced alone).
     page.get_by_text("⚠ empty: type 3 numbers").wait_for(timeout=SHOWN_TIMEOUT_MS)
     page.get_by_role("button", name="Add obstacle").click()
     page.get_by_text("Position mm: empty").first.wait_for(timeout=SHOWN_TIMEOUT_MS)
