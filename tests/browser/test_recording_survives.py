@@ -14,6 +14,7 @@ from playwright.sync_api import Browser
 
 from pendant.telemetry.repair import finished
 from tests.support.browser_pages import ARTIFACTS, open_tab, take_control
+from tests.support.failure_pages import describe_pages
 from tests.support.launchers import STOP_TIMEOUT_S, Pendant
 from tests.support.launchers import running_pendant_ui as running_pendant
 from tests.support.mcap_reading import read_mcap
@@ -48,6 +49,11 @@ def record_for_a_while(browser: Browser, pendant: Pendant) -> None:
         ).raise_for_status()
         page.wait_for_timeout(RECORD_S * 1000)  # a real process recording on a real clock
         page.screenshot(path=str(ARTIFACTS / "recording-survives.png"))
+    except Exception as error:
+        # What the page showed, while its pendant still runs (the report's look comes after the pendant
+        # has gone): a clean clone's "Recording · N samples" that never came left nothing to read.
+        error.add_note(describe_pages(browser, "record_for_a_while"))
+        raise
     finally:
         page.close()
 
