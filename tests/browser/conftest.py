@@ -19,6 +19,7 @@ from tests.support.browser_pages import ARTIFACTS
 from tests.support.chromium import CHROMIUM, CHROMIUM_ARGS
 from tests.support.failure_pages import describe_pages
 from tests.support.launchers import Pendant
+from tests.support.rerun_report import PAGES_SECTION, PENDANT_SECTION
 from tests.support.shared_pendants import SharedPendants, shared_pendants
 
 HERE = Path(__file__).resolve().parent
@@ -40,11 +41,15 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
 def pytest_runtest_makereport(
     item: pytest.Item, call: pytest.CallInfo[None]
 ) -> Generator[None, pytest.TestReport, pytest.TestReport]:
-    """A failed test's report says what its pages showed (tests/support/failure_pages.py)."""
+    """A failed test's report says what its pages showed (tests/support/failure_pages.py) and what its
+    pendant printed last."""
     report: pytest.TestReport = yield
-    browser = getattr(item, "funcargs", {}).get("browser")
+    funcargs = getattr(item, "funcargs", {})
+    browser, pendant = funcargs.get("browser"), funcargs.get("pendant")
     if report.when == "call" and report.failed and isinstance(browser, Browser):
-        report.sections.append(("pages when it failed", describe_pages(browser, item.name)))
+        report.sections.append((PAGES_SECTION, describe_pages(browser, item.name)))
+    if report.when == "call" and report.failed and isinstance(pendant, Pendant):
+        report.sections.append((PENDANT_SECTION, pendant.said() or "(nothing)"))
     return report
 
 

@@ -11,6 +11,7 @@ import tempfile
 import time
 from collections.abc import Iterator, Sequence
 from pathlib import Path
+from typing import IO
 
 import httpx
 
@@ -96,6 +97,7 @@ def _limit_open_files(count: int) -> None:
     resource.setrlimit(resource.RLIMIT_NOFILE, (count, count))
 
 
+SAID_CHARS = 4_000  # of a pendant's output in a failed test's report: its last warnings and traceback
 ANNOUNCE_MAX_LINES = 200  # the lines of a repair running beside the start-up may come before the URL
 
 
@@ -146,11 +148,29 @@ class Pendant:
     programs: Path
     data: Path
 
-    def __init__(self, ui_port: int, api_port: int, process: subprocess.Popen[bytes] | None = None) -> None:
+    def __init__(
+        self,
+        ui_port: int,
+        api_port: int,
+        process: subprocess.Popen[bytes] | None = None,
+        output: IO[str] | None = None,
+    ) -> None:
         self.process = process
         self.ui_port = ui_port
         self.ui_url = f"http://{LOOPBACK}:{ui_port}/"
         self.api = httpx.Client(base_url=f"http://{LOOPBACK}:{api_port}", timeout=30.0)
+        self._output = output  # the file its output goes to, while it runs
+
+    def said(self, max_chars: int = SAID_CHARS) -> str:
+        """The end of what the process printed so far (its log's warnings and tracebacks), for a failed
+        test's report: a flaky test's pendant is gone, with its temporary log, by the end of the run."""
+        if self._output is None or self._output.closed:
+            return ""
+        # pread: the file's offset is the one the process writes at, shared with it, and stays put.
+        fd = self._output.fileno()
+        size = os.fstat(fd).st_size
+        start = max(0, size - 4 * max_chars)  # UTF-8: at most 4 bytes a character
+        return os.pread(fd, size - start, start).decode("utf-8", errors="replace")[-max_chars:]
 
     def pose(self) -> list[float]:
         return self.api.get("/pose").json()["angles"]
@@ -199,7 +219,7 @@ def running_pendant_ui(
             except TimeoutError as late:
                 log.seek(0)
                 raise TimeoutError(f"{late}; the pendant said: {log.read()[-2000:]!r}") from late
-            yield Pendant(ui_port, api_port, process)
+            yield Pendant(ui_port, api_port, process, log)
         finally:
             stop(process)
             data.cleanup()

@@ -11,6 +11,10 @@ from __future__ import annotations
 import pytest
 
 TAIL_LINES = 30  # the error and the frames nearest it: what a flaky test needs to be understood
+# The sections tests/browser/conftest.py adds to a failed test's report, shown with its rerun too.
+PAGES_SECTION = "pages when it failed"
+PENDANT_SECTION = "what its pendant said last"
+OURS = (PAGES_SECTION, PENDANT_SECTION)
 
 
 def _tail(text: str) -> str:
@@ -27,3 +31,6 @@ def pytest_terminal_summary(terminalreporter: pytest.TerminalReporter) -> None:
     for report in reruns:
         terminalreporter.write_line(f"--- {report.nodeid} ({report.when}, {report.duration:.1f} s)")
         terminalreporter.write_line(_tail(report.longreprtext) or "(no traceback kept)")
+        for title, content in report.sections:
+            if title in OURS:  # what the failure hooks added (the pages, the pendant), not captured output
+                terminalreporter.write_line(f"- {title}:\n{content}")
