@@ -53,6 +53,7 @@ def record_for_a_while(browser: Browser, pendant: Pendant) -> None:
         # What the page showed, while its pendant still runs (the report's look comes after the pendant
         # has gone): a clean clone's "Recording · N samples" that never came left nothing to read.
         error.add_note(describe_pages(browser, "record_for_a_while"))
+        error.add_note(f"what its pendant said last:\n{pendant.said()}")
         raise
     finally:
         page.close()
