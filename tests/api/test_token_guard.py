@@ -22,6 +22,7 @@ from pendant.api import create_app
 from pendant.eventlog import EventKind, EventLog
 from pendant.remote import create_proxy_app
 from pendant.sim import FakeClock, SimController
+from tests.support import preloaded
 from tests.support.bad_servers import http_answer, raw_server
 from tests.support.launchers import REPO_ROOT, START_TIMEOUT_S, running_pendant, stop
 from tests.support.threads import serve_in_thread
@@ -157,7 +158,7 @@ def test_a_generated_token_is_not_warned_about() -> None:
 
 
 def test_a_token_with_spaces_is_refused_at_start_up() -> None:
-    done = subprocess.run(
+    done = preloaded.run(
         [sys.executable, "-m", "pendant", "--no-ui", "--token", "two words"],
         cwd=REPO_ROOT,
         capture_output=True,
@@ -173,7 +174,7 @@ def _start_and_read(flags: list[str]) -> str:
     from tests.support.ports import free_port
 
     port = free_port()
-    process = subprocess.Popen(
+    process = preloaded.popen(
         [sys.executable, "-m", "pendant", "--no-ui", "--api-port", str(port), *flags],
         cwd=REPO_ROOT,
         stdout=subprocess.PIPE,

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from playwright.sync_api import Page, expect
 
+from tests.support import preloaded
 from tests.support.browser_pages import (
     ANGLE_TOL_DEG,
     ARTIFACTS,
@@ -152,7 +153,7 @@ def test_teach_and_run_a_pallet_pick_and_place(page: Page, pendant: Pendant) -> 
     pendant.api.put("/sim/signal/input/1/low").raise_for_status()  # a full tray again
     move_to(pendant, CORNERS_DEG[0])
     env = {**os.environ, "PYTHONPATH": str(REPO_ROOT)}
-    process = subprocess.Popen(
+    process = preloaded.popen(
         [sys.executable, "-m", "pendant", "run", str(saved), "--robot", str(pendant.api.base_url)],
         cwd=REPO_ROOT,
         stdout=subprocess.PIPE,

@@ -20,6 +20,7 @@ from pendant.planning.preflight import preflight
 from pendant.planning.twin import read_seed
 from pendant.program.runner import ProgramRunner, RunState
 from pendant.remote import RemoteController
+from tests.support import preloaded
 from tests.support.counting_forwarder import counting_forwarder
 from tests.support.launchers import REPO_ROOT, child_env, pendant_command, running_pendant
 from tests.support.preflight_scene import BOX_NAME, LEFT_DEG, box_in_the_way, swing_program
@@ -154,7 +155,7 @@ def test_the_simulators_gate_is_open() -> None:
 
 
 def run_cli(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
+    return preloaded.run(
         pendant_command("preflight", *args),
         cwd=REPO_ROOT,
         env=child_env(),

@@ -12,6 +12,7 @@ import pytest
 
 from pendant.readiness import PROBE_TIMEOUT_S
 from pendant.simserver import SimServer
+from tests.support import preloaded
 from tests.support.launchers import REPO_ROOT, START_TIMEOUT_S, running_pendant, stop
 from tests.support.ports import LOOPBACK, free_port
 from tests.support.waiting import SAFETY_NET_S
@@ -24,7 +25,7 @@ WRONG_SERVER_TIMEOUT_S = "10"
 
 
 def check(url: str, *flags: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
+    return preloaded.run(
         [sys.executable, "-m", "pendant", "check", url, *flags],
         cwd=REPO_ROOT,
         capture_output=True,
@@ -58,14 +59,14 @@ def test_exits_0_when_the_simulator_answers() -> None:
 def test_waits_for_a_pendant_that_is_still_starting() -> None:
     port = free_port()
     url = f"http://{LOOPBACK}:{port}"
-    waiting = subprocess.Popen(
+    waiting = preloaded.popen(
         [sys.executable, "-m", "pendant", "check", url, "--timeout", f"{CHECK_TIMEOUT_S:g}"],
         cwd=REPO_ROOT,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
     )
-    pendant = subprocess.Popen(
+    pendant = preloaded.popen(
         [sys.executable, "-m", "pendant", "--no-ui", "--host", LOOPBACK, "--api-port", str(port)],
         cwd=REPO_ROOT,
         stdout=subprocess.DEVNULL,

@@ -32,6 +32,7 @@ from pendant.program import (
     Waypoint,
     export_script,
 )
+from tests.support import preloaded
 from tests.support.launchers import REPO_ROOT, running_pendant
 from tests.support.programs import move, program_of
 from tests.support.waiting import SAFETY_NET_S
@@ -88,7 +89,7 @@ def cell(waypoints: dict[str, Waypoint]) -> Program:
 
 def pendant_run(*args: str) -> subprocess.Popen[str]:
     env = {**os.environ, "PYTHONPATH": str(REPO_ROOT)}
-    return subprocess.Popen(
+    return preloaded.popen(
         [sys.executable, "-m", "pendant", "run", *args],
         cwd=REPO_ROOT,
         stdout=subprocess.PIPE,

@@ -10,13 +10,14 @@ from pathlib import Path
 from pendant.program import LoopStep, MoveStep, WaitStep
 from pendant.program.files import ProgramStore
 from pendant.program.versions import VersionedStore
+from tests.support import preloaded
 from tests.support.program_history import pick_program, waypoint
 
 EXIT_REFUSED = 2
 
 
 def pendant(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
+    return preloaded.run(
         [sys.executable, "-m", "pendant", *args],
         capture_output=True,
         text=True,

@@ -4,7 +4,6 @@ no traceback."""
 
 from __future__ import annotations
 
-import subprocess
 import sys
 from pathlib import Path
 
@@ -12,6 +11,7 @@ import pytest
 
 from pendant.program import MoveStep
 from pendant.program.versions import VersionedStore
+from tests.support import preloaded
 from tests.support.launchers import child_env
 from tests.support.program_history import cut_head_commit, pick_program
 
@@ -41,7 +41,7 @@ def test_a_save_into_a_damaged_history_writes_the_file_and_says_why_not_recorded
 
 
 def test_pendant_history_on_a_damaged_repository_says_so_in_one_line(damaged: VersionedStore) -> None:
-    done = subprocess.run(
+    done = preloaded.run(
         [sys.executable, "-m", "pendant", "history", "pick", "--programs", str(damaged.folder)],
         capture_output=True,
         text=True,

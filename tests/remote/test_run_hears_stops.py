@@ -18,6 +18,7 @@ import httpx
 import numpy as np
 import pytest
 
+from tests.support import preloaded
 from tests.support.launchers import REPO_ROOT, child_env, running_pendant
 from tests.support.programs import a_to_b_file
 from tests.support.waiting import SAFETY_NET_S
@@ -77,7 +78,7 @@ def test_a_stop_sent_to_the_pendant_during_a_still_step_ends_pendant_run(
     api.put("/pose", json={"angles": HOME_DEG}).raise_for_status()
     saved = tmp_path / "stopped.json"
     saved.write_text(json.dumps(a_to_b_file("stopped", A_DEG, B_DEG, STEPS[step])))
-    runner = subprocess.Popen(
+    runner = preloaded.popen(
         [sys.executable, "-m", "pendant", "run", str(saved), "--robot", api_url],
         cwd=REPO_ROOT,
         stdout=subprocess.PIPE,

@@ -1,10 +1,12 @@
-"""Real `pendant` processes on free loopback ports (`python -m pendant ...`), started, waited for, stopped."""
+"""Real `pendant` processes on free loopback ports (`python -m pendant ...`), started, waited for, stopped.
+
+They are forked from a preloaded interpreter (tests/support/preloaded: the suite starts some 150, and each
+spent 1.5 CPU-s importing what the others had imported); PENDANT_TESTS_EXEC=1 execs them instead."""
 
 from __future__ import annotations
 
 import contextlib
 import os
-import resource
 import subprocess
 import sys
 import tempfile
@@ -18,6 +20,7 @@ import httpx
 from pendant.monitoring import DATA_DIR_ENV
 from pendant.paths import PROGRAMS_DIR_ENV
 
+from . import preloaded
 from .ports import LOOPBACK, free_port
 from .waiting import SAFETY_NET_S, answers, wait_until
 
@@ -71,14 +74,14 @@ def pendant_process(
     # Its output goes to a file, never a pipe: a pipe nobody reads fills up and blocks a chatty pendant.
     # `process.stdout` reads that file (what it printed so far), as it read the pipe before.
     log = tempfile.NamedTemporaryFile("w+", prefix="pendant-", suffix=".log", delete=False)  # noqa: SIM115
-    process = subprocess.Popen(
+    process = preloaded.popen(
         command,
         cwd=REPO_ROOT,
         env=env,
         stdout=log,
         stderr=subprocess.STDOUT,
         text=True,
-        preexec_fn=None if max_open_files is None else lambda: _limit_open_files(max_open_files),
+        max_open_files=max_open_files,
     )
     log.close()
     process.stdout = open(log.name)  # noqa: SIM115  # closed below
@@ -91,10 +94,6 @@ def pendant_process(
         process.stdout.close()
         os.unlink(log.name)
         data.cleanup()
-
-
-def _limit_open_files(count: int) -> None:
-    resource.setrlimit(resource.RLIMIT_NOFILE, (count, count))
 
 
 SAID_CHARS = 4_000  # of a pendant's output in a failed test's report: its last warnings and traceback
@@ -200,7 +199,7 @@ def running_pendant_ui(
     # Its output goes to a file (a pipe nobody reads fills up and blocks a chatty pendant); a start-up
     # failure quotes it.
     with tempfile.TemporaryFile("w+") as log:
-        process = subprocess.Popen(
+        process = preloaded.popen(
             [sys.executable, *launcher, "--ui-port", str(ui_port), "--api-port", str(api_port), *flags],
             stdout=log,
             stderr=subprocess.STDOUT,
@@ -236,7 +235,7 @@ class Launcher:
 
     def __call__(self, args: list[str], name: str = "pendant") -> subprocess.Popen[bytes]:
         with open(self._folder / f"{name}.log", "wb") as log:
-            process = subprocess.Popen(
+            process = preloaded.popen(
                 pendant_command(*args), cwd=REPO_ROOT, env=child_env(), stdout=log, stderr=subprocess.STDOUT
             )
         self._processes.append(process)

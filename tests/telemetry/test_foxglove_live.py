@@ -19,6 +19,7 @@ from pendant.controller.types import Point, Position, Rotation
 from pendant.eventlog import EventKind, EventLog
 from pendant.sim import SimController
 from pendant.telemetry import ArmState, LiveView, Telemetry, arm_drawing
+from tests.support import preloaded
 from tests.support.foxglove_client import FoxgloveClient, Received
 from tests.support.launchers import child_env, pendant_command, pendant_process
 from tests.support.mcap_reading import read_mcap
@@ -117,7 +118,7 @@ def test_a_taken_port_ends_the_start_with_the_reason(tmp_path: Path) -> None:
         port = taken.getsockname()[1]
         command = pendant_command("--no-ui", "--api-port", str(free_port()), "--foxglove-port", str(port))
         command += ["--data", str(tmp_path)]
-        done = subprocess.run(command, env=child_env(), capture_output=True, text=True, timeout=60)
+        done = preloaded.run(command, env=child_env(), capture_output=True, text=True, timeout=60)
     assert done.returncode == 1, done
     assert f"cannot serve the Foxglove live view on 127.0.0.1:{port}" in done.stderr, done.stderr
     assert "Address already in use" in done.stderr and "Traceback" not in done.stderr, done.stderr

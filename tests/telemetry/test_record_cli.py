@@ -9,6 +9,7 @@ from pathlib import Path
 
 from mcap.reader import make_reader
 
+from tests.support import preloaded
 from tests.support.launchers import REPO_ROOT, child_env, pendant_command, running_pendant
 from tests.support.ports import free_port
 
@@ -16,7 +17,7 @@ RUN_TIMEOUT_S = 120.0
 
 
 def record(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
+    return preloaded.run(
         pendant_command("record", *args),
         cwd=REPO_ROOT,
         env=child_env(),
