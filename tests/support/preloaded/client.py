@@ -44,6 +44,14 @@ def preloading_fits() -> bool:
     )
 
 
+def readable(stream: Any, timeout_s: float | None) -> bool:
+    """Whether `stream` has something to read (or its end) within `timeout_s` (None: however long).
+    poll, not select: a test process with Chromiums and pendants can hold descriptors past select's 1024."""
+    poller = select.poll()
+    poller.register(stream, select.POLLIN)
+    return bool(poller.poll(None if timeout_s is None else max(0, int(timeout_s * 1000))))
+
+
 class Preloader:
     """The preloaded interpreter of this process: started once, asked for a child per pendant."""
 
@@ -88,8 +96,10 @@ class Preloader:
                 text=True,
             )
         assert self._process.stdout is not None
-        ready, _, _ = select.select([self._process.stdout], [], [], START_TIMEOUT_S)
-        if not ready or self._process.stdout.readline() != "ready\n":
+        if (
+            not readable(self._process.stdout, START_TIMEOUT_S)
+            or self._process.stdout.readline() != "ready\n"
+        ):
             self._process.kill()
             raise RuntimeError(f"the preloaded interpreter did not start: {self.said()!r}")
 
@@ -145,6 +155,7 @@ class ForkedProcess(subprocess.Popen[Any]):
             self._close_pipe_fds(p2cread, p2cwrite, c2pread, c2pwrite, errread, errwrite)  # type: ignore[attr-defined]
         reply = json.loads(answer or b"{}")
         if "pid" not in reply:
+            self._connection.close()
             raise OSError(f"the preloaded interpreter refused {args!r}: {reply or preloader().said()!r}")
         self.pid = reply["pid"]
         self._pidfd = pidfds[0]
@@ -168,7 +179,7 @@ class ForkedProcess(subprocess.Popen[Any]):
     def _read_returncode(self, timeout: float | None) -> bool:
         """The child's return code once the preloaded interpreter sends it (within `timeout`)."""
         assert self._connection is not None
-        if not select.select([self._connection], [], [], timeout)[0]:
+        if not readable(self._connection, timeout):
             return False
         message = self._connection.recv(ANSWER_MAX_BYTES)
         # No message: the preloaded interpreter has gone (killed), and with it the one way to the status.
